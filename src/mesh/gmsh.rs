@@ -1,0 +1,1 @@
+// gmsh: being written

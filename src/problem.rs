@@ -1,0 +1,176 @@
+//! The solver's input: a fully resolved problem (one merged mesh, materials,
+//! drivers, loads, load history, solver settings). The scene reader builds
+//! it from TOML; the FMU edits its parameters. It holds indices, not names,
+//! except where results are reported by name.
+
+use crate::mesh::{Edge, Mesh};
+
+/// Analysis kind (the paper's planar and axisymmetric cases). In the
+/// axisymmetric case x is the radius and y the axis of revolution; forces and
+/// volumes are taken over the full circle (2 pi r).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum AnalysisKind {
+    PlaneStrain { thickness: f64 },
+    PlaneStress { thickness: f64 },
+    Axisymmetric,
+}
+
+/// Kinematic description (the paper's "M.N.O." and "T.L.").
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Kinematics {
+    /// Linear strain-displacement relation, linear material: one solve.
+    SmallStrain,
+    /// Materially-nonlinear-only: small strain, Newton on the material law.
+    MaterialNonlinearOnly,
+    /// Total Lagrangian: Green-Lagrange strain, second Piola-Kirchhoff stress.
+    TotalLagrangian,
+}
+
+/// Material constants as given in the scene.
+#[derive(Clone, Debug, PartialEq)]
+pub enum MaterialSpec {
+    LinearElastic { e: f64, nu: f64 },
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Material {
+    pub name: String,
+    pub spec: MaterialSpec,
+}
+
+/// A body: its elements and nodes are contiguous ranges of the merged mesh.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Body {
+    pub name: String,
+    pub material: usize,
+    pub elements: std::ops::Range<usize>,
+    pub nodes: std::ops::Range<usize>,
+}
+
+/// Piecewise linear time function; constant beyond its ends.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TimeFunction {
+    pub name: String,
+    pub points: Vec<(f64, f64)>,
+}
+
+impl TimeFunction {
+    pub fn value(&self, t: f64) -> f64 {
+        let p = &self.points;
+        if p.is_empty() {
+            return 0.0;
+        }
+        if t <= p[0].0 {
+            return p[0].1;
+        }
+        for w in p.windows(2) {
+            let ((t0, v0), (t1, v1)) = (w[0], w[1]);
+            if t <= t1 {
+                if t1 == t0 {
+                    return v1;
+                }
+                return v0 + (v1 - v0) * (t - t0) / (t1 - t0);
+            }
+        }
+        p[p.len() - 1].1
+    }
+}
+
+/// A scalar that follows a time function: `scale * f(t)`, or `scale` when
+/// there is no function.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Scaled {
+    pub scale: f64,
+    pub function: Option<usize>,
+}
+
+impl Scaled {
+    pub fn constant(v: f64) -> Self {
+        Scaled { scale: v, function: None }
+    }
+    pub fn at(&self, t: f64, functions: &[TimeFunction]) -> f64 {
+        match self.function {
+            Some(f) => self.scale * functions[f].value(t),
+            None => self.scale,
+        }
+    }
+}
+
+/// Prescribed displacement components of a node set. A component that is
+/// `None` is free. Its reaction is reported under the driver's name.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Driver {
+    pub name: String,
+    pub nodes: Vec<usize>,
+    pub ux: Option<Scaled>,
+    pub uy: Option<Scaled>,
+}
+
+/// Edge pressure (positive pushes into the body). A follower pressure acts
+/// on the current edge normal; a dead one on the reference normal.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Pressure {
+    pub edges: Vec<Edge>,
+    pub value: Scaled,
+    pub follower: bool,
+}
+
+/// Body force per unit reference volume, on the elements of one body.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BodyForce {
+    pub body: usize,
+    pub bx: Scaled,
+    pub by: Scaled,
+}
+
+/// Initial stress [xx, yy, zz, xy] in the elements of one body, present from
+/// t = 0 (it is in equilibrium only where the scene makes it so).
+#[derive(Clone, Debug, PartialEq)]
+pub struct InitialStress {
+    pub body: usize,
+    pub stress: [f64; 4],
+}
+
+/// Newton control. Tolerances are relative to the first iteration of an
+/// increment (force and displacement norms, energy).
+#[derive(Clone, Debug, PartialEq)]
+pub struct SolverSettings {
+    pub force_tolerance: f64,
+    pub displacement_tolerance: f64,
+    pub energy_tolerance: f64,
+    pub max_iterations: usize,
+    pub max_bisections: usize,
+}
+
+impl Default for SolverSettings {
+    fn default() -> Self {
+        SolverSettings {
+            force_tolerance: 1e-8,
+            displacement_tolerance: 1e-8,
+            energy_tolerance: 1e-16,
+            max_iterations: 25,
+            max_bisections: 6,
+        }
+    }
+}
+
+/// Everything the solver needs.
+#[derive(Clone, Debug)]
+pub struct Problem {
+    pub name: String,
+    pub analysis: AnalysisKind,
+    pub kinematics: Kinematics,
+    pub mesh: Mesh,
+    /// Material index of each element of `mesh`.
+    pub element_material: Vec<usize>,
+    pub materials: Vec<Material>,
+    pub bodies: Vec<Body>,
+    pub functions: Vec<TimeFunction>,
+    pub drivers: Vec<Driver>,
+    pub pressures: Vec<Pressure>,
+    pub body_forces: Vec<BodyForce>,
+    pub initial_stresses: Vec<InitialStress>,
+    /// End times of the increments of the scene's own load history.
+    pub times: Vec<f64>,
+    pub solver: SolverSettings,
+}

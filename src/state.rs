@@ -1,0 +1,20 @@
+//! Everything an increment changes, cloneable: rollback after a failed
+//! increment and (later) the FMU state.
+
+use serde::{Deserialize, Serialize};
+
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct State {
+    /// Time of the last converged increment.
+    pub time: f64,
+    /// Nodal displacements, two per node (x, y), merged mesh numbering.
+    pub u: Vec<f64>,
+    /// Material history per Gauss point (empty for history-free laws).
+    pub history: Vec<f64>,
+}
+
+impl State {
+    pub fn displacement(&self, node: usize) -> [f64; 2] {
+        [self.u[2 * node], self.u[2 * node + 1]]
+    }
+}
