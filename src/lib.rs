@@ -7,3 +7,8 @@ pub mod newton;
 pub mod problem;
 pub mod results;
 pub mod state;
+pub mod assembly;
+pub mod element;
+pub mod kinematics;
+pub mod linsolve;
+pub mod material;

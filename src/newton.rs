@@ -1,6 +1,12 @@
-//! SKELETON (being written): increments, Newton iterations, bisection.
+//! Increments, Newton-Raphson iterations and automatic bisection. Residuals
+//! are normalised by the first iteration of the increment and logged with
+//! the observed convergence rate; a failed increment leaves the last
+//! converged state untouched.
+
+use crate::assembly::{Model, PRESCRIBED, Workspace};
+use crate::linsolve::LinearSolver;
 use crate::problem::Problem;
-use crate::results::{LogCategory, StepResult};
+use crate::results::{DriverResult, LogCategory, StepResult};
 use crate::state::State;
 
 #[derive(Debug, thiserror::Error)]
@@ -11,40 +17,303 @@ pub enum SolveError {
     NotConverged { time: f64, reason: String },
 }
 
+/// A prescribed degree of freedom: which driver and component drive it.
+#[derive(Clone, Copy, Debug)]
+struct Prescribed {
+    dof: usize,
+    driver: usize,
+    component: usize,
+}
+
+/// What one Newton solve of an increment did.
+struct Converged {
+    iterations: usize,
+    residual: f64,
+}
+
 pub struct Solver {
     problem: Problem,
+    model: Model,
+    linear: LinearSolver,
+    prescribed: Vec<Prescribed>,
+    /// Input overrides of driver components (the FMU's inputs): the value
+    /// to reach at the end of the next `advance`.
+    inputs: Vec<[Option<f64>; 2]>,
     state: State,
+    ws: Workspace,
+    r: Vec<f64>,
+    k: Vec<f64>,
+    /// The factorization in `linear` is of the current constant tangent.
+    factor_valid: bool,
 }
 
 impl Solver {
     pub fn new(problem: Problem) -> Result<Self, SolveError> {
-        let n = problem.mesh.nodes.len();
-        Ok(Solver { problem, state: State { time: 0.0, u: vec![0.0; 2 * n], history: vec![] } })
+        let ndof = 2 * problem.mesh.nodes.len();
+        if problem.element_material.len() != problem.mesh.elements.len() {
+            return Err(SolveError::Invalid("element_material does not match the elements".into()));
+        }
+        let mut is_prescribed = vec![false; ndof];
+        let mut prescribed = Vec::new();
+        for (d, driver) in problem.drivers.iter().enumerate() {
+            for (c, comp) in [&driver.ux, &driver.uy].into_iter().enumerate() {
+                if comp.is_none() {
+                    continue;
+                }
+                for &n in &driver.nodes {
+                    let dof = 2 * n + c;
+                    if dof >= ndof {
+                        return Err(SolveError::Invalid(format!("driver '{}' names node {n} beyond the mesh", driver.name)));
+                    }
+                    if is_prescribed[dof] {
+                        // A later driver on the same dof takes it over.
+                        prescribed.retain(|p: &Prescribed| p.dof != dof);
+                    }
+                    is_prescribed[dof] = true;
+                    prescribed.push(Prescribed { dof, driver: d, component: c });
+                }
+            }
+        }
+        let model = Model::new(&problem, &is_prescribed);
+        let linear = LinearSolver::new(&model.pattern, model.symmetric).map_err(|e| SolveError::Invalid(e.to_string()))?;
+        let nnz = model.pattern.row_idx.len();
+        let state = State { time: 0.0, u: vec![0.0; ndof], history: vec![0.0; model.history_len] };
+        let inputs = vec![[None, None]; problem.drivers.len()];
+        Ok(Solver {
+            problem,
+            model,
+            linear,
+            prescribed,
+            inputs,
+            state,
+            ws: Workspace::new(),
+            r: vec![0.0; ndof],
+            k: vec![0.0; nnz],
+            factor_valid: false,
+        })
     }
+
     pub fn problem(&self) -> &Problem {
         &self.problem
     }
+
     pub fn state(&self) -> &State {
         &self.state
     }
+
     pub fn restore(&mut self, state: State) {
         self.state = state;
     }
-    /// Solve equilibrium at `t_end`, bisecting on failure; on error the
-    /// state stays at the last converged time.
-    pub fn advance(
-        &mut self,
-        _t_end: f64,
-        _log: &mut dyn FnMut(LogCategory, &str),
-    ) -> Result<StepResult, SolveError> {
-        todo!()
-    }
-    /// Element-average Cauchy stress [xx, yy, zz, xy] of each element.
-    pub fn element_stresses(&self) -> Vec<[f64; 4]> {
-        todo!()
-    }
+
     /// Number of unknowns of the linear system.
     pub fn dofs(&self) -> usize {
-        todo!()
+        self.model.free_dofs()
+    }
+
+    /// Number of numeric factorizations done so far.
+    pub fn factorizations(&self) -> usize {
+        self.linear.factorizations
+    }
+
+    /// Override a driver component: reach `value` at the end of the next
+    /// `advance`, linearly in time from its current value (None: back to the
+    /// scene's time function).
+    pub fn set_input(&mut self, driver: usize, component: usize, value: Option<f64>) {
+        self.inputs[driver][component] = value;
+    }
+
+    /// Value of a prescribed dof at time t within the step t0 -> t1.
+    fn prescribed_value(&self, p: &Prescribed, t: f64, t0: f64, t1: f64, u0: &[f64]) -> f64 {
+        match self.inputs[p.driver][p.component] {
+            Some(v) => {
+                let start = u0[p.dof];
+                start + (v - start) * (t - t0) / (t1 - t0)
+            }
+            None => {
+                let d = &self.problem.drivers[p.driver];
+                let comp = if p.component == 0 { &d.ux } else { &d.uy };
+                comp.as_ref().map_or(0.0, |s| s.at(t, &self.problem.functions))
+            }
+        }
+    }
+
+    /// Solve equilibrium at `t_end`, bisecting a failed increment up to
+    /// `solver.max_bisections` times; on error the state stays at the last
+    /// converged time.
+    pub fn advance(&mut self, t_end: f64, log: &mut dyn FnMut(LogCategory, &str)) -> Result<StepResult, SolveError> {
+        let t0 = self.state.time;
+        if !t_end.is_finite() || t_end <= t0 {
+            return Err(SolveError::Invalid(format!("step end time {t_end} must be finite and after t = {t0}")));
+        }
+        let start = self.state.clone();
+        let u0 = start.u.clone();
+        let mut targets = vec![t_end];
+        let mut bisections = 0;
+        let mut iterations = 0;
+        let mut residual = 0.0;
+        while let Some(&t) = targets.last() {
+            match self.increment(t, t0, t_end, &u0, log) {
+                Ok(c) => {
+                    iterations += c.iterations;
+                    residual = c.residual;
+                    targets.pop();
+                }
+                Err(reason) => {
+                    if bisections >= self.problem.solver.max_bisections {
+                        self.state = start;
+                        let msg = format!(
+                            "no convergence from t = {} to t = {t} after {bisections} bisections: {reason}",
+                            self.state.time
+                        );
+                        log(LogCategory::Error, &msg);
+                        return Err(SolveError::NotConverged { time: t_end, reason: msg });
+                    }
+                    bisections += 1;
+                    let mid = 0.5 * (self.state.time + t);
+                    log(
+                        LogCategory::Warning,
+                        &format!("increment to t = {t} failed ({reason}); bisecting at t = {mid}"),
+                    );
+                    targets.push(mid);
+                }
+            }
+        }
+        Ok(StepResult {
+            time: t_end,
+            converged: true,
+            iterations,
+            substeps: bisections,
+            residual,
+            neqc: 0,
+            drivers: self.driver_results(),
+        })
+    }
+
+    /// Reactions per driver from the residual at the prescribed dofs.
+    fn driver_results(&self) -> Vec<(String, DriverResult)> {
+        let mut out: Vec<(String, DriverResult)> =
+            self.problem.drivers.iter().map(|d| (d.name.clone(), DriverResult::default())).collect();
+        for p in &self.prescribed {
+            let f = self.r[p.dof];
+            if p.component == 0 {
+                out[p.driver].1.rx += f;
+            } else {
+                out[p.driver].1.ry += f;
+            }
+        }
+        out
+    }
+
+    /// Newton iterations for one increment to time t; commits on success.
+    fn increment(&mut self, t: f64, t0: f64, t1: f64, u0: &[f64], log: &mut dyn FnMut(LogCategory, &str)) -> Result<Converged, String> {
+        let settings = self.problem.solver.clone();
+        let mut u = self.state.u.clone();
+        for p in &self.prescribed {
+            u[p.dof] = self.prescribed_value(p, t, t0, t1, u0);
+        }
+        let mut history = self.state.history.clone();
+        let n = self.model.free_dofs();
+        let mut rhs = vec![0.0; n];
+        let (mut r0, mut du1, mut e1) = (0.0, 0.0, 0.0);
+        let mut ratios: Vec<f64> = Vec::new();
+        let mut last_du = vec![0.0; n];
+        for it in 0..=settings.max_iterations {
+            history.copy_from_slice(&self.state.history);
+            let need_k = !(self.model.constant_tangent && self.factor_valid);
+            let k = if need_k { Some(&mut self.k[..]) } else { None };
+            self.model
+                .assemble(&self.problem, t, &u, &mut history, &mut self.r, k, None, &mut self.ws)
+                .map_err(|e| e.to_string())?;
+            let mut rnorm2 = 0.0;
+            let mut react2 = 0.0;
+            for (dof, &q) in self.model.eq.iter().enumerate() {
+                if q == PRESCRIBED {
+                    react2 += self.r[dof] * self.r[dof];
+                } else {
+                    rhs[q as usize] = -self.r[dof];
+                    rnorm2 += self.r[dof] * self.r[dof];
+                }
+            }
+            let rnorm = rnorm2.sqrt();
+            if !rnorm.is_finite() {
+                return Err(format!("non-finite residual at iteration {it}"));
+            }
+            // Round-off floor: nothing smaller than this is meaningful.
+            let floor = 1e-13 * react2.sqrt().max(r0);
+            if it == 0 {
+                r0 = rnorm;
+                if rnorm <= floor || rnorm == 0.0 {
+                    log(LogCategory::Newton, &format!("t = {t:.6e}: in equilibrium, |r| = {rnorm:.3e}"));
+                    self.commit(t, u, history);
+                    return Ok(Converged { iterations: 0, residual: 0.0 });
+                }
+            } else {
+                let rho = rnorm / r0;
+                let energy = (0..n).map(|q| last_du[q] * rhs[q]).sum::<f64>().abs() / e1;
+                let dnorm = last_du.iter().map(|v| v * v).sum::<f64>().sqrt() / du1;
+                ratios.push(rho);
+                let rate = match ratios.len() {
+                    0..=2 => String::new(),
+                    m => {
+                        let (a, b, c) = (ratios[m - 3], ratios[m - 2], ratios[m - 1]);
+                        format!("  rate {:.2}", (c / b).ln() / (b / a).ln())
+                    }
+                };
+                log(
+                    LogCategory::Newton,
+                    &format!("t = {t:.6e} it {it}: |r|/|r0| = {rho:.3e}  |du|/|du1| = {dnorm:.3e}  energy {energy:.3e}{rate}"),
+                );
+                let force_ok = rho <= settings.force_tolerance;
+                let converged = rnorm <= floor || (force_ok && (energy <= settings.energy_tolerance || dnorm <= settings.displacement_tolerance));
+                if converged {
+                    self.commit(t, u, history);
+                    return Ok(Converged { iterations: it, residual: rho });
+                }
+                if it >= 3 && rho > 1e8 {
+                    return Err(format!("diverging: |r|/|r0| = {rho:.3e} at iteration {it}"));
+                }
+            }
+            if it == settings.max_iterations {
+                break;
+            }
+            if need_k {
+                self.linear.factorize(&self.k).map_err(|e| e.to_string())?;
+                self.factor_valid = self.model.constant_tangent;
+            }
+            self.linear.solve(&mut rhs).map_err(|e| e.to_string())?;
+            for (dof, &q) in self.model.eq.iter().enumerate() {
+                if q != PRESCRIBED {
+                    u[dof] += rhs[q as usize];
+                }
+            }
+            last_du.copy_from_slice(&rhs);
+            if it == 0 {
+                du1 = last_du.iter().map(|v| v * v).sum::<f64>().sqrt().max(f64::MIN_POSITIVE);
+                e1 = (r0 * du1).max(f64::MIN_POSITIVE);
+                let dot: f64 = self.model.eq.iter().enumerate().filter(|(_, q)| **q != PRESCRIBED).map(|(d, q)| -self.r[d] * rhs[*q as usize]).sum();
+                if dot.abs() > 0.0 {
+                    e1 = dot.abs();
+                }
+            }
+        }
+        Err(format!("no convergence in {} iterations", settings.max_iterations))
+    }
+
+    fn commit(&mut self, t: f64, u: Vec<f64>, history: Vec<f64>) {
+        self.state.time = t;
+        self.state.u = u;
+        self.state.history = history;
+    }
+
+    /// Element-average Cauchy stress [xx, yy, zz, xy] of each element in the
+    /// converged state.
+    pub fn element_stresses(&self) -> Vec<[f64; 4]> {
+        let mut stress = vec![[0.0; 4]; self.problem.mesh.elements.len()];
+        let mut history = self.state.history.clone();
+        let mut r = vec![0.0; self.r.len()];
+        let mut ws = Workspace::new();
+        // The converged state assembled before, so this cannot fail.
+        let _ = self.model.assemble(&self.problem, self.state.time, &self.state.u, &mut history, &mut r, None, Some(&mut stress), &mut ws);
+        stress
     }
 }

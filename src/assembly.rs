@@ -1,0 +1,322 @@
+//! Global residual and tangent. The sparsity pattern over the free degrees of
+//! freedom and the element-to-pattern scatter map are built once; each
+//! assembly only adds numbers into fixed slots.
+
+use crate::element::{face_shape, gauss_1d};
+use crate::kinematics::{ElementData, ElementError, ElementOutput, integrate};
+use crate::material::{self, MaterialLaw, Voigt};
+use crate::mesh::face_local_nodes;
+use crate::problem::{AnalysisKind, Kinematics, Problem};
+use std::f64::consts::PI;
+
+/// Marks a prescribed degree of freedom in the equation map.
+pub const PRESCRIBED: u32 = u32::MAX;
+
+/// Compressed-column pattern of the free-dof matrix (both triangles).
+#[derive(Clone, Debug)]
+pub struct Pattern {
+    pub n: usize,
+    pub col_ptr: Vec<usize>,
+    pub row_idx: Vec<usize>,
+}
+
+/// The assembled model: laws, equation numbering, pattern and scatter map.
+#[derive(Debug)]
+pub struct Model {
+    pub analysis: AnalysisKind,
+    pub kinematics: Kinematics,
+    laws: Vec<Box<dyn MaterialLaw>>,
+    /// Law index of each element.
+    element_law: Vec<usize>,
+    /// Offset of each element's history in `State::history`.
+    history_offset: Vec<usize>,
+    pub history_len: usize,
+    element_initial_stress: Vec<Voigt>,
+    /// Body force entries (index into problem.body_forces) per element body.
+    element_body: Vec<usize>,
+    /// Equation of each dof (2 per node), or PRESCRIBED.
+    pub eq: Vec<u32>,
+    pub pattern: Pattern,
+    /// Per element, nd*nd slots into the value array (row-major local).
+    scatter: Vec<u32>,
+    scatter_offset: Vec<usize>,
+    /// True when the tangent is symmetric (no follower load in TL).
+    pub symmetric: bool,
+    /// True when the tangent never changes (linear kinematics and laws, no follower load).
+    pub constant_tangent: bool,
+}
+
+/// Work buffers of one assembly, sized once.
+pub struct Workspace {
+    out: ElementOutput,
+    x0: Vec<[f64; 2]>,
+    u: Vec<[f64; 2]>,
+}
+
+impl Workspace {
+    pub fn new() -> Self {
+        Workspace { out: ElementOutput::new(), x0: Vec::with_capacity(8), u: Vec::with_capacity(8) }
+    }
+}
+
+impl Default for Workspace {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl Model {
+    /// Build numbering and pattern. `prescribed[dof]` marks driven dofs.
+    pub fn new(problem: &Problem, prescribed: &[bool]) -> Self {
+        let mesh = &problem.mesh;
+        let laws: Vec<Box<dyn MaterialLaw>> =
+            problem.materials.iter().map(|m| material::build(&m.spec, problem.analysis)).collect();
+        let element_law = problem.element_material.clone();
+        let mut history_offset = Vec::with_capacity(mesh.elements.len());
+        let mut history_len = 0;
+        for (e, el) in mesh.elements.iter().enumerate() {
+            history_offset.push(history_len);
+            history_len += laws[element_law[e]].history_len() * crate::element::gauss_points(el.kind).len();
+        }
+        let mut element_body = vec![usize::MAX; mesh.elements.len()];
+        for (b, body) in problem.bodies.iter().enumerate() {
+            for e in body.elements.clone() {
+                element_body[e] = b;
+            }
+        }
+        let mut element_initial_stress = vec![[0.0; 4]; mesh.elements.len()];
+        for is in &problem.initial_stresses {
+            for e in problem.bodies[is.body].elements.clone() {
+                for i in 0..4 {
+                    element_initial_stress[e][i] += is.stress[i];
+                }
+            }
+        }
+        let mut eq = vec![PRESCRIBED; 2 * mesh.nodes.len()];
+        let mut n = 0u32;
+        for (dof, slot) in eq.iter_mut().enumerate() {
+            if !prescribed[dof] {
+                *slot = n;
+                n += 1;
+            }
+        }
+        let n = n as usize;
+        // Column sets, then sorted unique rows.
+        let mut cols: Vec<Vec<usize>> = vec![Vec::new(); n];
+        let mut dofs = Vec::with_capacity(16);
+        for el in &mesh.elements {
+            dofs.clear();
+            for &node in &el.nodes {
+                for c in 0..2 {
+                    let q = eq[2 * node + c];
+                    if q != PRESCRIBED {
+                        dofs.push(q as usize);
+                    }
+                }
+            }
+            for &c in &dofs {
+                cols[c].extend(dofs.iter().copied());
+            }
+        }
+        let mut col_ptr = Vec::with_capacity(n + 1);
+        let mut row_idx = Vec::new();
+        col_ptr.push(0);
+        for c in cols.iter_mut() {
+            c.sort_unstable();
+            c.dedup();
+            row_idx.extend_from_slice(c);
+            col_ptr.push(row_idx.len());
+        }
+        drop(cols);
+        let mut scatter = Vec::new();
+        let mut scatter_offset = Vec::with_capacity(mesh.elements.len());
+        for el in &mesh.elements {
+            scatter_offset.push(scatter.len());
+            let ld: Vec<u32> = el.nodes.iter().flat_map(|&nd| [eq[2 * nd], eq[2 * nd + 1]]).collect();
+            for &r in &ld {
+                for &c in &ld {
+                    if r == PRESCRIBED || c == PRESCRIBED {
+                        scatter.push(PRESCRIBED);
+                    } else {
+                        let (c, r) = (c as usize, r as usize);
+                        let rows = &row_idx[col_ptr[c]..col_ptr[c + 1]];
+                        let pos = rows.binary_search(&r).expect("pattern holds every element pair");
+                        scatter.push((col_ptr[c] + pos) as u32);
+                    }
+                }
+            }
+        }
+        let follower = problem.pressures.iter().any(|p| p.follower);
+        let tl = problem.kinematics == Kinematics::TotalLagrangian;
+        let linear_laws = laws.iter().all(|l| l.history_len() == 0);
+        Model {
+            analysis: problem.analysis,
+            kinematics: problem.kinematics,
+            laws,
+            element_law,
+            history_offset,
+            history_len,
+            element_initial_stress,
+            element_body,
+            eq,
+            pattern: Pattern { n, col_ptr, row_idx },
+            scatter,
+            scatter_offset,
+            symmetric: !(tl && follower),
+            constant_tangent: !tl && linear_laws,
+        }
+    }
+
+    pub fn free_dofs(&self) -> usize {
+        self.pattern.n
+    }
+
+    /// Residual r = f_int - f_ext over all dofs (prescribed ones give the
+    /// reactions), and with `k` the tangent values over the pattern. With
+    /// `stress`, the element-average Cauchy stresses too. `history` holds
+    /// the converged history on entry and the trial one on return.
+    #[allow(clippy::too_many_arguments)]
+    pub fn assemble(
+        &self,
+        problem: &Problem,
+        t: f64,
+        u: &[f64],
+        history: &mut [f64],
+        r: &mut [f64],
+        mut k: Option<&mut [f64]>,
+        mut stress: Option<&mut [Voigt]>,
+        ws: &mut Workspace,
+    ) -> Result<(), ElementError> {
+        let mesh = &problem.mesh;
+        r.fill(0.0);
+        if let Some(k) = k.as_deref_mut() {
+            k.fill(0.0);
+        }
+        let body_force: Vec<[f64; 2]> = problem
+            .bodies
+            .iter()
+            .enumerate()
+            .map(|(b, _)| {
+                let mut f = [0.0; 2];
+                for bf in problem.body_forces.iter().filter(|bf| bf.body == b) {
+                    f[0] += bf.bx.at(t, &problem.functions);
+                    f[1] += bf.by.at(t, &problem.functions);
+                }
+                f
+            })
+            .collect();
+        for (e, el) in mesh.elements.iter().enumerate() {
+            let nn = el.nodes.len();
+            ws.x0.clear();
+            ws.u.clear();
+            for &nd in &el.nodes {
+                ws.x0.push(mesh.nodes[nd]);
+                ws.u.push([u[2 * nd], u[2 * nd + 1]]);
+            }
+            let law = &*self.laws[self.element_law[e]];
+            let hl = law.history_len() * crate::element::gauss_points(el.kind).len();
+            let h0 = self.history_offset[e];
+            let b = self.element_body[e];
+            let mut data = ElementData {
+                index: e,
+                kind: el.kind,
+                x0: &ws.x0,
+                u: &ws.u,
+                law,
+                history: &mut history[h0..h0 + hl],
+                initial_stress: self.element_initial_stress[e],
+                body_force: if b == usize::MAX { [0.0; 2] } else { body_force[b] },
+            };
+            integrate(self.analysis, self.kinematics, &mut data, k.is_some(), &mut ws.out)?;
+            for (a, &nd) in el.nodes.iter().enumerate() {
+                r[2 * nd] += ws.out.f[2 * a];
+                r[2 * nd + 1] += ws.out.f[2 * a + 1];
+            }
+            if let Some(k) = k.as_deref_mut() {
+                self.scatter_matrix(e, 2 * nn, &ws.out.k, k);
+            }
+            if let Some(s) = stress.as_deref_mut() {
+                s[e] = ws.out.cauchy;
+            }
+        }
+        self.add_pressures(problem, t, u, r, k, ws);
+        Ok(())
+    }
+
+    fn scatter_matrix(&self, e: usize, nd: usize, ke: &[[f64; 16]; 16], k: &mut [f64]) {
+        let map = &self.scatter[self.scatter_offset[e]..self.scatter_offset[e] + nd * nd];
+        for q1 in 0..nd {
+            for q2 in 0..nd {
+                let slot = map[q1 * nd + q2];
+                if slot != PRESCRIBED {
+                    k[slot as usize] += ke[q1][q2];
+                }
+            }
+        }
+    }
+
+    /// Edge pressure: r_a += p N_a (x'_y, -x'_x) * (thickness | 2 pi r) ds.
+    /// Follower pressure in TL acts on the current edge and adds its load
+    /// stiffness (unsymmetric).
+    fn add_pressures(&self, problem: &Problem, t: f64, u: &[f64], r: &mut [f64], mut k: Option<&mut [f64]>, ws: &mut Workspace) {
+        let mesh = &problem.mesh;
+        let tl = self.kinematics == Kinematics::TotalLagrangian;
+        for pr in &problem.pressures {
+            let p = pr.value.at(t, &problem.functions);
+            let current = tl && pr.follower;
+            for edge in &pr.edges {
+                let el = &mesh.elements[edge.element];
+                let local = face_local_nodes(el.kind, edge.face);
+                let m = local.len();
+                let mut x = [[0.0; 2]; 3];
+                for (i, &a) in local.iter().enumerate() {
+                    let nd = el.nodes[a];
+                    x[i] = mesh.nodes[nd];
+                    if current {
+                        x[i][0] += u[2 * nd];
+                        x[i][1] += u[2 * nd + 1];
+                    }
+                }
+                ws.out.k = [[0.0; 16]; 16];
+                let mut any_k = false;
+                for &(s, w) in gauss_1d(3) {
+                    let (n, dn) = face_shape(m, s);
+                    let (mut dx, mut dy, mut rad) = (0.0, 0.0, 0.0);
+                    for i in 0..m {
+                        dx += dn[i] * x[i][0];
+                        dy += dn[i] * x[i][1];
+                        rad += n[i] * x[i][0];
+                    }
+                    let (factor, dfactor) = match self.analysis {
+                        AnalysisKind::PlaneStrain { thickness } | AnalysisKind::PlaneStress { thickness } => (thickness, 0.0),
+                        AnalysisKind::Axisymmetric => (2.0 * PI * rad, 2.0 * PI),
+                    };
+                    for i in 0..m {
+                        let nd = el.nodes[local[i]];
+                        r[2 * nd] += p * n[i] * dy * factor * w;
+                        r[2 * nd + 1] -= p * n[i] * dx * factor * w;
+                    }
+                    if current && k.is_some() {
+                        any_k = true;
+                        for i in 0..m {
+                            for j in 0..m {
+                                let (ai, bj) = (local[i], local[j]);
+                                let kk = &mut ws.out.k;
+                                kk[2 * ai][2 * bj + 1] += p * n[i] * dn[j] * factor * w;
+                                kk[2 * ai][2 * bj] += p * n[i] * dy * dfactor * n[j] * w;
+                                kk[2 * ai + 1][2 * bj] -= p * n[i] * dn[j] * factor * w;
+                                kk[2 * ai + 1][2 * bj] -= p * n[i] * dx * dfactor * n[j] * w;
+                            }
+                        }
+                    }
+                }
+                if any_k {
+                    let ke = ws.out.k;
+                    if let Some(k) = k.as_deref_mut() {
+                        self.scatter_matrix(edge.element, 2 * el.nodes.len(), &ke, k);
+                    }
+                }
+            }
+        }
+    }
+}

@@ -1,0 +1,258 @@
+//! The element integrator: strain-displacement relations of the three
+//! analysis kinds under small strain and total Lagrangian kinematics, the
+//! internal force vector and the consistent tangent (material + geometric).
+
+use crate::element::{MAX_NODES, gauss_points, shape};
+use crate::material::{MaterialLaw, Tangent, Voigt};
+use crate::mesh::ElementKind;
+use crate::problem::{AnalysisKind, Kinematics};
+use std::f64::consts::PI;
+
+/// Element degrees of freedom at most (Q8).
+pub const MAX_DOFS: usize = 2 * MAX_NODES;
+
+pub type ElementVector = [f64; MAX_DOFS];
+pub type ElementMatrix = [[f64; MAX_DOFS]; MAX_DOFS];
+
+/// Why an element could not be evaluated.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum ElementError {
+    #[error("element {element}: reference Jacobian {det:e} <= 0 at a Gauss point (distorted or clockwise element)")]
+    BadJacobian { element: usize, det: f64 },
+    #[error("element {element}: deformation gradient determinant {det:e} <= 0 (element inverted)")]
+    Inverted { element: usize, det: f64 },
+    #[error("element {element}: non-finite stress from the material law")]
+    NonFinite { element: usize },
+}
+
+/// What the integrator needs of one element.
+pub struct ElementData<'a> {
+    pub index: usize,
+    pub kind: ElementKind,
+    pub x0: &'a [[f64; 2]],
+    pub u: &'a [[f64; 2]],
+    pub law: &'a dyn MaterialLaw,
+    /// Converged history of every Gauss point in; updated history out.
+    pub history: &'a mut [f64],
+    pub initial_stress: Voigt,
+    /// Body force per unit reference volume.
+    pub body_force: [f64; 2],
+}
+
+/// Geometry of one Gauss point in the reference configuration.
+struct Point {
+    n: [f64; MAX_NODES],
+    /// dN/dX
+    g: [[f64; 2]; MAX_NODES],
+    /// Reference radius (axisymmetric) or 0.
+    r: f64,
+    /// Reference volume weight: det J * w * (thickness or 2 pi r).
+    dv: f64,
+}
+
+fn point(d: &ElementData, xi: [f64; 2], w: f64, analysis: AnalysisKind) -> Result<Point, ElementError> {
+    let nn = d.kind.node_count();
+    let s = shape(d.kind, xi[0], xi[1]);
+    let mut j = [[0.0; 2]; 2]; // j[i][k] = dX_i / dxi_k
+    let mut r = 0.0;
+    for a in 0..nn {
+        for i in 0..2 {
+            for k in 0..2 {
+                j[i][k] += d.x0[a][i] * s.dn[a][k];
+            }
+        }
+        r += s.n[a] * d.x0[a][0];
+    }
+    let det = j[0][0] * j[1][1] - j[0][1] * j[1][0];
+    if det <= 0.0 || !det.is_finite() {
+        return Err(ElementError::BadJacobian { element: d.index, det });
+    }
+    // dN/dX = J^-T dN/dxi
+    let inv = [[j[1][1] / det, -j[0][1] / det], [-j[1][0] / det, j[0][0] / det]];
+    let mut g = [[0.0; 2]; MAX_NODES];
+    for a in 0..nn {
+        g[a][0] = s.dn[a][0] * inv[0][0] + s.dn[a][1] * inv[1][0];
+        g[a][1] = s.dn[a][0] * inv[0][1] + s.dn[a][1] * inv[1][1];
+    }
+    let factor = match analysis {
+        AnalysisKind::PlaneStrain { thickness } | AnalysisKind::PlaneStress { thickness } => thickness,
+        AnalysisKind::Axisymmetric => {
+            if r <= 0.0 {
+                return Err(ElementError::BadJacobian { element: d.index, det: r });
+            }
+            2.0 * PI * r
+        }
+    };
+    Ok(Point { n: s.n, g, r, dv: det * w * factor })
+}
+
+/// Result of integrating one element.
+pub struct ElementOutput {
+    /// Internal force minus body force.
+    pub f: ElementVector,
+    pub k: ElementMatrix,
+    /// Volume-averaged Cauchy stress [xx, yy, zz, xy].
+    pub cauchy: Voigt,
+}
+
+/// Internal force vector, tangent (when `tangent`) and average Cauchy stress
+/// of one element at displacement `d.u`.
+pub fn integrate(
+    analysis: AnalysisKind,
+    kinematics: Kinematics,
+    d: &mut ElementData,
+    tangent: bool,
+    out: &mut ElementOutput,
+) -> Result<(), ElementError> {
+    let nn = d.kind.node_count();
+    let nd = 2 * nn;
+    let axi = matches!(analysis, AnalysisKind::Axisymmetric);
+    let tl = kinematics == Kinematics::TotalLagrangian;
+    let hl = d.law.history_len();
+    out.f = [0.0; MAX_DOFS];
+    if tangent {
+        for row in out.k.iter_mut().take(nd) {
+            row[..nd].fill(0.0);
+        }
+    }
+    out.cauchy = [0.0; 4];
+    let mut volume = 0.0;
+    for (gp, (xi, w)) in gauss_points(d.kind).iter().enumerate() {
+        let p = point(d, xi, w, analysis)?;
+        // Displacement gradient h[i][j] = du_i/dX_j and radial displacement.
+        let mut h = [[0.0; 2]; 2];
+        let mut ur = 0.0;
+        for a in 0..nn {
+            for i in 0..2 {
+                for jx in 0..2 {
+                    h[i][jx] += d.u[a][i] * p.g[a][jx];
+                }
+            }
+            ur += p.n[a] * d.u[a][0];
+        }
+        let hoop = if axi { ur / p.r } else { 0.0 };
+        // F (only meaningful for TL); F33 = 1 + u/r axisymmetric, 1 planar.
+        let f = if tl { [[1.0 + h[0][0], h[0][1]], [h[1][0], 1.0 + h[1][1]]] } else { [[1.0, 0.0], [0.0, 1.0]] };
+        let f33 = if tl { 1.0 + hoop } else { 1.0 };
+        let strain: Voigt = if tl {
+            [
+                h[0][0] + 0.5 * (h[0][0] * h[0][0] + h[1][0] * h[1][0]),
+                h[1][1] + 0.5 * (h[0][1] * h[0][1] + h[1][1] * h[1][1]),
+                hoop + 0.5 * hoop * hoop,
+                h[0][1] + h[1][0] + h[0][0] * h[0][1] + h[1][0] * h[1][1],
+            ]
+        } else {
+            [h[0][0], h[1][1], hoop, h[0][1] + h[1][0]]
+        };
+        let det_f = (f[0][0] * f[1][1] - f[0][1] * f[1][0]) * f33;
+        if tl && det_f <= 0.0 {
+            return Err(ElementError::Inverted { element: d.index, det: det_f });
+        }
+        let mut s: Voigt = [0.0; 4];
+        let mut c: Tangent = [[0.0; 4]; 4];
+        d.law.evaluate(&strain, &mut d.history[gp * hl..(gp + 1) * hl], &mut s, &mut c);
+        for i in 0..4 {
+            s[i] += d.initial_stress[i];
+        }
+        if s.iter().any(|v| !v.is_finite()) {
+            return Err(ElementError::NonFinite { element: d.index });
+        }
+        // B: row r of strain variation per dof (a, i).
+        let mut b = [[0.0; MAX_DOFS]; 4];
+        for a in 0..nn {
+            let (gx, gy) = (p.g[a][0], p.g[a][1]);
+            b[0][2 * a] = f[0][0] * gx;
+            b[0][2 * a + 1] = f[1][0] * gx;
+            b[1][2 * a] = f[0][1] * gy;
+            b[1][2 * a + 1] = f[1][1] * gy;
+            if axi {
+                b[2][2 * a] = f33 * p.n[a] / p.r;
+            }
+            b[3][2 * a] = f[0][0] * gy + f[0][1] * gx;
+            b[3][2 * a + 1] = f[1][0] * gy + f[1][1] * gx;
+        }
+        for q in 0..nd {
+            let mut v = 0.0;
+            for r in 0..4 {
+                v += b[r][q] * s[r];
+            }
+            out.f[q] += v * p.dv;
+        }
+        for a in 0..nn {
+            out.f[2 * a] -= p.n[a] * d.body_force[0] * p.dv;
+            out.f[2 * a + 1] -= p.n[a] * d.body_force[1] * p.dv;
+        }
+        if tangent {
+            // Material part: B^T C B.
+            let mut cb = [[0.0; MAX_DOFS]; 4];
+            for r in 0..4 {
+                for q in 0..nd {
+                    cb[r][q] = (0..4).map(|t| c[r][t] * b[t][q]).sum();
+                }
+            }
+            for q1 in 0..nd {
+                for q2 in 0..nd {
+                    let mut v = 0.0;
+                    for r in 0..4 {
+                        v += b[r][q1] * cb[r][q2];
+                    }
+                    out.k[q1][q2] += v * p.dv;
+                }
+            }
+            if tl {
+                // Geometric part: (g_a . S g_b) I, and S33 N_a N_b / r^2 radially.
+                for a in 0..nn {
+                    for bb in 0..nn {
+                        let (ga, gb) = (p.g[a], p.g[bb]);
+                        let mut v = ga[0] * (s[0] * gb[0] + s[3] * gb[1]) + ga[1] * (s[3] * gb[0] + s[1] * gb[1]);
+                        v *= p.dv;
+                        out.k[2 * a][2 * bb] += v;
+                        out.k[2 * a + 1][2 * bb + 1] += v;
+                        if axi {
+                            out.k[2 * a][2 * bb] += s[2] * p.n[a] * p.n[bb] / (p.r * p.r) * p.dv;
+                        }
+                    }
+                }
+            }
+        }
+        // Cauchy stress sigma = F S F^T / det F (planar F33 taken as 1 in plane stress).
+        let sigma = if tl {
+            let sm = [[s[0], s[3]], [s[3], s[1]]];
+            let mut fs = [[0.0; 2]; 2];
+            for i in 0..2 {
+                for k in 0..2 {
+                    fs[i][k] = f[i][0] * sm[0][k] + f[i][1] * sm[1][k];
+                }
+            }
+            let mut sig = [[0.0; 2]; 2];
+            for i in 0..2 {
+                for k in 0..2 {
+                    sig[i][k] = (fs[i][0] * f[k][0] + fs[i][1] * f[k][1]) / det_f;
+                }
+            }
+            [sig[0][0], sig[1][1], f33 * f33 * s[2] / det_f, sig[0][1]]
+        } else {
+            s
+        };
+        for i in 0..4 {
+            out.cauchy[i] += sigma[i] * p.dv;
+        }
+        volume += p.dv;
+    }
+    for v in out.cauchy.iter_mut() {
+        *v /= volume;
+    }
+    Ok(())
+}
+
+impl ElementOutput {
+    pub fn new() -> Self {
+        ElementOutput { f: [0.0; MAX_DOFS], k: [[0.0; MAX_DOFS]; MAX_DOFS], cauchy: [0.0; 4] }
+    }
+}
+
+impl Default for ElementOutput {
+    fn default() -> Self {
+        Self::new()
+    }
+}
