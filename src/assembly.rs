@@ -173,8 +173,10 @@ impl Model {
 
     /// Residual r = f_int - f_ext over all dofs (prescribed ones give the
     /// reactions), and with `k` the tangent values over the pattern. With
-    /// `stress`, the element-average Cauchy stresses too. `history` holds
-    /// the converged history on entry and the trial one on return.
+    /// `stress`, the element-average Cauchy stresses too. With `kdu =
+    /// (du, out)`, out += K du over all dofs (the full tangent, prescribed
+    /// columns included: the predictor of a prescribed increment). `history`
+    /// holds the converged history on entry and the trial one on return.
     #[allow(clippy::too_many_arguments)]
     pub fn assemble(
         &self,
@@ -185,6 +187,7 @@ impl Model {
         r: &mut [f64],
         mut k: Option<&mut [f64]>,
         mut stress: Option<&mut [Voigt]>,
+        mut kdu: Option<(&[f64], &mut [f64])>,
         ws: &mut Workspace,
     ) -> Result<(), ElementError> {
         let mesh = &problem.mesh;
@@ -227,7 +230,10 @@ impl Model {
                 initial_stress: self.element_initial_stress[e],
                 body_force: if b == usize::MAX { [0.0; 2] } else { body_force[b] },
             };
-            integrate(self.analysis, self.kinematics, &mut data, k.is_some(), &mut ws.out)?;
+            integrate(self.analysis, self.kinematics, &mut data, k.is_some() || kdu.is_some(), &mut ws.out)?;
+            if let Some((du, out)) = kdu.as_mut() {
+                add_product(&el.nodes, &ws.out.k, du, out);
+            }
             for (a, &nd) in el.nodes.iter().enumerate() {
                 r[2 * nd] += ws.out.f[2 * a];
                 r[2 * nd + 1] += ws.out.f[2 * a + 1];
@@ -239,7 +245,14 @@ impl Model {
                 s[e] = ws.out.cauchy;
             }
         }
-        self.add_pressures(problem, t, u, r, k, ws);
+        self.add_pressures(problem, t, u, r, k, kdu, ws);
+        for f in &problem.forces {
+            let (fx, fy) = (f.fx.at(t, &problem.functions), f.fy.at(t, &problem.functions));
+            for &n in &f.nodes {
+                r[2 * n] -= fx;
+                r[2 * n + 1] -= fy;
+            }
+        }
         Ok(())
     }
 
@@ -258,7 +271,17 @@ impl Model {
     /// Edge pressure: r_a += p N_a (x'_y, -x'_x) * (thickness | 2 pi r) ds.
     /// Follower pressure in TL acts on the current edge and adds its load
     /// stiffness (unsymmetric).
-    fn add_pressures(&self, problem: &Problem, t: f64, u: &[f64], r: &mut [f64], mut k: Option<&mut [f64]>, ws: &mut Workspace) {
+    #[allow(clippy::too_many_arguments)]
+    fn add_pressures(
+        &self,
+        problem: &Problem,
+        t: f64,
+        u: &[f64],
+        r: &mut [f64],
+        mut k: Option<&mut [f64]>,
+        mut kdu: Option<(&[f64], &mut [f64])>,
+        ws: &mut Workspace,
+    ) {
         let mesh = &problem.mesh;
         let tl = self.kinematics == Kinematics::TotalLagrangian;
         for pr in &problem.pressures {
@@ -296,7 +319,7 @@ impl Model {
                         r[2 * nd] += p * n[i] * dy * factor * w;
                         r[2 * nd + 1] -= p * n[i] * dx * factor * w;
                     }
-                    if current && k.is_some() {
+                    if current && (k.is_some() || kdu.is_some()) {
                         any_k = true;
                         for i in 0..m {
                             for j in 0..m {
@@ -315,8 +338,32 @@ impl Model {
                     if let Some(k) = k.as_deref_mut() {
                         self.scatter_matrix(edge.element, 2 * el.nodes.len(), &ke, k);
                     }
+                    if let Some((du, out)) = kdu.as_mut() {
+                        add_product(&el.nodes, &ke, du, out);
+                    }
                 }
             }
+        }
+    }
+}
+
+/// out += K_e du_e for one element's nodes.
+fn add_product(nodes: &[usize], ke: &[[f64; 16]; 16], du: &[f64], out: &mut [f64]) {
+    let nd = 2 * nodes.len();
+    let mut local = [0.0; 16];
+    let mut any = false;
+    for (a, &n) in nodes.iter().enumerate() {
+        local[2 * a] = du[2 * n];
+        local[2 * a + 1] = du[2 * n + 1];
+        any |= local[2 * a] != 0.0 || local[2 * a + 1] != 0.0;
+    }
+    if !any {
+        return;
+    }
+    for (a, &n) in nodes.iter().enumerate() {
+        for c in 0..2 {
+            let q = 2 * a + c;
+            out[2 * n + c] += (0..nd).map(|j| ke[q][j] * local[j]).sum::<f64>();
         }
     }
 }

@@ -205,12 +205,17 @@ impl Solver {
     }
 
     /// Newton iterations for one increment to time t; commits on success.
+    /// Iteration 0 starts from the converged state and carries the
+    /// prescribed increment through the tangent (K_fp du_p), so a large
+    /// boundary motion does not first distort the elements next to it.
     fn increment(&mut self, t: f64, t0: f64, t1: f64, u0: &[f64], log: &mut dyn FnMut(LogCategory, &str)) -> Result<Converged, String> {
         let settings = self.problem.solver.clone();
         let mut u = self.state.u.clone();
+        let mut dup = vec![0.0; u.len()];
         for p in &self.prescribed {
-            u[p.dof] = self.prescribed_value(p, t, t0, t1, u0);
+            dup[p.dof] = self.prescribed_value(p, t, t0, t1, u0) - u[p.dof];
         }
+        let mut kdu = vec![0.0; u.len()];
         let mut history = self.state.history.clone();
         let n = self.model.free_dofs();
         let mut rhs = vec![0.0; n];
@@ -221,8 +226,9 @@ impl Solver {
             history.copy_from_slice(&self.state.history);
             let need_k = !(self.model.constant_tangent && self.factor_valid);
             let k = if need_k { Some(&mut self.k[..]) } else { None };
+            let pred = if it == 0 { Some((&dup[..], &mut kdu[..])) } else { None };
             self.model
-                .assemble(&self.problem, t, &u, &mut history, &mut self.r, k, None, &mut self.ws)
+                .assemble(&self.problem, t, &u, &mut history, &mut self.r, k, None, pred, &mut self.ws)
                 .map_err(|e| e.to_string())?;
             let mut rnorm2 = 0.0;
             let mut react2 = 0.0;
@@ -230,8 +236,9 @@ impl Solver {
                 if q == PRESCRIBED {
                     react2 += self.r[dof] * self.r[dof];
                 } else {
-                    rhs[q as usize] = -self.r[dof];
-                    rnorm2 += self.r[dof] * self.r[dof];
+                    let v = if it == 0 { self.r[dof] + kdu[dof] } else { self.r[dof] };
+                    rhs[q as usize] = -v;
+                    rnorm2 += v * v;
                 }
             }
             let rnorm = rnorm2.sqrt();
@@ -242,11 +249,12 @@ impl Solver {
             let floor = 1e-13 * react2.sqrt().max(r0);
             if it == 0 {
                 r0 = rnorm;
-                if rnorm <= floor || rnorm == 0.0 {
-                    log(LogCategory::Newton, &format!("t = {t:.6e}: in equilibrium, |r| = {rnorm:.3e}"));
+                if rnorm == 0.0 && dup.iter().all(|v| *v == 0.0) {
+                    log(LogCategory::Newton, &format!("t = {t:.6e}: nothing changed, in equilibrium"));
                     self.commit(t, u, history);
                     return Ok(Converged { iterations: 0, residual: 0.0 });
                 }
+                r0 = r0.max(f64::MIN_POSITIVE);
             } else {
                 let rho = rnorm / r0;
                 let energy = (0..n).map(|q| last_du[q] * rhs[q]).sum::<f64>().abs() / e1;
@@ -280,20 +288,24 @@ impl Solver {
                 self.linear.factorize(&self.k).map_err(|e| e.to_string())?;
                 self.factor_valid = self.model.constant_tangent;
             }
+            if it == 0 {
+                last_du.copy_from_slice(&rhs);
+            }
             self.linear.solve(&mut rhs).map_err(|e| e.to_string())?;
+            if it == 0 {
+                // Energy of the first correction, |du_1 . r_0| (last_du holds -r_0).
+                e1 = (0..n).map(|q| rhs[q] * last_du[q]).sum::<f64>().abs().max(f64::MIN_POSITIVE);
+            }
             for (dof, &q) in self.model.eq.iter().enumerate() {
                 if q != PRESCRIBED {
                     u[dof] += rhs[q as usize];
+                } else if it == 0 {
+                    u[dof] += dup[dof];
                 }
             }
             last_du.copy_from_slice(&rhs);
             if it == 0 {
                 du1 = last_du.iter().map(|v| v * v).sum::<f64>().sqrt().max(f64::MIN_POSITIVE);
-                e1 = (r0 * du1).max(f64::MIN_POSITIVE);
-                let dot: f64 = self.model.eq.iter().enumerate().filter(|(_, q)| **q != PRESCRIBED).map(|(d, q)| -self.r[d] * rhs[*q as usize]).sum();
-                if dot.abs() > 0.0 {
-                    e1 = dot.abs();
-                }
             }
         }
         Err(format!("no convergence in {} iterations", settings.max_iterations))
@@ -313,7 +325,7 @@ impl Solver {
         let mut r = vec![0.0; self.r.len()];
         let mut ws = Workspace::new();
         // The converged state assembled before, so this cannot fail.
-        let _ = self.model.assemble(&self.problem, self.state.time, &self.state.u, &mut history, &mut r, None, Some(&mut stress), &mut ws);
+        let _ = self.model.assemble(&self.problem, self.state.time, &self.state.u, &mut history, &mut r, None, Some(&mut stress), None, &mut ws);
         stress
     }
 }

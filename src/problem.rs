@@ -115,6 +115,14 @@ pub struct Pressure {
     pub follower: bool,
 }
 
+/// Concentrated force applied at each node of a set (dead load).
+#[derive(Clone, Debug, PartialEq)]
+pub struct NodalForce {
+    pub nodes: Vec<usize>,
+    pub fx: Scaled,
+    pub fy: Scaled,
+}
+
 /// Body force per unit reference volume, on the elements of one body.
 #[derive(Clone, Debug, PartialEq)]
 pub struct BodyForce {
@@ -168,6 +176,7 @@ pub struct Problem {
     pub functions: Vec<TimeFunction>,
     pub drivers: Vec<Driver>,
     pub pressures: Vec<Pressure>,
+    pub forces: Vec<NodalForce>,
     pub body_forces: Vec<BodyForce>,
     pub initial_stresses: Vec<InitialStress>,
     /// End times of the increments of the scene's own load history.
