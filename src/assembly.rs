@@ -48,6 +48,9 @@ pub struct Model {
 
 /// Work buffers of one assembly, sized once.
 pub struct Workspace {
+    /// sqrt of the sum of squares of every element force entry of the last
+    /// assembly: the scale of the round-off in the residual.
+    pub force_scale: f64,
     out: ElementOutput,
     x0: Vec<[f64; 2]>,
     u: Vec<[f64; 2]>,
@@ -55,7 +58,7 @@ pub struct Workspace {
 
 impl Workspace {
     pub fn new() -> Self {
-        Workspace { out: ElementOutput::new(), x0: Vec::with_capacity(8), u: Vec::with_capacity(8) }
+        Workspace { force_scale: 0.0, out: ElementOutput::new(), x0: Vec::with_capacity(8), u: Vec::with_capacity(8) }
     }
 }
 
@@ -192,6 +195,7 @@ impl Model {
     ) -> Result<(), ElementError> {
         let mesh = &problem.mesh;
         r.fill(0.0);
+        let mut scale2 = 0.0;
         if let Some(k) = k.as_deref_mut() {
             k.fill(0.0);
         }
@@ -234,6 +238,7 @@ impl Model {
             if let Some((du, out)) = kdu.as_mut() {
                 add_product(&el.nodes, &ws.out.k, du, out);
             }
+            scale2 += ws.out.f[..2 * nn].iter().map(|v| v * v).sum::<f64>();
             for (a, &nd) in el.nodes.iter().enumerate() {
                 r[2 * nd] += ws.out.f[2 * a];
                 r[2 * nd + 1] += ws.out.f[2 * a + 1];
@@ -245,6 +250,7 @@ impl Model {
                 s[e] = ws.out.cauchy;
             }
         }
+        ws.force_scale = scale2.sqrt();
         self.add_pressures(problem, t, u, r, k, kdu, ws);
         for f in &problem.forces {
             let (fx, fy) = (f.fx.at(t, &problem.functions), f.fy.at(t, &problem.functions));

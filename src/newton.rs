@@ -101,6 +101,11 @@ impl Solver {
         &self.state
     }
 
+    /// Newton control, changeable between increments.
+    pub fn settings_mut(&mut self) -> &mut crate::problem::SolverSettings {
+        &mut self.problem.solver
+    }
+
     pub fn restore(&mut self, state: State) {
         self.state = state;
     }
@@ -245,8 +250,9 @@ impl Solver {
             if !rnorm.is_finite() {
                 return Err(format!("non-finite residual at iteration {it}"));
             }
-            // Round-off floor: nothing smaller than this is meaningful.
-            let floor = 1e-13 * react2.sqrt().max(r0);
+            // Round-off floor: the residual sums element forces of size
+            // force_scale; below ~1e-14 of that nothing is meaningful.
+            let floor = 1e-14 * self.ws.force_scale.max(react2.sqrt()).max(r0);
             if it == 0 {
                 r0 = rnorm;
                 if rnorm == 0.0 && dup.iter().all(|v| *v == 0.0) {
@@ -272,7 +278,16 @@ impl Solver {
                     &format!("t = {t:.6e} it {it}: |r|/|r0| = {rho:.3e}  |du|/|du1| = {dnorm:.3e}  energy {energy:.3e}{rate}"),
                 );
                 let force_ok = rho <= settings.force_tolerance;
-                let converged = rnorm <= floor || (force_ok && (energy <= settings.energy_tolerance || dnorm <= settings.displacement_tolerance));
+                // A correction at the precision of the displacements themselves
+                // cannot improve the solution further (round-off stagnation).
+                let unorm = u.iter().map(|v| v * v).sum::<f64>().sqrt();
+                let stagnated = dnorm * du1 <= 1e-14 * unorm;
+                if stagnated && !force_ok {
+                    log(LogCategory::Warning, &format!("t = {t:.6e}: residual stagnated at round-off, |r|/|r0| = {rho:.3e}"));
+                }
+                let converged = rnorm <= floor
+                    || stagnated
+                    || (force_ok && (energy <= settings.energy_tolerance || dnorm <= settings.displacement_tolerance));
                 if converged {
                     self.commit(t, u, history);
                     return Ok(Converged { iterations: it, residual: rho });
