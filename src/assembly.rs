@@ -58,7 +58,12 @@ pub struct Workspace {
 
 impl Workspace {
     pub fn new() -> Self {
-        Workspace { force_scale: 0.0, out: ElementOutput::new(), x0: Vec::with_capacity(8), u: Vec::with_capacity(8) }
+        Workspace {
+            force_scale: 0.0,
+            out: ElementOutput::new(),
+            x0: Vec::with_capacity(8),
+            u: Vec::with_capacity(8),
+        }
     }
 }
 
@@ -72,14 +77,18 @@ impl Model {
     /// Build numbering and pattern. `prescribed[dof]` marks driven dofs.
     pub fn new(problem: &Problem, prescribed: &[bool]) -> Self {
         let mesh = &problem.mesh;
-        let laws: Vec<Box<dyn MaterialLaw>> =
-            problem.materials.iter().map(|m| material::build(&m.spec, problem.analysis)).collect();
+        let laws: Vec<Box<dyn MaterialLaw>> = problem
+            .materials
+            .iter()
+            .map(|m| material::build(&m.spec, problem.analysis))
+            .collect();
         let element_law = problem.element_material.clone();
         let mut history_offset = Vec::with_capacity(mesh.elements.len());
         let mut history_len = 0;
         for (e, el) in mesh.elements.iter().enumerate() {
             history_offset.push(history_len);
-            history_len += laws[element_law[e]].history_len() * crate::element::gauss_points(el.kind).len();
+            history_len +=
+                laws[element_law[e]].history_len() * crate::element::gauss_points(el.kind).len();
         }
         let mut element_body = vec![usize::MAX; mesh.elements.len()];
         for (b, body) in problem.bodies.iter().enumerate() {
@@ -135,7 +144,11 @@ impl Model {
         let mut scatter_offset = Vec::with_capacity(mesh.elements.len());
         for el in &mesh.elements {
             scatter_offset.push(scatter.len());
-            let ld: Vec<u32> = el.nodes.iter().flat_map(|&nd| [eq[2 * nd], eq[2 * nd + 1]]).collect();
+            let ld: Vec<u32> = el
+                .nodes
+                .iter()
+                .flat_map(|&nd| [eq[2 * nd], eq[2 * nd + 1]])
+                .collect();
             for &r in &ld {
                 for &c in &ld {
                     if r == PRESCRIBED || c == PRESCRIBED {
@@ -143,7 +156,9 @@ impl Model {
                     } else {
                         let (c, r) = (c as usize, r as usize);
                         let rows = &row_idx[col_ptr[c]..col_ptr[c + 1]];
-                        let pos = rows.binary_search(&r).expect("pattern holds every element pair");
+                        let pos = rows
+                            .binary_search(&r)
+                            .expect("pattern holds every element pair");
                         scatter.push((col_ptr[c] + pos) as u32);
                     }
                 }
@@ -162,7 +177,11 @@ impl Model {
             element_initial_stress,
             element_body,
             eq,
-            pattern: Pattern { n, col_ptr, row_idx },
+            pattern: Pattern {
+                n,
+                col_ptr,
+                row_idx,
+            },
             scatter,
             scatter_offset,
             symmetric: !(tl && follower),
@@ -232,9 +251,19 @@ impl Model {
                 law,
                 history: &mut history[h0..h0 + hl],
                 initial_stress: self.element_initial_stress[e],
-                body_force: if b == usize::MAX { [0.0; 2] } else { body_force[b] },
+                body_force: if b == usize::MAX {
+                    [0.0; 2]
+                } else {
+                    body_force[b]
+                },
             };
-            integrate(self.analysis, self.kinematics, &mut data, k.is_some() || kdu.is_some(), &mut ws.out)?;
+            integrate(
+                self.analysis,
+                self.kinematics,
+                &mut data,
+                k.is_some() || kdu.is_some(),
+                &mut ws.out,
+            )?;
             if let Some((du, out)) = kdu.as_mut() {
                 add_product(&el.nodes, &ws.out.k, du, out);
             }
@@ -253,7 +282,10 @@ impl Model {
         ws.force_scale = scale2.sqrt();
         self.add_pressures(problem, t, u, r, k, kdu, ws);
         for f in &problem.forces {
-            let (fx, fy) = (f.fx.at(t, &problem.functions), f.fy.at(t, &problem.functions));
+            let (fx, fy) = (
+                f.fx.at(t, &problem.functions),
+                f.fy.at(t, &problem.functions),
+            );
             for &n in &f.nodes {
                 r[2 * n] -= fx;
                 r[2 * n + 1] -= fy;
@@ -317,7 +349,8 @@ impl Model {
                         rad += n[i] * x[i][0];
                     }
                     let (factor, dfactor) = match self.analysis {
-                        AnalysisKind::PlaneStrain { thickness } | AnalysisKind::PlaneStress { thickness } => (thickness, 0.0),
+                        AnalysisKind::PlaneStrain { thickness }
+                        | AnalysisKind::PlaneStress { thickness } => (thickness, 0.0),
                         AnalysisKind::Axisymmetric => (2.0 * PI * rad, 2.0 * PI),
                     };
                     for i in 0..m {

@@ -17,7 +17,10 @@ const CORNERS: [[f64; 2]; 4] = [[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.
 
 /// Shape functions at (xi, eta) in [-1, 1]^2.
 pub fn shape(kind: ElementKind, xi: f64, eta: f64) -> Shape {
-    let mut s = Shape { n: [0.0; MAX_NODES], dn: [[0.0; 2]; MAX_NODES] };
+    let mut s = Shape {
+        n: [0.0; MAX_NODES],
+        dn: [[0.0; 2]; MAX_NODES],
+    };
     match kind {
         ElementKind::Q4 => {
             for (a, c) in CORNERS.iter().enumerate() {
@@ -32,10 +35,7 @@ pub fn shape(kind: ElementKind, xi: f64, eta: f64) -> Shape {
                 let (px, py) = (1.0 + c[0] * xi, 1.0 + c[1] * eta);
                 let q = c[0] * xi + c[1] * eta - 1.0;
                 s.n[a] = 0.25 * px * py * q;
-                s.dn[a] = [
-                    0.25 * c[0] * py * (q + px),
-                    0.25 * c[1] * px * (q + py),
-                ];
+                s.dn[a] = [0.25 * c[0] * py * (q + px), 0.25 * c[1] * px * (q + py)];
             }
             // Mid-side nodes of faces 0..3: (0,-1), (1,0), (0,1), (-1,0).
             s.n[4] = 0.5 * (1.0 - xi * xi) * (1.0 - eta);
@@ -54,7 +54,10 @@ pub fn shape(kind: ElementKind, xi: f64, eta: f64) -> Shape {
 /// Gauss-Legendre points and weights on [-1, 1].
 pub fn gauss_1d(n: usize) -> &'static [(f64, f64)] {
     const G1: [(f64, f64); 1] = [(0.0, 2.0)];
-    const G2: [(f64, f64); 2] = [(-0.577_350_269_189_625_8, 1.0), (0.577_350_269_189_625_8, 1.0)];
+    const G2: [(f64, f64); 2] = [
+        (-0.577_350_269_189_625_8, 1.0),
+        (0.577_350_269_189_625_8, 1.0),
+    ];
     const G3: [(f64, f64); 3] = [
         (-0.774_596_669_241_483_4, 5.0 / 9.0),
         (0.0, 8.0 / 9.0),
@@ -97,7 +100,10 @@ impl GaussRule {
 /// Tensor-product Gauss rule of the element: ((xi, eta), weight).
 pub fn gauss_points(kind: ElementKind) -> GaussRule {
     let g = gauss_1d(gauss_order(kind));
-    let mut rule = GaussRule { points: [([0.0; 2], 0.0); 9], len: 0 };
+    let mut rule = GaussRule {
+        points: [([0.0; 2], 0.0); 9],
+        len: 0,
+    };
     for &(eta, we) in g {
         for &(xi, wx) in g {
             rule.points[rule.len] = ([xi, eta], wx * we);

@@ -17,7 +17,9 @@ pub type ElementMatrix = [[f64; MAX_DOFS]; MAX_DOFS];
 /// Why an element could not be evaluated.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum ElementError {
-    #[error("element {element}: reference Jacobian {det:e} <= 0 at a Gauss point (distorted or clockwise element)")]
+    #[error(
+        "element {element}: reference Jacobian {det:e} <= 0 at a Gauss point (distorted or clockwise element)"
+    )]
     BadJacobian { element: usize, det: f64 },
     #[error("element {element}: deformation gradient determinant {det:e} <= 0 (element inverted)")]
     Inverted { element: usize, det: f64 },
@@ -50,7 +52,12 @@ struct Point {
     dv: f64,
 }
 
-fn point(d: &ElementData, xi: [f64; 2], w: f64, analysis: AnalysisKind) -> Result<Point, ElementError> {
+fn point(
+    d: &ElementData,
+    xi: [f64; 2],
+    w: f64,
+    analysis: AnalysisKind,
+) -> Result<Point, ElementError> {
     let nn = d.kind.node_count();
     let s = shape(d.kind, xi[0], xi[1]);
     let mut j = [[0.0; 2]; 2]; // j[i][k] = dX_i / dxi_k
@@ -65,25 +72,41 @@ fn point(d: &ElementData, xi: [f64; 2], w: f64, analysis: AnalysisKind) -> Resul
     }
     let det = j[0][0] * j[1][1] - j[0][1] * j[1][0];
     if det <= 0.0 || !det.is_finite() {
-        return Err(ElementError::BadJacobian { element: d.index, det });
+        return Err(ElementError::BadJacobian {
+            element: d.index,
+            det,
+        });
     }
     // dN/dX = J^-T dN/dxi
-    let inv = [[j[1][1] / det, -j[0][1] / det], [-j[1][0] / det, j[0][0] / det]];
+    let inv = [
+        [j[1][1] / det, -j[0][1] / det],
+        [-j[1][0] / det, j[0][0] / det],
+    ];
     let mut g = [[0.0; 2]; MAX_NODES];
     for a in 0..nn {
         g[a][0] = s.dn[a][0] * inv[0][0] + s.dn[a][1] * inv[1][0];
         g[a][1] = s.dn[a][0] * inv[0][1] + s.dn[a][1] * inv[1][1];
     }
     let factor = match analysis {
-        AnalysisKind::PlaneStrain { thickness } | AnalysisKind::PlaneStress { thickness } => thickness,
+        AnalysisKind::PlaneStrain { thickness } | AnalysisKind::PlaneStress { thickness } => {
+            thickness
+        }
         AnalysisKind::Axisymmetric => {
             if r <= 0.0 {
-                return Err(ElementError::BadJacobian { element: d.index, det: r });
+                return Err(ElementError::BadJacobian {
+                    element: d.index,
+                    det: r,
+                });
             }
             2.0 * PI * r
         }
     };
-    Ok(Point { n: s.n, g, r, dv: det * w * factor })
+    Ok(Point {
+        n: s.n,
+        g,
+        r,
+        dv: det * w * factor,
+    })
 }
 
 /// Result of integrating one element.
@@ -132,7 +155,11 @@ pub fn integrate(
         }
         let hoop = if axi { ur / p.r } else { 0.0 };
         // F (only meaningful for TL); F33 = 1 + u/r axisymmetric, 1 planar.
-        let f = if tl { [[1.0 + h[0][0], h[0][1]], [h[1][0], 1.0 + h[1][1]]] } else { [[1.0, 0.0], [0.0, 1.0]] };
+        let f = if tl {
+            [[1.0 + h[0][0], h[0][1]], [h[1][0], 1.0 + h[1][1]]]
+        } else {
+            [[1.0, 0.0], [0.0, 1.0]]
+        };
         let f33 = if tl { 1.0 + hoop } else { 1.0 };
         let strain: Voigt = if tl {
             [
@@ -146,11 +173,19 @@ pub fn integrate(
         };
         let det_f = (f[0][0] * f[1][1] - f[0][1] * f[1][0]) * f33;
         if tl && det_f <= 0.0 {
-            return Err(ElementError::Inverted { element: d.index, det: det_f });
+            return Err(ElementError::Inverted {
+                element: d.index,
+                det: det_f,
+            });
         }
         let mut s: Voigt = [0.0; 4];
         let mut c: Tangent = [[0.0; 4]; 4];
-        d.law.evaluate(&strain, &mut d.history[gp * hl..(gp + 1) * hl], &mut s, &mut c);
+        d.law.evaluate(
+            &strain,
+            &mut d.history[gp * hl..(gp + 1) * hl],
+            &mut s,
+            &mut c,
+        );
         for i in 0..4 {
             s[i] += d.initial_stress[i];
         }
@@ -204,7 +239,8 @@ pub fn integrate(
                 for a in 0..nn {
                     for bb in 0..nn {
                         let (ga, gb) = (p.g[a], p.g[bb]);
-                        let mut v = ga[0] * (s[0] * gb[0] + s[3] * gb[1]) + ga[1] * (s[3] * gb[0] + s[1] * gb[1]);
+                        let mut v = ga[0] * (s[0] * gb[0] + s[3] * gb[1])
+                            + ga[1] * (s[3] * gb[0] + s[1] * gb[1]);
                         v *= p.dv;
                         out.k[2 * a][2 * bb] += v;
                         out.k[2 * a + 1][2 * bb + 1] += v;
@@ -247,7 +283,11 @@ pub fn integrate(
 
 impl ElementOutput {
     pub fn new() -> Self {
-        ElementOutput { f: [0.0; MAX_DOFS], k: [[0.0; MAX_DOFS]; MAX_DOFS], cauchy: [0.0; 4] }
+        ElementOutput {
+            f: [0.0; MAX_DOFS],
+            k: [[0.0; MAX_DOFS]; MAX_DOFS],
+            cauchy: [0.0; 4],
+        }
     }
 }
 

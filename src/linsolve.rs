@@ -26,7 +26,7 @@ pub enum Method {
 
 enum Factor {
     Llt(Llt<usize, f64>),
-    Lu(Lu<usize, f64>),
+    Lu(Box<Lu<usize, f64>>),
 }
 
 pub struct LinearSolver {
@@ -41,8 +41,16 @@ pub struct LinearSolver {
 
 impl LinearSolver {
     pub fn new(p: &Pattern, symmetric: bool) -> Result<Self, LinearError> {
-        let symbolic = SymbolicSparseColMat::new_checked(p.n, p.n, p.col_ptr.clone(), None, p.row_idx.clone());
-        Ok(LinearSolver { symbolic, llt: None, lu: None, factor: None, try_llt: symmetric, factorizations: 0 })
+        let symbolic =
+            SymbolicSparseColMat::new_checked(p.n, p.n, p.col_ptr.clone(), None, p.row_idx.clone());
+        Ok(LinearSolver {
+            symbolic,
+            llt: None,
+            lu: None,
+            factor: None,
+            try_llt: symmetric,
+            factorizations: 0,
+        })
     }
 
     pub fn method(&self) -> Option<Method> {
@@ -73,12 +81,14 @@ impl LinearSolver {
             }
         }
         if self.lu.is_none() {
-            let s = SymbolicLu::try_new(self.symbolic.as_ref()).map_err(|e| LinearError::Factorization(format!("{e:?}")))?;
+            let s = SymbolicLu::try_new(self.symbolic.as_ref())
+                .map_err(|e| LinearError::Factorization(format!("{e:?}")))?;
             self.lu = Some(s);
         }
         let sym = self.lu.clone().expect("set above");
-        let f = Lu::try_new_with_symbolic(sym, mat).map_err(|e| LinearError::Factorization(format!("{e:?}")))?;
-        self.factor = Some(Factor::Lu(f));
+        let f = Lu::try_new_with_symbolic(sym, mat)
+            .map_err(|e| LinearError::Factorization(format!("{e:?}")))?;
+        self.factor = Some(Factor::Lu(Box::new(f)));
         Ok(())
     }
 

@@ -51,7 +51,9 @@ impl Solver {
     pub fn new(problem: Problem) -> Result<Self, SolveError> {
         let ndof = 2 * problem.mesh.nodes.len();
         if problem.element_material.len() != problem.mesh.elements.len() {
-            return Err(SolveError::Invalid("element_material does not match the elements".into()));
+            return Err(SolveError::Invalid(
+                "element_material does not match the elements".into(),
+            ));
         }
         let mut is_prescribed = vec![false; ndof];
         let mut prescribed = Vec::new();
@@ -63,21 +65,33 @@ impl Solver {
                 for &n in &driver.nodes {
                     let dof = 2 * n + c;
                     if dof >= ndof {
-                        return Err(SolveError::Invalid(format!("driver '{}' names node {n} beyond the mesh", driver.name)));
+                        return Err(SolveError::Invalid(format!(
+                            "driver '{}' names node {n} beyond the mesh",
+                            driver.name
+                        )));
                     }
                     if is_prescribed[dof] {
                         // A later driver on the same dof takes it over.
                         prescribed.retain(|p: &Prescribed| p.dof != dof);
                     }
                     is_prescribed[dof] = true;
-                    prescribed.push(Prescribed { dof, driver: d, component: c });
+                    prescribed.push(Prescribed {
+                        dof,
+                        driver: d,
+                        component: c,
+                    });
                 }
             }
         }
         let model = Model::new(&problem, &is_prescribed);
-        let linear = LinearSolver::new(&model.pattern, model.symmetric).map_err(|e| SolveError::Invalid(e.to_string()))?;
+        let linear = LinearSolver::new(&model.pattern, model.symmetric)
+            .map_err(|e| SolveError::Invalid(e.to_string()))?;
         let nnz = model.pattern.row_idx.len();
-        let state = State { time: 0.0, u: vec![0.0; ndof], history: vec![0.0; model.history_len] };
+        let state = State {
+            time: 0.0,
+            u: vec![0.0; ndof],
+            history: vec![0.0; model.history_len],
+        };
         let inputs = vec![[None, None]; problem.drivers.len()];
         Ok(Solver {
             problem,
@@ -137,7 +151,8 @@ impl Solver {
             None => {
                 let d = &self.problem.drivers[p.driver];
                 let comp = if p.component == 0 { &d.ux } else { &d.uy };
-                comp.as_ref().map_or(0.0, |s| s.at(t, &self.problem.functions))
+                comp.as_ref()
+                    .map_or(0.0, |s| s.at(t, &self.problem.functions))
             }
         }
     }
@@ -145,10 +160,16 @@ impl Solver {
     /// Solve equilibrium at `t_end`, bisecting a failed increment up to
     /// `solver.max_bisections` times; on error the state stays at the last
     /// converged time.
-    pub fn advance(&mut self, t_end: f64, log: &mut dyn FnMut(LogCategory, &str)) -> Result<StepResult, SolveError> {
+    pub fn advance(
+        &mut self,
+        t_end: f64,
+        log: &mut dyn FnMut(LogCategory, &str),
+    ) -> Result<StepResult, SolveError> {
         let t0 = self.state.time;
         if !t_end.is_finite() || t_end <= t0 {
-            return Err(SolveError::Invalid(format!("step end time {t_end} must be finite and after t = {t0}")));
+            return Err(SolveError::Invalid(format!(
+                "step end time {t_end} must be finite and after t = {t0}"
+            )));
         }
         let start = self.state.clone();
         let u0 = start.u.clone();
@@ -171,7 +192,10 @@ impl Solver {
                             self.state.time
                         );
                         log(LogCategory::Error, &msg);
-                        return Err(SolveError::NotConverged { time: t_end, reason: msg });
+                        return Err(SolveError::NotConverged {
+                            time: t_end,
+                            reason: msg,
+                        });
                     }
                     bisections += 1;
                     let mid = 0.5 * (self.state.time + t);
@@ -196,8 +220,12 @@ impl Solver {
 
     /// Reactions per driver from the residual at the prescribed dofs.
     fn driver_results(&self) -> Vec<(String, DriverResult)> {
-        let mut out: Vec<(String, DriverResult)> =
-            self.problem.drivers.iter().map(|d| (d.name.clone(), DriverResult::default())).collect();
+        let mut out: Vec<(String, DriverResult)> = self
+            .problem
+            .drivers
+            .iter()
+            .map(|d| (d.name.clone(), DriverResult::default()))
+            .collect();
         for p in &self.prescribed {
             let f = self.r[p.dof];
             if p.component == 0 {
@@ -213,7 +241,14 @@ impl Solver {
     /// Iteration 0 starts from the converged state and carries the
     /// prescribed increment through the tangent (K_fp du_p), so a large
     /// boundary motion does not first distort the elements next to it.
-    fn increment(&mut self, t: f64, t0: f64, t1: f64, u0: &[f64], log: &mut dyn FnMut(LogCategory, &str)) -> Result<Converged, String> {
+    fn increment(
+        &mut self,
+        t: f64,
+        t0: f64,
+        t1: f64,
+        u0: &[f64],
+        log: &mut dyn FnMut(LogCategory, &str),
+    ) -> Result<Converged, String> {
         let settings = self.problem.solver.clone();
         let mut u = self.state.u.clone();
         let mut dup = vec![0.0; u.len()];
@@ -231,9 +266,23 @@ impl Solver {
             history.copy_from_slice(&self.state.history);
             let need_k = !(self.model.constant_tangent && self.factor_valid);
             let k = if need_k { Some(&mut self.k[..]) } else { None };
-            let pred = if it == 0 { Some((&dup[..], &mut kdu[..])) } else { None };
+            let pred = if it == 0 {
+                Some((&dup[..], &mut kdu[..]))
+            } else {
+                None
+            };
             self.model
-                .assemble(&self.problem, t, &u, &mut history, &mut self.r, k, None, pred, &mut self.ws)
+                .assemble(
+                    &self.problem,
+                    t,
+                    &u,
+                    &mut history,
+                    &mut self.r,
+                    k,
+                    None,
+                    pred,
+                    &mut self.ws,
+                )
                 .map_err(|e| e.to_string())?;
             let mut rnorm2 = 0.0;
             let mut react2 = 0.0;
@@ -241,7 +290,11 @@ impl Solver {
                 if q == PRESCRIBED {
                     react2 += self.r[dof] * self.r[dof];
                 } else {
-                    let v = if it == 0 { self.r[dof] + kdu[dof] } else { self.r[dof] };
+                    let v = if it == 0 {
+                        self.r[dof] + kdu[dof]
+                    } else {
+                        self.r[dof]
+                    };
                     rhs[q as usize] = -v;
                     rnorm2 += v * v;
                 }
@@ -256,9 +309,15 @@ impl Solver {
             if it == 0 {
                 r0 = rnorm;
                 if rnorm == 0.0 && dup.iter().all(|v| *v == 0.0) {
-                    log(LogCategory::Newton, &format!("t = {t:.6e}: nothing changed, in equilibrium"));
+                    log(
+                        LogCategory::Newton,
+                        &format!("t = {t:.6e}: nothing changed, in equilibrium"),
+                    );
                     self.commit(t, u, history);
-                    return Ok(Converged { iterations: 0, residual: 0.0 });
+                    return Ok(Converged {
+                        iterations: 0,
+                        residual: 0.0,
+                    });
                 }
                 r0 = r0.max(f64::MIN_POSITIVE);
             } else {
@@ -275,7 +334,9 @@ impl Solver {
                 };
                 log(
                     LogCategory::Newton,
-                    &format!("t = {t:.6e} it {it}: |r|/|r0| = {rho:.3e}  |du|/|du1| = {dnorm:.3e}  energy {energy:.3e}{rate}"),
+                    &format!(
+                        "t = {t:.6e} it {it}: |r|/|r0| = {rho:.3e}  |du|/|du1| = {dnorm:.3e}  energy {energy:.3e}{rate}"
+                    ),
                 );
                 let force_ok = rho <= settings.force_tolerance;
                 // A correction at the precision of the displacements themselves
@@ -283,14 +344,24 @@ impl Solver {
                 let unorm = u.iter().map(|v| v * v).sum::<f64>().sqrt();
                 let stagnated = dnorm * du1 <= 1e-14 * unorm;
                 if stagnated && !force_ok {
-                    log(LogCategory::Warning, &format!("t = {t:.6e}: residual stagnated at round-off, |r|/|r0| = {rho:.3e}"));
+                    log(
+                        LogCategory::Warning,
+                        &format!(
+                            "t = {t:.6e}: residual stagnated at round-off, |r|/|r0| = {rho:.3e}"
+                        ),
+                    );
                 }
                 let converged = rnorm <= floor
                     || stagnated
-                    || (force_ok && (energy <= settings.energy_tolerance || dnorm <= settings.displacement_tolerance));
+                    || (force_ok
+                        && (energy <= settings.energy_tolerance
+                            || dnorm <= settings.displacement_tolerance));
                 if converged {
                     self.commit(t, u, history);
-                    return Ok(Converged { iterations: it, residual: rho });
+                    return Ok(Converged {
+                        iterations: it,
+                        residual: rho,
+                    });
                 }
                 if it >= 3 && rho > 1e8 {
                     return Err(format!("diverging: |r|/|r0| = {rho:.3e} at iteration {it}"));
@@ -309,7 +380,11 @@ impl Solver {
             self.linear.solve(&mut rhs).map_err(|e| e.to_string())?;
             if it == 0 {
                 // Energy of the first correction, |du_1 . r_0| (last_du holds -r_0).
-                e1 = (0..n).map(|q| rhs[q] * last_du[q]).sum::<f64>().abs().max(f64::MIN_POSITIVE);
+                e1 = (0..n)
+                    .map(|q| rhs[q] * last_du[q])
+                    .sum::<f64>()
+                    .abs()
+                    .max(f64::MIN_POSITIVE);
             }
             for (dof, &q) in self.model.eq.iter().enumerate() {
                 if q != PRESCRIBED {
@@ -320,10 +395,18 @@ impl Solver {
             }
             last_du.copy_from_slice(&rhs);
             if it == 0 {
-                du1 = last_du.iter().map(|v| v * v).sum::<f64>().sqrt().max(f64::MIN_POSITIVE);
+                du1 = last_du
+                    .iter()
+                    .map(|v| v * v)
+                    .sum::<f64>()
+                    .sqrt()
+                    .max(f64::MIN_POSITIVE);
             }
         }
-        Err(format!("no convergence in {} iterations", settings.max_iterations))
+        Err(format!(
+            "no convergence in {} iterations",
+            settings.max_iterations
+        ))
     }
 
     fn commit(&mut self, t: f64, u: Vec<f64>, history: Vec<f64>) {
@@ -340,7 +423,17 @@ impl Solver {
         let mut r = vec![0.0; self.r.len()];
         let mut ws = Workspace::new();
         // The converged state assembled before, so this cannot fail.
-        let _ = self.model.assemble(&self.problem, self.state.time, &self.state.u, &mut history, &mut r, None, Some(&mut stress), None, &mut ws);
+        let _ = self.model.assemble(
+            &self.problem,
+            self.state.time,
+            &self.state.u,
+            &mut history,
+            &mut r,
+            None,
+            Some(&mut stress),
+            None,
+            &mut ws,
+        );
         stress
     }
 }

@@ -86,7 +86,10 @@ pub struct Scaled {
 
 impl Scaled {
     pub fn constant(v: f64) -> Self {
-        Scaled { scale: v, function: None }
+        Scaled {
+            scale: v,
+            function: None,
+        }
     }
     pub fn at(&self, t: f64, functions: &[TimeFunction]) -> f64 {
         match self.function {

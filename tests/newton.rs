@@ -14,18 +14,45 @@ use contact2d::results::LogCategory;
 fn cantilever(k: f64) -> (Solver, usize) {
     let (l, h, e) = (10.0, 0.5, 1.2e7);
     let mesh = common::grid(ElementKind::Q8, [0.0, 0.0], [l, h], 20, 2, |x, y| [x, y]);
-    let mut p = common::problem(mesh, AnalysisKind::PlaneStress { thickness: 1.0 }, Kinematics::TotalLagrangian, e, 0.0);
+    let mut p = common::problem(
+        mesh,
+        AnalysisKind::PlaneStress { thickness: 1.0 },
+        Kinematics::TotalLagrangian,
+        e,
+        0.0,
+    );
     let left = common::nodes_where(&p.mesh, |x, _| x < 1e-12);
-    p.drivers.push(Driver { name: "clamp".into(), nodes: left, ux: Some(Scaled::constant(0.0)), uy: Some(Scaled::constant(0.0)) });
-    let tip = common::nodes_where(&p.mesh, |x, y| (x - l).abs() < 1e-12 && (y - h / 2.0).abs() < 1e-12);
+    p.drivers.push(Driver {
+        name: "clamp".into(),
+        nodes: left,
+        ux: Some(Scaled::constant(0.0)),
+        uy: Some(Scaled::constant(0.0)),
+    });
+    let tip = common::nodes_where(&p.mesh, |x, y| {
+        (x - l).abs() < 1e-12 && (y - h / 2.0).abs() < 1e-12
+    });
     let ei = e * h.powi(3) / 12.0;
-    p.forces.push(NodalForce { nodes: tip.clone(), fx: Scaled::constant(0.0), fy: Scaled { scale: -k * ei / (l * l), function: Some(0) } });
+    p.forces.push(NodalForce {
+        nodes: tip.clone(),
+        fx: Scaled::constant(0.0),
+        fy: Scaled {
+            scale: -k * ei / (l * l),
+            function: Some(0),
+        },
+    });
     (Solver::new(p).unwrap(), tip[0])
 }
 
 /// Convergence rates printed in the Newton log lines of one increment.
 fn rates(lines: &[String]) -> Vec<f64> {
-    lines.iter().filter_map(|l| l.split("rate ").nth(1).and_then(|r| r.trim().parse::<f64>().ok())).collect()
+    lines
+        .iter()
+        .filter_map(|l| {
+            l.split("rate ")
+                .nth(1)
+                .and_then(|r| r.trim().parse::<f64>().ok())
+        })
+        .collect()
 }
 
 #[test]
@@ -33,14 +60,29 @@ fn newton_converges_quadratically_and_the_log_shows_it() {
     let (mut s, _) = cantilever(2.0);
     for i in 1..=4 {
         let mut lines = Vec::new();
-        let r = s.advance(i as f64 / 4.0, &mut |c, m| if c == LogCategory::Newton { lines.push(m.to_string()) }).unwrap();
+        let r = s
+            .advance(i as f64 / 4.0, &mut |c, m| {
+                if c == LogCategory::Newton {
+                    lines.push(m.to_string())
+                }
+            })
+            .unwrap();
         assert!(r.converged && r.substeps == 0);
         // Full Newton from a rotated configuration: a handful of iterations.
-        assert!(r.iterations <= 7, "increment {i}: {} iterations\n{}", r.iterations, lines.join("\n"));
+        assert!(
+            r.iterations <= 7,
+            "increment {i}: {} iterations\n{}",
+            r.iterations,
+            lines.join("\n")
+        );
         // The asymptotic rate estimate ln(r_k/r_k-1)/ln(r_k-1/r_k-2) reaches ~2
         // before round-off; a tangent missing its geometric part gives ~1.
         let best = rates(&lines).into_iter().fold(0.0f64, f64::max);
-        assert!(best > 1.7, "increment {i}: best rate {best}\n{}", lines.join("\n"));
+        assert!(
+            best > 1.7,
+            "increment {i}: best rate {best}\n{}",
+            lines.join("\n")
+        );
         assert!(r.residual <= 1e-8);
     }
 }
@@ -56,11 +98,24 @@ fn a_failed_increment_bisects_and_a_hopeless_one_leaves_the_state_untouched() {
     let (mut b, _) = cantilever(4.0);
     b.settings_mut().max_iterations = 7;
     let mut warnings = 0;
-    let r = b.advance(1.0, &mut |c, _| if c == LogCategory::Warning { warnings += 1 }).unwrap();
-    assert!(r.substeps > 0 && warnings == r.substeps, "substeps {} warnings {warnings}", r.substeps);
+    let r = b
+        .advance(1.0, &mut |c, _| {
+            if c == LogCategory::Warning {
+                warnings += 1
+            }
+        })
+        .unwrap();
+    assert!(
+        r.substeps > 0 && warnings == r.substeps,
+        "substeps {} warnings {warnings}",
+        r.substeps
+    );
     // Elastic, path independent: same end state to the Newton tolerance.
     let (ua, ub) = (a.state().displacement(tip), b.state().displacement(tip));
-    assert!((ua[1] - ub[1]).abs() < 1e-7 * ua[1].abs(), "{ua:?} vs {ub:?}");
+    assert!(
+        (ua[1] - ub[1]).abs() < 1e-7 * ua[1].abs(),
+        "{ua:?} vs {ub:?}"
+    );
     assert!(ua[1] < -4.0, "a large deflection: {ua:?}");
     // No bisection allowed and too few iterations: an error, state kept.
     let (mut c, _) = cantilever(4.0);
@@ -69,7 +124,13 @@ fn a_failed_increment_bisects_and_a_hopeless_one_leaves_the_state_untouched() {
     c.settings_mut().max_iterations = 2;
     c.settings_mut().max_bisections = 1;
     let mut errors = Vec::new();
-    let err = c.advance(1.0, &mut |cat, m| if cat == LogCategory::Error { errors.push(m.to_string()) }).unwrap_err();
+    let err = c
+        .advance(1.0, &mut |cat, m| {
+            if cat == LogCategory::Error {
+                errors.push(m.to_string())
+            }
+        })
+        .unwrap_err();
     assert!(err.to_string().contains("t = 1"), "{err}");
     assert_eq!(errors.len(), 1);
     assert_eq!(c.state(), &before);

@@ -13,7 +13,10 @@ use contact2d::problem::*;
 fn patch(kind: ElementKind) -> contact2d::mesh::Mesh {
     common::grid(kind, [1.0, 0.0], [2.0, 2.0], 3, 3, |x, y| {
         let bump = (x - 1.0) * (3.0 - x) * y * (2.0 - y);
-        [x + 0.12 * bump * (3.0 * y).sin(), y + 0.1 * bump * (2.0 * x).cos()]
+        [
+            x + 0.12 * bump * (3.0 * y).sin(),
+            y + 0.1 * bump * (2.0 * x).cos(),
+        ]
     })
 }
 
@@ -23,14 +26,22 @@ fn patch(kind: ElementKind) -> contact2d::mesh::Mesh {
 fn check(kind: ElementKind, analysis: AnalysisKind, kinematics: Kinematics, h: [[f64; 2]; 2]) {
     let mesh = patch(kind);
     let mut p = common::problem(mesh, analysis, kinematics, 1000.0, 0.3);
-    let boundary = common::nodes_where(&p.mesh, |x, y| x.min(4.0 - x) < 1.0 + 1e-12 || y.min(2.0 - y) < 1e-12);
+    let boundary = common::nodes_where(&p.mesh, |x, y| {
+        x.min(4.0 - x) < 1.0 + 1e-12 || y.min(2.0 - y) < 1e-12
+    });
     for &n in &boundary {
         let [x, y] = p.mesh.nodes[n];
         p.drivers.push(Driver {
             name: format!("n{n}"),
             nodes: vec![n],
-            ux: Some(Scaled { scale: h[0][0] * x + h[0][1] * y, function: Some(0) }),
-            uy: Some(Scaled { scale: h[1][0] * x + h[1][1] * y, function: Some(0) }),
+            ux: Some(Scaled {
+                scale: h[0][0] * x + h[0][1] * y,
+                function: Some(0),
+            }),
+            uy: Some(Scaled {
+                scale: h[1][0] * x + h[1][1] * y,
+                function: Some(0),
+            }),
         });
     }
     let mut s = Solver::new(p).unwrap();
@@ -42,7 +53,12 @@ fn check(kind: ElementKind, analysis: AnalysisKind, kinematics: Kinematics, h: [
     for (n, &[x, y]) in p.mesh.nodes.iter().enumerate() {
         let exact = [h[0][0] * x + h[0][1] * y, h[1][0] * x + h[1][1] * y];
         for c in 0..2 {
-            assert!((u[2 * n + c] - exact[c]).abs() < 1e-12, "{kind:?} {analysis:?} {kinematics:?}: node {n} comp {c}: {} vs {}", u[2 * n + c], exact[c]);
+            assert!(
+                (u[2 * n + c] - exact[c]).abs() < 1e-12,
+                "{kind:?} {analysis:?} {kinematics:?}: node {n} comp {c}: {} vs {}",
+                u[2 * n + c],
+                exact[c]
+            );
         }
     }
     // Every element carries the same stress (to round-off of the stress scale).
@@ -51,27 +67,54 @@ fn check(kind: ElementKind, analysis: AnalysisKind, kinematics: Kinematics, h: [
     assert!(scale > 1.0);
     for st in &stresses {
         for i in 0..4 {
-            assert!((st[i] - stresses[0][i]).abs() < 1e-11 * scale, "{kind:?} {analysis:?} {kinematics:?}: {st:?} vs {:?}", stresses[0]);
+            assert!(
+                (st[i] - stresses[0][i]).abs() < 1e-11 * scale,
+                "{kind:?} {analysis:?} {kinematics:?}: {st:?} vs {:?}",
+                stresses[0]
+            );
         }
     }
     // And it is the analytic stress in the small strain case.
     if kinematics == Kinematics::SmallStrain {
         let (e, nu) = (1000.0, 0.3);
-        let eps = [h[0][0], h[1][1], if analysis == AnalysisKind::Axisymmetric { h[0][0] } else { 0.0 }, h[0][1] + h[1][0]];
+        let eps = [
+            h[0][0],
+            h[1][1],
+            if analysis == AnalysisKind::Axisymmetric {
+                h[0][0]
+            } else {
+                0.0
+            },
+            h[0][1] + h[1][0],
+        ];
         let g = e / (2.0 * (1.0 + nu));
         let exact = match analysis {
             AnalysisKind::PlaneStress { .. } => {
                 let c = e / (1.0 - nu * nu);
-                [c * (eps[0] + nu * eps[1]), c * (eps[1] + nu * eps[0]), 0.0, g * eps[3]]
+                [
+                    c * (eps[0] + nu * eps[1]),
+                    c * (eps[1] + nu * eps[0]),
+                    0.0,
+                    g * eps[3],
+                ]
             }
             _ => {
                 let l = e * nu / ((1.0 + nu) * (1.0 - 2.0 * nu));
                 let tr = eps[0] + eps[1] + eps[2];
-                [l * tr + 2.0 * g * eps[0], l * tr + 2.0 * g * eps[1], l * tr + 2.0 * g * eps[2], g * eps[3]]
+                [
+                    l * tr + 2.0 * g * eps[0],
+                    l * tr + 2.0 * g * eps[1],
+                    l * tr + 2.0 * g * eps[2],
+                    g * eps[3],
+                ]
             }
         };
         for i in 0..4 {
-            assert!((stresses[0][i] - exact[i]).abs() < 1e-11 * scale, "{kind:?} {analysis:?}: {:?} vs {exact:?}", stresses[0]);
+            assert!(
+                (stresses[0][i] - exact[i]).abs() < 1e-11 * scale,
+                "{kind:?} {analysis:?}: {:?} vs {exact:?}",
+                stresses[0]
+            );
         }
     }
 }
@@ -87,9 +130,23 @@ fn constant_strain_patches() {
             } else {
                 [[2e-3, 1e-3], [-5e-4, -1.5e-3]]
             };
-            check(kind, AnalysisKind::PlaneStrain { thickness: 1.0 }, kinematics, hp);
-            check(kind, AnalysisKind::PlaneStress { thickness: 0.5 }, kinematics, hp);
-            let ha = if kinematics == Kinematics::TotalLagrangian { [[0.06, 0.0], [0.0, -0.04]] } else { [[2e-3, 0.0], [0.0, -1e-3]] };
+            check(
+                kind,
+                AnalysisKind::PlaneStrain { thickness: 1.0 },
+                kinematics,
+                hp,
+            );
+            check(
+                kind,
+                AnalysisKind::PlaneStress { thickness: 0.5 },
+                kinematics,
+                hp,
+            );
+            let ha = if kinematics == Kinematics::TotalLagrangian {
+                [[0.06, 0.0], [0.0, -0.04]]
+            } else {
+                [[2e-3, 0.0], [0.0, -1e-3]]
+            };
             check(kind, AnalysisKind::Axisymmetric, kinematics, ha);
         }
     }

@@ -11,7 +11,19 @@ use contact2d::problem::*;
 fn residual(model: &Model, p: &Problem, u: &[f64]) -> Vec<f64> {
     let mut r = vec![0.0; u.len()];
     let mut h = vec![0.0; model.history_len];
-    model.assemble(p, 1.0, u, &mut h, &mut r, None, None, None, &mut Workspace::new()).unwrap();
+    model
+        .assemble(
+            p,
+            1.0,
+            u,
+            &mut h,
+            &mut r,
+            None,
+            None,
+            None,
+            &mut Workspace::new(),
+        )
+        .unwrap();
     r
 }
 
@@ -22,7 +34,19 @@ fn tangent_error(p: &Problem, u: &[f64]) -> f64 {
     let mut r = vec![0.0; ndof];
     let mut k = vec![0.0; model.pattern.row_idx.len()];
     let mut h = vec![0.0; model.history_len];
-    model.assemble(p, 1.0, u, &mut h, &mut r, Some(&mut k), None, None, &mut Workspace::new()).unwrap();
+    model
+        .assemble(
+            p,
+            1.0,
+            u,
+            &mut h,
+            &mut r,
+            Some(&mut k),
+            None,
+            None,
+            &mut Workspace::new(),
+        )
+        .unwrap();
     let n = model.pattern.n;
     let mut dense = vec![0.0; n * n];
     for c in 0..n {
@@ -51,7 +75,12 @@ fn tangent_error(p: &Problem, u: &[f64]) -> f64 {
 
 fn distorted(kind: ElementKind) -> contact2d::mesh::Mesh {
     // Two elements on [1, 3] x [0, 1.5] (x > 0 for the axisymmetric case), interior nodes moved.
-    common::grid(kind, [1.0, 0.0], [2.0, 1.5], 2, 1, |x, y| [x + 0.1 * (y * 2.0).sin() * (x - 1.0) * (3.0 - x), y + 0.07 * x * y])
+    common::grid(kind, [1.0, 0.0], [2.0, 1.5], 2, 1, |x, y| {
+        [
+            x + 0.1 * (y * 2.0).sin() * (x - 1.0) * (3.0 - x),
+            y + 0.07 * x * y,
+        ]
+    })
 }
 
 fn displacement(n: usize) -> Vec<f64> {
@@ -59,7 +88,11 @@ fn displacement(n: usize) -> Vec<f64> {
     (0..n)
         .map(|i| {
             let s = (i as f64 * 0.7).sin();
-            if i % 2 == 0 { 0.12 * s } else { -0.09 * s + 0.05 }
+            if i % 2 == 0 {
+                0.12 * s
+            } else {
+                -0.09 * s + 0.05
+            }
         })
         .collect()
 }
@@ -78,15 +111,33 @@ fn tangent_matches_finite_differences() {
                     let mesh = distorted(kind);
                     let mut p = common::problem(mesh, analysis, kinematics, 1000.0, 0.3);
                     let edges = p.mesh.edge_sets["top"].clone();
-                    p.pressures.push(Pressure { edges, value: Scaled::constant(35.0), follower });
+                    p.pressures.push(Pressure {
+                        edges,
+                        value: Scaled::constant(35.0),
+                        follower,
+                    });
                     let right = p.mesh.edge_sets["right"].clone();
-                    p.pressures.push(Pressure { edges: right, value: Scaled::constant(-20.0), follower });
-                    p.body_forces.push(BodyForce { body: 0, bx: Scaled::constant(3.0), by: Scaled::constant(-5.0) });
-                    p.initial_stresses.push(InitialStress { body: 0, stress: [10.0, -4.0, 2.0, 3.0] });
+                    p.pressures.push(Pressure {
+                        edges: right,
+                        value: Scaled::constant(-20.0),
+                        follower,
+                    });
+                    p.body_forces.push(BodyForce {
+                        body: 0,
+                        bx: Scaled::constant(3.0),
+                        by: Scaled::constant(-5.0),
+                    });
+                    p.initial_stresses.push(InitialStress {
+                        body: 0,
+                        stress: [10.0, -4.0, 2.0, 3.0],
+                    });
                     let u = displacement(2 * p.mesh.nodes.len());
                     let e = tangent_error(&p, &u);
                     // Central differences with h = 1e-6 on O(1) data: error ~1e-9 relative.
-                    assert!(e < 1e-7, "{kind:?} {analysis:?} {kinematics:?} follower={follower}: relative error {e:e}");
+                    assert!(
+                        e < 1e-7,
+                        "{kind:?} {analysis:?} {kinematics:?} follower={follower}: relative error {e:e}"
+                    );
                 }
             }
         }

@@ -37,7 +37,13 @@ impl LinearElastic {
 }
 
 impl MaterialLaw for LinearElastic {
-    fn evaluate(&self, strain: &Voigt, _history: &mut [f64], stress: &mut Voigt, tangent: &mut Tangent) {
+    fn evaluate(
+        &self,
+        strain: &Voigt,
+        _history: &mut [f64],
+        stress: &mut Voigt,
+        tangent: &mut Tangent,
+    ) {
         for i in 0..4 {
             stress[i] = (0..4).map(|j| self.d[i][j] * strain[j]).sum();
         }

@@ -35,13 +35,21 @@ pub trait MaterialLaw: Send + Sync + std::fmt::Debug {
     fn history_len(&self) -> usize {
         0
     }
-    fn evaluate(&self, strain: &Voigt, history: &mut [f64], stress: &mut Voigt, tangent: &mut Tangent);
+    fn evaluate(
+        &self,
+        strain: &Voigt,
+        history: &mut [f64],
+        stress: &mut Voigt,
+        tangent: &mut Tangent,
+    );
 }
 
 /// The law for a material given in the scene.
 pub fn build(spec: &MaterialSpec, kind: AnalysisKind) -> Box<dyn MaterialLaw> {
     let state = StressState::of(kind);
     match *spec {
-        MaterialSpec::LinearElastic { e, nu } => Box::new(linear_elastic::LinearElastic::new(e, nu, state)),
+        MaterialSpec::LinearElastic { e, nu } => {
+            Box::new(linear_elastic::LinearElastic::new(e, nu, state))
+        }
     }
 }

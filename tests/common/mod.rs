@@ -6,7 +6,13 @@ use contact2d::problem::*;
 use std::collections::BTreeMap;
 
 /// A problem of one body with one linear elastic material.
-pub fn problem(mesh: Mesh, analysis: AnalysisKind, kinematics: Kinematics, e: f64, nu: f64) -> Problem {
+pub fn problem(
+    mesh: Mesh,
+    analysis: AnalysisKind,
+    kinematics: Kinematics,
+    e: f64,
+    nu: f64,
+) -> Problem {
     let ne = mesh.elements.len();
     let nn = mesh.nodes.len();
     Problem {
@@ -15,9 +21,20 @@ pub fn problem(mesh: Mesh, analysis: AnalysisKind, kinematics: Kinematics, e: f6
         kinematics,
         mesh,
         element_material: vec![0; ne],
-        materials: vec![Material { name: "m".into(), spec: MaterialSpec::LinearElastic { e, nu } }],
-        bodies: vec![Body { name: "b".into(), material: 0, elements: 0..ne, nodes: 0..nn }],
-        functions: vec![TimeFunction { name: "ramp".into(), points: vec![(0.0, 0.0), (1.0, 1.0)] }],
+        materials: vec![Material {
+            name: "m".into(),
+            spec: MaterialSpec::LinearElastic { e, nu },
+        }],
+        bodies: vec![Body {
+            name: "b".into(),
+            material: 0,
+            elements: 0..ne,
+            nodes: 0..nn,
+        }],
+        functions: vec![TimeFunction {
+            name: "ramp".into(),
+            points: vec![(0.0, 0.0), (1.0, 1.0)],
+        }],
         drivers: vec![],
         pressures: vec![],
         forces: vec![],
@@ -30,7 +47,14 @@ pub fn problem(mesh: Mesh, analysis: AnalysisKind, kinematics: Kinematics, e: f6
 
 /// Structured grid of Q4 or Q8 elements on [x0, x0+w] x [y0, y0+h], its nodes
 /// moved by `distort(x, y)` (which must keep the boundary straight for patch tests).
-pub fn grid(kind: ElementKind, origin: [f64; 2], size: [f64; 2], nx: usize, ny: usize, distort: impl Fn(f64, f64) -> [f64; 2]) -> Mesh {
+pub fn grid(
+    kind: ElementKind,
+    origin: [f64; 2],
+    size: [f64; 2],
+    nx: usize,
+    ny: usize,
+    distort: impl Fn(f64, f64) -> [f64; 2],
+) -> Mesh {
     // Node lattice at half spacing; Q4 uses only the even points.
     let (mx, my) = (2 * nx + 1, 2 * ny + 1);
     let mut index = vec![usize::MAX; mx * my];
@@ -84,7 +108,11 @@ pub fn grid(kind: ElementKind, origin: [f64; 2], size: [f64; 2], nx: usize, ny: 
             if on {
                 let el: &Element = &elements[e];
                 let local = contact2d::mesh::face_local_nodes(kind, face);
-                edges.push(Edge { element: e, face, nodes: local.iter().map(|&a| el.nodes[a]).collect() });
+                edges.push(Edge {
+                    element: e,
+                    face,
+                    nodes: local.iter().map(|&a| el.nodes[a]).collect(),
+                });
             }
         }
         let mut ns: Vec<usize> = edges.iter().flat_map(|e| e.nodes.clone()).collect();
@@ -93,12 +121,23 @@ pub fn grid(kind: ElementKind, origin: [f64; 2], size: [f64; 2], nx: usize, ny: 
         node_sets.insert(name.to_string(), ns);
         edge_sets.insert(name.to_string(), edges);
     }
-    Mesh { nodes, elements, node_sets, edge_sets, element_sets: BTreeMap::new() }
+    Mesh {
+        nodes,
+        elements,
+        node_sets,
+        edge_sets,
+        element_sets: BTreeMap::new(),
+    }
 }
 
 /// Nodes whose coordinates satisfy `pred`.
 pub fn nodes_where(mesh: &Mesh, pred: impl Fn(f64, f64) -> bool) -> Vec<usize> {
-    mesh.nodes.iter().enumerate().filter(|(_, p)| pred(p[0], p[1])).map(|(i, _)| i).collect()
+    mesh.nodes
+        .iter()
+        .enumerate()
+        .filter(|(_, p)| pred(p[0], p[1]))
+        .map(|(i, _)| i)
+        .collect()
 }
 
 pub fn silent() -> impl FnMut(contact2d::results::LogCategory, &str) {
