@@ -2,13 +2,25 @@
 //! frictional contact (Bathe & Chaudhary 1984). Data flows one way:
 //! scene -> problem (mesh, materials, loads) -> assembly -> Newton -> results.
 
-pub mod mesh;
-pub mod newton;
-pub mod problem;
-pub mod results;
-pub mod state;
 pub mod assembly;
+pub mod contact;
 pub mod element;
 pub mod kinematics;
 pub mod linsolve;
 pub mod material;
+pub mod mesh;
+pub mod newton;
+pub mod output;
+pub mod problem;
+pub mod results;
+pub mod scene;
+pub mod state;
+
+/// Crate version and source revision of this build.
+pub fn build_id() -> String {
+    format!(
+        "{} ({})",
+        env!("CARGO_PKG_VERSION"),
+        env!("CONTACT2D_REVISION")
+    )
+}

@@ -1,0 +1,194 @@
+//! A body's `mesh` table: one of the generators, or a Gmsh file (optionally
+//! one 2D physical group of it). Values the generators would reject are
+//! checked here so the error names the key.
+
+use super::raw::{self, GeneratorName, Pair};
+use super::{Resolver, SceneError, SceneErrorKind};
+use crate::mesh::{ElementKind, Mesh, generators, gmsh};
+use toml::Spanned;
+
+const DIVISIONS: &str = "divisions must be at least 1";
+
+impl Resolver<'_> {
+    pub(super) fn body_mesh(&self, i: usize, body: &raw::Body) -> Result<Mesh, SceneError> {
+        let index = i.to_string();
+        let path = ["body", index.as_str(), "mesh"];
+        let key = |k: &str| format!("body[{i}].mesh.{k}");
+        let head: raw::MeshHead = self.table_at(&path)?;
+        let kind = body
+            .element
+            .as_ref()
+            .map_or(ElementKind::Q4, |e| *e.get_ref());
+        let generated = match (head.generator, head.file) {
+            (Some(generator), _) => match generator.get_ref() {
+                GeneratorName::Rectangle => {
+                    let r: raw::Rectangle = self.table_at(&path)?;
+                    let size = self.positive_pair(&r.size, key("size"), "size")?;
+                    let divisions = self.divisions(&r.divisions, key("divisions"))?;
+                    let ratio = match &r.ratio {
+                        Some(ratio) => self.positive_pair(ratio, key("ratio"), "ratio")?,
+                        None => [1.0, 1.0],
+                    };
+                    generators::rectangle(kind, r.origin.0, size, divisions, ratio)
+                }
+                GeneratorName::Disk => {
+                    let d: raw::Disk = self.table_at(&path)?;
+                    let radius = self.positive(&d.radius, key("radius"), "radius")?;
+                    let divisions = *d.divisions.get_ref();
+                    if divisions == 0 {
+                        return Err(self.invalid(d.divisions.span(), key("divisions"), DIVISIONS));
+                    }
+                    let ratio = self.ratio(d.ratio.as_ref(), key("ratio"))?;
+                    generators::disk(
+                        kind,
+                        d.center.0,
+                        radius,
+                        divisions,
+                        ratio,
+                        d.half.unwrap_or(false),
+                    )
+                }
+                GeneratorName::Ring => {
+                    let r: raw::Ring = self.table_at(&path)?;
+                    let inner = self.positive(&r.r_inner, key("r_inner"), "r_inner")?;
+                    let outer = self.exceeding(&r.r_outer, inner, key("r_outer"), "r_inner")?;
+                    let angles = self.increasing_pair(&r.angles, key("angles"))?;
+                    let divisions = self.divisions(&r.divisions, key("divisions"))?;
+                    let ratio = self.ratio(r.ratio.as_ref(), key("ratio"))?;
+                    generators::ring(kind, r.center.0, inner, outer, angles, divisions, ratio)
+                }
+                GeneratorName::PlateWithHole => {
+                    let p: raw::PlateWithHole = self.table_at(&path)?;
+                    let hole = self.positive(&p.hole_radius, key("hole_radius"), "hole_radius")?;
+                    let width = self.exceeding(&p.width, hole, key("width"), "hole_radius")?;
+                    let y_range = self.increasing_pair(&p.y_range, key("y_range"))?;
+                    let divisions = self.divisions(&p.divisions, key("divisions"))?;
+                    let ratio = self.ratio(p.ratio.as_ref(), key("ratio"))?;
+                    generators::plate_with_hole(kind, hole, width, y_range, divisions, ratio)
+                }
+            },
+            (None, Some(_)) => {
+                if let Some(element) = &body.element {
+                    return Err(self.invalid(
+                        element.span(),
+                        format!("body[{i}].element"),
+                        "a mesh file brings its own element kind; remove `element`",
+                    ));
+                }
+                let f: raw::MeshFile = self.table_at(&path)?;
+                return self.mesh_file(&f, i);
+            }
+            (None, None) => {
+                return Err(self.src.missing(
+                    body.mesh.span(),
+                    key("generator"),
+                    "a mesh needs `generator` (rectangle, disk, ring, plate_with_hole) or `file`",
+                ));
+            }
+        };
+        generated.map_err(|e| {
+            self.src.at(
+                SceneErrorKind::Mesh,
+                body.mesh.span(),
+                format!("body[{i}].mesh"),
+                e.to_string(),
+            )
+        })
+    }
+
+    /// A Gmsh file, relative to the scene file; `group` keeps the elements
+    /// of one 2D physical group.
+    fn mesh_file(&self, f: &raw::MeshFile, i: usize) -> Result<Mesh, SceneError> {
+        let dir = self.src.file.parent().unwrap_or(std::path::Path::new(""));
+        let mesh = gmsh::read(&dir.join(f.file.get_ref())).map_err(|e| {
+            self.src.at(
+                SceneErrorKind::Mesh,
+                f.file.span(),
+                format!("body[{i}].mesh.file"),
+                e.to_string(),
+            )
+        })?;
+        let Some(group) = &f.group else {
+            return Ok(mesh);
+        };
+        match mesh.element_sets.get(group.get_ref()) {
+            Some(elements) => Ok(mesh.subset(elements)),
+            None => {
+                let names: Vec<&str> = mesh.element_sets.keys().map(String::as_str).collect();
+                let names = if names.is_empty() {
+                    "(none)".into()
+                } else {
+                    names.join(", ")
+                };
+                Err(self.src.at(
+                    SceneErrorKind::UnknownReference,
+                    group.span(),
+                    format!("body[{i}].mesh.group"),
+                    format!("the mesh file has no 2D physical group of that name; groups: {names}"),
+                ))
+            }
+        }
+    }
+
+    fn positive_pair(
+        &self,
+        pair: &Spanned<Pair<f64>>,
+        key: String,
+        what: &str,
+    ) -> Result<[f64; 2], SceneError> {
+        let v = pair.get_ref().0;
+        if v.iter().all(|&x| x > 0.0) {
+            Ok(v)
+        } else {
+            Err(self.invalid(
+                pair.span(),
+                key,
+                format!("both {what} components must be positive"),
+            ))
+        }
+    }
+
+    /// A value that must exceed `bound`, the value of key `bound_key`.
+    fn exceeding(
+        &self,
+        value: &Spanned<f64>,
+        bound: f64,
+        key: String,
+        bound_key: &str,
+    ) -> Result<f64, SceneError> {
+        let v = *value.get_ref();
+        if v > bound {
+            Ok(v)
+        } else {
+            let message = format!("must exceed {bound_key} = {bound:?}");
+            Err(self.invalid(value.span(), key, message))
+        }
+    }
+
+    fn increasing_pair(
+        &self,
+        pair: &Spanned<Pair<f64>>,
+        key: String,
+    ) -> Result<[f64; 2], SceneError> {
+        let v = pair.get_ref().0;
+        if v[1] > v[0] {
+            Ok(v)
+        } else {
+            Err(self.invalid(pair.span(), key, "the second value must exceed the first"))
+        }
+    }
+
+    fn divisions(&self, n: &Spanned<Pair<usize>>, key: String) -> Result<[usize; 2], SceneError> {
+        let v = n.get_ref().0;
+        if v.iter().all(|&d| d > 0) {
+            Ok(v)
+        } else {
+            Err(self.invalid(n.span(), key, DIVISIONS))
+        }
+    }
+
+    /// Grading ratio of a generator; 1 when not given.
+    fn ratio(&self, ratio: Option<&Spanned<f64>>, key: String) -> Result<f64, SceneError> {
+        ratio.map_or(Ok(1.0), |r| self.positive(r, key, "ratio"))
+    }
+}

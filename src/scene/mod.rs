@@ -1,0 +1,728 @@
+//! The scene file: parse a TOML scene, validate every value, and resolve names
+//! (materials, bodies, sets, functions) into the solver's `Problem`. Every
+//! error names the file, line, key and value it is about.
+
+mod locate;
+mod mesh;
+mod raw;
+
+use crate::mesh::{Edge, Mesh};
+use crate::problem::{
+    AnalysisKind, Body, BodyForce, Driver, InitialStress, Kinematics, Material, MaterialSpec,
+    Pressure, Problem, Scaled, SolverSettings, TimeFunction,
+};
+use locate::Source;
+use raw::{AnalysisName, KinematicsName, ModelName, ValueSpec};
+use serde::Deserialize;
+use serde::de::DeserializeOwned;
+use std::ops::Range;
+use std::path::{Path, PathBuf};
+use toml::Spanned;
+use toml::de::{DeTable, ValueDeserializer};
+
+/// More increments than this in `[steps]` is taken as a mistake in dt.
+const MAX_INCREMENTS: usize = 1_000_000;
+
+/// What kind of mistake a scene error reports.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SceneErrorKind {
+    /// The scene file could not be read.
+    Io,
+    /// Not valid TOML.
+    Syntax,
+    UnknownKey,
+    MissingKey,
+    WrongType,
+    /// Out of range, not one of the allowed words, or badly formed.
+    InvalidValue,
+    /// A name (material, body, set, function, group) that does not exist.
+    UnknownReference,
+    Duplicate,
+    /// A mesh file that cannot be read, or a mesh that fails its check.
+    Mesh,
+}
+
+/// A mistake in a scene file, located by file, 1-based line and dotted key.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[error("{}:{line}: {key} = {value}: {message}", file.display())]
+pub struct SceneError {
+    pub kind: SceneErrorKind,
+    pub file: PathBuf,
+    pub line: usize,
+    /// Dotted path of the key, e.g. `material[0].nu`.
+    pub key: String,
+    /// The value as written in the file, `(missing)` for an absent key.
+    pub value: String,
+    pub message: String,
+}
+
+/// Reads and resolves the scene file at `path`.
+pub fn load(path: &Path) -> Result<Problem, SceneError> {
+    let text = std::fs::read_to_string(path).map_err(|e| SceneError {
+        kind: SceneErrorKind::Io,
+        file: path.to_path_buf(),
+        line: 1,
+        key: "(file)".into(),
+        value: path.display().to_string(),
+        message: format!("cannot read the scene file: {e}"),
+    })?;
+    parse(&text, path)
+}
+
+/// Resolves scene `text`; `path` names it in errors and is where relative
+/// mesh file paths start from.
+pub fn parse(text: &str, path: &Path) -> Result<Problem, SceneError> {
+    let doc = DeTable::parse(text).map_err(|e| locate::syntax_error(path, text, &e))?;
+    let src = Source {
+        file: path,
+        text,
+        doc: &doc,
+    };
+    locate::check_finite(&src)?;
+    let scene = raw::Scene::deserialize(toml::de::Deserializer::from(doc.clone()))
+        .map_err(|e| src.toml(&e))?;
+    Resolver::new(src).resolve(&scene)
+}
+
+/// Builds the problem section by section; later sections refer to the names
+/// resolved by earlier ones.
+struct Resolver<'a> {
+    src: Source<'a>,
+    analysis: AnalysisKind,
+    materials: Vec<Material>,
+    functions: Vec<TimeFunction>,
+    bodies: Vec<Body>,
+    mesh: Mesh,
+    element_material: Vec<usize>,
+}
+
+impl<'a> Resolver<'a> {
+    fn new(src: Source<'a>) -> Self {
+        Resolver {
+            src,
+            // Set first of all, by `analysis`.
+            analysis: AnalysisKind::Axisymmetric,
+            materials: Vec::new(),
+            functions: Vec::new(),
+            bodies: Vec::new(),
+            mesh: Mesh::default(),
+            element_material: Vec::new(),
+        }
+    }
+
+    fn resolve(mut self, scene: &raw::Scene) -> Result<Problem, SceneError> {
+        let kinematics = self.analysis(scene.analysis.get_ref())?;
+        self.materials(&scene.material)?;
+        self.functions(&scene.function)?;
+        self.bodies(&scene.body)?;
+        let drivers = self.drivers(&scene.driver)?;
+        let pressures = self.pressures(&scene.pressure)?;
+        let body_forces = self.body_forces(&scene.body_force)?;
+        let initial_stresses = self.initial_stresses(&scene.initial_stress)?;
+        let times = self.times(&scene.steps)?;
+        let solver = self.solver(scene.solver.as_ref())?;
+        let name = match &scene.title {
+            Some(title) => title.clone(),
+            None => self
+                .src
+                .file
+                .file_stem()
+                .map_or_else(String::new, |s| s.to_string_lossy().into_owned()),
+        };
+        Ok(Problem {
+            name,
+            analysis: self.analysis,
+            kinematics,
+            mesh: self.mesh,
+            element_material: self.element_material,
+            materials: self.materials,
+            bodies: self.bodies,
+            functions: self.functions,
+            drivers,
+            pressures,
+            forces: Vec::new(),
+            body_forces,
+            initial_stresses,
+            times,
+            solver,
+        })
+    }
+
+    /// Deserializes the table at `path` of the document again, as `T`: for
+    /// tables whose keys depend on a tag read first.
+    fn table_at<T: DeserializeOwned>(&self, path: &[&str]) -> Result<T, SceneError> {
+        let value = locate::lookup(self.src.doc, path).expect("table read in the first pass");
+        T::deserialize(ValueDeserializer::from(value.clone())).map_err(|e| self.src.toml(&e))
+    }
+
+    fn invalid(
+        &self,
+        span: Range<usize>,
+        key: impl Into<String>,
+        message: impl Into<String>,
+    ) -> SceneError {
+        self.src
+            .at(SceneErrorKind::InvalidValue, span, key, message)
+    }
+
+    fn positive(
+        &self,
+        value: &Spanned<f64>,
+        key: impl Into<String>,
+        what: &str,
+    ) -> Result<f64, SceneError> {
+        let v = *value.get_ref();
+        if v > 0.0 {
+            Ok(v)
+        } else {
+            Err(self.invalid(value.span(), key, format!("{what} must be positive")))
+        }
+    }
+
+    /// A new name for a `what`: not empty, unique among `seen`, and free of
+    /// '.' where `no_dots` gives the reason (names joined with others by '.').
+    fn new_name<'n>(
+        &self,
+        name: &Spanned<String>,
+        key: String,
+        what: &str,
+        seen: impl IntoIterator<Item = &'n str>,
+        no_dots: Option<&str>,
+    ) -> Result<(), SceneError> {
+        let n = name.get_ref();
+        if n.is_empty() {
+            return Err(self.invalid(name.span(), key, format!("a {what} name must not be empty")));
+        }
+        if let Some(reason) = no_dots.filter(|_| n.contains('.')) {
+            return Err(self.invalid(
+                name.span(),
+                key,
+                format!("a {what} name must not contain '.'{reason}"),
+            ));
+        }
+        if seen.into_iter().any(|s| s == n) {
+            return Err(self.src.at(
+                SceneErrorKind::Duplicate,
+                name.span(),
+                key,
+                format!("duplicate {what} name"),
+            ));
+        }
+        Ok(())
+    }
+
+    fn analysis(&mut self, a: &raw::Analysis) -> Result<Kinematics, SceneError> {
+        let name = *a.kind.get_ref();
+        let thickness = match &a.thickness {
+            Some(t) if name == AnalysisName::Axisymmetric => {
+                return Err(self.invalid(
+                    t.span(),
+                    "analysis.thickness",
+                    "axisymmetric analysis has no thickness (it works on the full circle)",
+                ));
+            }
+            Some(t) => self.positive(t, "analysis.thickness", "thickness")?,
+            None => 1.0,
+        };
+        self.analysis = match name {
+            AnalysisName::PlaneStrain => AnalysisKind::PlaneStrain { thickness },
+            AnalysisName::PlaneStress => AnalysisKind::PlaneStress { thickness },
+            AnalysisName::Axisymmetric => AnalysisKind::Axisymmetric,
+        };
+        Ok(match a.kinematics.as_ref().map(|k| *k.get_ref()) {
+            None | Some(KinematicsName::SmallStrain) => Kinematics::SmallStrain,
+            Some(KinematicsName::Mno) => Kinematics::MaterialNonlinearOnly,
+            Some(KinematicsName::TotalLagrangian) => Kinematics::TotalLagrangian,
+        })
+    }
+
+    fn materials(&mut self, list: &Spanned<Vec<serde::de::IgnoredAny>>) -> Result<(), SceneError> {
+        if list.get_ref().is_empty() {
+            return Err(self.invalid(
+                list.span(),
+                "material",
+                "at least one [[material]] is required",
+            ));
+        }
+        for i in 0..list.get_ref().len() {
+            let index = i.to_string();
+            let path = ["material", index.as_str()];
+            let head: raw::MaterialHead = self.table_at(&path)?;
+            let seen: Vec<&str> = self.materials.iter().map(|m| m.name.as_str()).collect();
+            self.new_name(
+                &head.name,
+                format!("material[{i}].name"),
+                "material",
+                seen,
+                None,
+            )?;
+            let spec = match head.model.get_ref() {
+                ModelName::LinearElastic => {
+                    let m: raw::LinearElastic = self.table_at(&path)?;
+                    let e = *m.e.get_ref();
+                    if e <= 0.0 {
+                        return Err(self.invalid(
+                            m.e.span(),
+                            format!("material[{i}].E"),
+                            "Young's modulus must be positive",
+                        ));
+                    }
+                    MaterialSpec::LinearElastic {
+                        e,
+                        nu: self.poisson(&m.nu, format!("material[{i}].nu"))?,
+                    }
+                }
+            };
+            self.materials.push(Material {
+                name: head.name.into_inner(),
+                spec,
+            });
+        }
+        Ok(())
+    }
+
+    /// Poisson's ratio; 0.5 (incompressible) only where the thickness is free
+    /// to change.
+    fn poisson(&self, nu: &Spanned<f64>, key: String) -> Result<f64, SceneError> {
+        let v = *nu.get_ref();
+        let (ok, message) = match self.analysis {
+            AnalysisKind::PlaneStress { .. } => {
+                (v > -1.0 && v <= 0.5, "-1 < nu <= 0.5 in plane stress")
+            }
+            AnalysisKind::PlaneStrain { .. } => {
+                (v > -1.0 && v < 0.5, "-1 < nu < 0.5 in plane strain")
+            }
+            AnalysisKind::Axisymmetric => (
+                v > -1.0 && v < 0.5,
+                "-1 < nu < 0.5 in axisymmetric analysis",
+            ),
+        };
+        if ok {
+            Ok(v)
+        } else {
+            Err(self.invalid(
+                nu.span(),
+                key,
+                format!("Poisson's ratio must satisfy {message}"),
+            ))
+        }
+    }
+
+    fn functions(&mut self, list: &[Spanned<raw::Function>]) -> Result<(), SceneError> {
+        for (i, f) in list.iter().enumerate() {
+            let f = f.get_ref();
+            let seen: Vec<&str> = self.functions.iter().map(|f| f.name.as_str()).collect();
+            self.new_name(
+                &f.name,
+                format!("function[{i}].name"),
+                "function",
+                seen,
+                None,
+            )?;
+            let points = f.points.get_ref();
+            if points.is_empty() {
+                return Err(self.invalid(
+                    f.points.span(),
+                    format!("function[{i}].points"),
+                    "a function needs at least one point",
+                ));
+            }
+            let times: Vec<_> = points
+                .iter()
+                .map(|p| (p.span(), p.get_ref().0[0]))
+                .collect();
+            self.strictly_increasing(&times, |j| format!("function[{i}].points[{j}]"))?;
+            let points = points
+                .iter()
+                .map(|p| (p.get_ref().0[0], p.get_ref().0[1]))
+                .collect();
+            self.functions.push(TimeFunction {
+                name: f.name.get_ref().clone(),
+                points,
+            });
+        }
+        Ok(())
+    }
+
+    /// Times (with their spans) that must increase strictly; `key` names
+    /// the j-th.
+    fn strictly_increasing(
+        &self,
+        times: &[(Range<usize>, f64)],
+        key: impl Fn(usize) -> String,
+    ) -> Result<(), SceneError> {
+        for (j, w) in times.windows(2).enumerate() {
+            let ((_, t0), (span, t1)) = (&w[0], &w[1]);
+            if t1 <= t0 {
+                let message = format!("times must be strictly increasing ({t1:?} follows {t0:?})");
+                return Err(self.invalid(span.clone(), key(j + 1), message));
+            }
+        }
+        Ok(())
+    }
+
+    fn bodies(&mut self, list: &Spanned<Vec<Spanned<raw::Body>>>) -> Result<(), SceneError> {
+        if list.get_ref().is_empty() {
+            return Err(self.invalid(list.span(), "body", "at least one [[body]] is required"));
+        }
+        for (i, b) in list.get_ref().iter().enumerate() {
+            let b = b.get_ref();
+            let seen: Vec<&str> = self.bodies.iter().map(|b| b.name.as_str()).collect();
+            self.new_name(
+                &b.name,
+                format!("body[{i}].name"),
+                "body",
+                seen,
+                Some(" (sets are named <body>.<set>)"),
+            )?;
+            let Some(material) = self
+                .materials
+                .iter()
+                .position(|m| &m.name == b.material.get_ref())
+            else {
+                let names: Vec<&str> = self.materials.iter().map(|m| m.name.as_str()).collect();
+                return Err(self.src.at(
+                    SceneErrorKind::UnknownReference,
+                    b.material.span(),
+                    format!("body[{i}].material"),
+                    format!("no material of that name; materials: {}", names.join(", ")),
+                ));
+            };
+            let body_mesh = self.body_mesh(i, b)?;
+            let (nodes0, elements0) = (self.mesh.nodes.len(), self.mesh.elements.len());
+            self.mesh
+                .append(&body_mesh, &format!("{}.", b.name.get_ref()));
+            self.mesh.check().map_err(|e| {
+                self.src.at(
+                    SceneErrorKind::Mesh,
+                    b.mesh.span(),
+                    format!("body[{i}].mesh"),
+                    e.to_string(),
+                )
+            })?;
+            self.element_material
+                .resize(self.mesh.elements.len(), material);
+            self.bodies.push(Body {
+                name: b.name.get_ref().clone(),
+                material,
+                elements: elements0..self.mesh.elements.len(),
+                nodes: nodes0..self.mesh.nodes.len(),
+            });
+        }
+        Ok(())
+    }
+
+    /// The body a `name` refers to.
+    fn body(&self, name: &Spanned<String>, key: String) -> Result<usize, SceneError> {
+        self.bodies
+            .iter()
+            .position(|b| &b.name == name.get_ref())
+            .ok_or_else(|| {
+                let names: Vec<&str> = self.bodies.iter().map(|b| b.name.as_str()).collect();
+                self.src.at(
+                    SceneErrorKind::UnknownReference,
+                    name.span(),
+                    key,
+                    format!("no body of that name; bodies: {}", names.join(", ")),
+                )
+            })
+    }
+
+    /// The body of a set reference `<body>.<set>`, and the set's name within it.
+    fn set_ref<'s>(
+        &self,
+        set: &'s Spanned<String>,
+        key: &str,
+    ) -> Result<(&str, &'s str), SceneError> {
+        let Some((body, name)) = set.get_ref().split_once('.') else {
+            return Err(self.invalid(set.span(), key, "a set is named <body>.<set>"));
+        };
+        let b = self.body(&Spanned::new(set.span(), body.to_string()), key.to_string())?;
+        Ok((self.bodies[b].name.as_str(), name))
+    }
+
+    /// The set names of `body` without its prefix: edge sets, or all sets.
+    fn set_names(&self, body: &str, edges_only: bool) -> String {
+        let prefix = format!("{body}.");
+        let edge = self.mesh.edge_sets.keys();
+        let node = self.mesh.node_sets.keys().filter(|_| !edges_only);
+        let mut names: Vec<&str> = edge
+            .chain(node)
+            .filter_map(|k| k.strip_prefix(&prefix))
+            .collect();
+        names.sort_unstable();
+        names.dedup();
+        if names.is_empty() {
+            "(none)".into()
+        } else {
+            names.join(", ")
+        }
+    }
+
+    /// The nodes of a node set, or of an edge set.
+    fn node_set(&self, set: &Spanned<String>, key: &str) -> Result<Vec<usize>, SceneError> {
+        let (body, name) = self.set_ref(set, key)?;
+        let full = set.get_ref();
+        if let Some(nodes) = self.mesh.node_sets.get(full) {
+            return Ok(nodes.clone());
+        }
+        self.mesh.edge_set_nodes(full).ok_or_else(|| {
+            self.src.at(
+                SceneErrorKind::UnknownReference,
+                set.span(),
+                key,
+                format!(
+                    "body `{body}` has no set `{name}`; available sets: {}",
+                    self.set_names(body, false)
+                ),
+            )
+        })
+    }
+
+    fn edge_set(&self, set: &Spanned<String>, key: &str) -> Result<Vec<Edge>, SceneError> {
+        let (body, name) = self.set_ref(set, key)?;
+        let full = set.get_ref();
+        if let Some(edges) = self.mesh.edge_sets.get(full) {
+            return Ok(edges.clone());
+        }
+        let message = if self.mesh.node_sets.contains_key(full) {
+            format!(
+                "`{name}` is a node set; this needs an edge set; edge sets of `{body}`: {}",
+                self.set_names(body, true)
+            )
+        } else {
+            format!(
+                "body `{body}` has no edge set `{name}`; available edge sets: {}",
+                self.set_names(body, true)
+            )
+        };
+        Err(self
+            .src
+            .at(SceneErrorKind::UnknownReference, set.span(), key, message))
+    }
+
+    /// A number, or `scale * f(t)` of a named function.
+    fn scaled(&self, spec: &ValueSpec, key: &str) -> Result<Scaled, SceneError> {
+        match spec {
+            ValueSpec::Number(v) => Ok(Scaled::constant(*v)),
+            ValueSpec::Function(f) => {
+                let name = &f.function;
+                let Some(index) = self
+                    .functions
+                    .iter()
+                    .position(|g| &g.name == name.get_ref())
+                else {
+                    let names: Vec<&str> = self.functions.iter().map(|g| g.name.as_str()).collect();
+                    let known = if names.is_empty() {
+                        "none defined".into()
+                    } else {
+                        names.join(", ")
+                    };
+                    return Err(self.src.at(
+                        SceneErrorKind::UnknownReference,
+                        name.span(),
+                        format!("{key}.function"),
+                        format!("no function of that name; functions: {known}"),
+                    ));
+                };
+                Ok(Scaled {
+                    scale: f.scale.unwrap_or(1.0),
+                    function: Some(index),
+                })
+            }
+        }
+    }
+
+    fn optional_scaled(
+        &self,
+        spec: Option<&ValueSpec>,
+        key: &str,
+    ) -> Result<Option<Scaled>, SceneError> {
+        spec.map(|s| self.scaled(s, key)).transpose()
+    }
+
+    fn drivers(&self, list: &[Spanned<raw::Driver>]) -> Result<Vec<Driver>, SceneError> {
+        let mut drivers: Vec<Driver> = Vec::new();
+        for (i, d) in list.iter().enumerate() {
+            let span = d.span();
+            let d = d.get_ref();
+            let seen = list[..i]
+                .iter()
+                .map(|d| d.get_ref().name.get_ref().as_str());
+            self.new_name(
+                &d.name,
+                format!("driver[{i}].name"),
+                "driver",
+                seen,
+                Some(""),
+            )?;
+            let nodes = self.node_set(&d.set, &format!("driver[{i}].set"))?;
+            let ux = self.optional_scaled(d.ux.as_ref(), &format!("driver[{i}].ux"))?;
+            let uy = self.optional_scaled(d.uy.as_ref(), &format!("driver[{i}].uy"))?;
+            if ux.is_none() && uy.is_none() {
+                return Err(self.src.missing(
+                    span,
+                    format!("driver[{i}].ux"),
+                    "a driver prescribes ux, uy or both",
+                ));
+            }
+            drivers.push(Driver {
+                name: d.name.get_ref().clone(),
+                nodes,
+                ux,
+                uy,
+            });
+        }
+        Ok(drivers)
+    }
+
+    fn pressures(&self, list: &[raw::Pressure]) -> Result<Vec<Pressure>, SceneError> {
+        let resolve = |(i, p): (usize, &raw::Pressure)| {
+            Ok(Pressure {
+                edges: self.edge_set(&p.set, &format!("pressure[{i}].set"))?,
+                value: self.scaled(&p.value, &format!("pressure[{i}].value"))?,
+                follower: p.follower.unwrap_or(true),
+            })
+        };
+        list.iter().enumerate().map(resolve).collect()
+    }
+
+    fn body_forces(&self, list: &[raw::BodyForce]) -> Result<Vec<BodyForce>, SceneError> {
+        let resolve = |(i, f): (usize, &raw::BodyForce)| {
+            let component = |spec: Option<&ValueSpec>, c: &str| {
+                Ok(self
+                    .optional_scaled(spec, &format!("body_force[{i}].{c}"))?
+                    .unwrap_or(Scaled::constant(0.0)))
+            };
+            Ok(BodyForce {
+                body: self.body(&f.body, format!("body_force[{i}].body"))?,
+                bx: component(f.bx.as_ref(), "bx")?,
+                by: component(f.by.as_ref(), "by")?,
+            })
+        };
+        list.iter().enumerate().map(resolve).collect()
+    }
+
+    fn initial_stresses(
+        &self,
+        list: &[raw::InitialStress],
+    ) -> Result<Vec<InitialStress>, SceneError> {
+        let resolve = |(i, s): (usize, &raw::InitialStress)| {
+            let stress = [s.xx, s.yy, s.zz, s.xy].map(|c| c.unwrap_or(0.0));
+            Ok(InitialStress {
+                body: self.body(&s.body, format!("initial_stress[{i}].body"))?,
+                stress,
+            })
+        };
+        list.iter().enumerate().map(resolve).collect()
+    }
+
+    /// End times of the increments: `times` as given, or dt, 2 dt, ... t_end
+    /// with a shorter last step where dt does not divide t_end.
+    fn times(&self, steps: &Spanned<raw::Steps>) -> Result<Vec<f64>, SceneError> {
+        let s = steps.get_ref();
+        match (&s.times, &s.dt, &s.t_end) {
+            (Some(times), None, None) => {
+                let list = times.get_ref();
+                if list.is_empty() {
+                    return Err(self.invalid(
+                        times.span(),
+                        "steps.times",
+                        "at least one time is required",
+                    ));
+                }
+                if *list[0].get_ref() <= 0.0 {
+                    let message = "times must be positive";
+                    return Err(self.invalid(list[0].span(), "steps.times[0]", message));
+                }
+                let pairs: Vec<_> = list.iter().map(|t| (t.span(), *t.get_ref())).collect();
+                self.strictly_increasing(&pairs, |j| format!("steps.times[{j}]"))?;
+                Ok(list.iter().map(|t| *t.get_ref()).collect())
+            }
+            (Some(times), _, _) => Err(self.invalid(
+                times.span(),
+                "steps.times",
+                "give either times, or dt and t_end, not both",
+            )),
+            (None, Some(dt), Some(t_end)) => {
+                let h = self.positive(dt, "steps.dt", "dt")?;
+                let end = self.positive(t_end, "steps.t_end", "t_end")?;
+                if end / h > MAX_INCREMENTS as f64 {
+                    return Err(self.invalid(
+                        dt.span(),
+                        "steps.dt",
+                        format!(
+                            "t_end / dt = {:.0} increments; at most {MAX_INCREMENTS}",
+                            end / h
+                        ),
+                    ));
+                }
+                let mut times = Vec::new();
+                for k in 1.. {
+                    let t = k as f64 * h;
+                    // A last step shorter than 1e-9 dt is merged into the one before.
+                    if end - t <= 1e-9 * h {
+                        times.push(end);
+                        break;
+                    }
+                    times.push(t);
+                }
+                Ok(times)
+            }
+            (None, Some(_), None) => {
+                Err(self
+                    .src
+                    .missing(steps.span(), "steps.t_end", "dt needs t_end"))
+            }
+            (None, None, Some(_)) => {
+                Err(self.src.missing(steps.span(), "steps.dt", "t_end needs dt"))
+            }
+            (None, None, None) => Err(self.src.missing(
+                steps.span(),
+                "steps.dt",
+                "[steps] needs dt and t_end, or times",
+            )),
+        }
+    }
+
+    fn solver(&self, raw: Option<&raw::Solver>) -> Result<SolverSettings, SceneError> {
+        let mut settings = SolverSettings::default();
+        let Some(s) = raw else { return Ok(settings) };
+        let tolerances = [
+            (
+                &s.force_tolerance,
+                "force_tolerance",
+                &mut settings.force_tolerance,
+            ),
+            (
+                &s.displacement_tolerance,
+                "displacement_tolerance",
+                &mut settings.displacement_tolerance,
+            ),
+            (
+                &s.energy_tolerance,
+                "energy_tolerance",
+                &mut settings.energy_tolerance,
+            ),
+        ];
+        for (value, name, target) in tolerances {
+            if let Some(v) = value {
+                *target = self.positive(v, format!("solver.{name}"), name)?;
+            }
+        }
+        if let Some(n) = &s.max_iterations {
+            if *n.get_ref() == 0 {
+                return Err(self.invalid(
+                    n.span(),
+                    "solver.max_iterations",
+                    "at least one iteration is needed",
+                ));
+            }
+            settings.max_iterations = *n.get_ref();
+        }
+        if let Some(n) = s.max_bisections {
+            settings.max_bisections = n;
+        }
+        Ok(settings)
+    }
+}

@@ -1,0 +1,296 @@
+//! The scene file as serde sees it: every table denies unknown keys, and every
+//! value that is validated later keeps its span so errors can name its line.
+//! Tables whose keys depend on a tag (`model`, `generator`) are read in two
+//! passes from the parsed document: a head with the tag, then the variant.
+
+use crate::mesh::ElementKind;
+use serde::Deserialize;
+use serde::de::{self, IgnoredAny, MapAccess, SeqAccess, Visitor, value::MapAccessDeserializer};
+use std::fmt;
+use std::marker::PhantomData;
+use toml::Spanned;
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct Scene {
+    pub title: Option<String>,
+    pub analysis: Spanned<Analysis>,
+    /// Read per entry by `MaterialHead` and the model's own table.
+    pub material: Spanned<Vec<IgnoredAny>>,
+    pub body: Spanned<Vec<Spanned<Body>>>,
+    #[serde(default)]
+    pub function: Vec<Spanned<Function>>,
+    #[serde(default)]
+    pub driver: Vec<Spanned<Driver>>,
+    #[serde(default)]
+    pub pressure: Vec<Pressure>,
+    #[serde(default)]
+    pub body_force: Vec<BodyForce>,
+    #[serde(default)]
+    pub initial_stress: Vec<InitialStress>,
+    pub steps: Spanned<Steps>,
+    pub solver: Option<Solver>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct Analysis {
+    pub kind: Spanned<AnalysisName>,
+    pub thickness: Option<Spanned<f64>>,
+    pub kinematics: Option<Spanned<KinematicsName>>,
+}
+
+#[derive(Deserialize, Clone, Copy, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub(super) enum AnalysisName {
+    PlaneStrain,
+    PlaneStress,
+    Axisymmetric,
+}
+
+#[derive(Deserialize, Clone, Copy)]
+#[serde(rename_all = "snake_case")]
+pub(super) enum KinematicsName {
+    SmallStrain,
+    Mno,
+    TotalLagrangian,
+}
+
+/// The keys every material has; the model's own keys are read by its table.
+#[derive(Deserialize)]
+pub(super) struct MaterialHead {
+    pub name: Spanned<String>,
+    pub model: Spanned<ModelName>,
+}
+
+/// Adding a material model: one arm here, one table below, one match arm in
+/// `Resolver::materials`.
+#[derive(Deserialize, Clone, Copy)]
+#[serde(rename_all = "snake_case")]
+pub(super) enum ModelName {
+    LinearElastic,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct LinearElastic {
+    #[serde(rename = "name")]
+    _name: IgnoredAny,
+    #[serde(rename = "model")]
+    _model: IgnoredAny,
+    #[serde(rename = "E")]
+    pub e: Spanned<f64>,
+    pub nu: Spanned<f64>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct Body {
+    pub name: Spanned<String>,
+    pub material: Spanned<String>,
+    pub element: Option<Spanned<ElementKind>>,
+    /// Read by `MeshHead` and the generator's own table.
+    pub mesh: Spanned<IgnoredAny>,
+}
+
+/// The tag of a body's mesh table: a generator, or a file.
+#[derive(Deserialize)]
+pub(super) struct MeshHead {
+    pub generator: Option<Spanned<GeneratorName>>,
+    pub file: Option<Spanned<String>>,
+}
+
+#[derive(Deserialize, Clone, Copy)]
+#[serde(rename_all = "snake_case")]
+pub(super) enum GeneratorName {
+    Rectangle,
+    Disk,
+    Ring,
+    PlateWithHole,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct Rectangle {
+    #[serde(rename = "generator")]
+    _generator: IgnoredAny,
+    pub origin: Pair<f64>,
+    pub size: Spanned<Pair<f64>>,
+    pub divisions: Spanned<Pair<usize>>,
+    pub ratio: Option<Spanned<Pair<f64>>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct Disk {
+    #[serde(rename = "generator")]
+    _generator: IgnoredAny,
+    pub center: Pair<f64>,
+    pub radius: Spanned<f64>,
+    pub divisions: Spanned<usize>,
+    pub ratio: Option<Spanned<f64>>,
+    pub half: Option<bool>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct Ring {
+    #[serde(rename = "generator")]
+    _generator: IgnoredAny,
+    pub center: Pair<f64>,
+    pub r_inner: Spanned<f64>,
+    pub r_outer: Spanned<f64>,
+    pub angles: Spanned<Pair<f64>>,
+    pub divisions: Spanned<Pair<usize>>,
+    pub ratio: Option<Spanned<f64>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct PlateWithHole {
+    #[serde(rename = "generator")]
+    _generator: IgnoredAny,
+    pub hole_radius: Spanned<f64>,
+    pub width: Spanned<f64>,
+    pub y_range: Spanned<Pair<f64>>,
+    pub divisions: Spanned<Pair<usize>>,
+    pub ratio: Option<Spanned<f64>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct MeshFile {
+    pub file: Spanned<String>,
+    pub group: Option<Spanned<String>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct Function {
+    pub name: Spanned<String>,
+    pub points: Spanned<Vec<Spanned<Pair<f64>>>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct Driver {
+    pub name: Spanned<String>,
+    pub set: Spanned<String>,
+    pub ux: Option<ValueSpec>,
+    pub uy: Option<ValueSpec>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct Pressure {
+    pub set: Spanned<String>,
+    pub value: ValueSpec,
+    pub follower: Option<bool>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct BodyForce {
+    pub body: Spanned<String>,
+    pub bx: Option<ValueSpec>,
+    pub by: Option<ValueSpec>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct InitialStress {
+    pub body: Spanned<String>,
+    pub xx: Option<f64>,
+    pub yy: Option<f64>,
+    pub zz: Option<f64>,
+    pub xy: Option<f64>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct Steps {
+    pub dt: Option<Spanned<f64>>,
+    pub t_end: Option<Spanned<f64>>,
+    pub times: Option<Spanned<Vec<Spanned<f64>>>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct Solver {
+    pub force_tolerance: Option<Spanned<f64>>,
+    pub displacement_tolerance: Option<Spanned<f64>>,
+    pub energy_tolerance: Option<Spanned<f64>>,
+    pub max_iterations: Option<Spanned<usize>>,
+    pub max_bisections: Option<usize>,
+}
+
+/// A number, or `{ function = "name", scale = s }` meaning `s * f(t)`.
+pub(super) enum ValueSpec {
+    Number(f64),
+    Function(FunctionRef),
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct FunctionRef {
+    pub function: Spanned<String>,
+    pub scale: Option<f64>,
+}
+
+impl<'de> Deserialize<'de> for ValueSpec {
+    fn deserialize<D: de::Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        struct SpecVisitor;
+        impl<'de> Visitor<'de> for SpecVisitor {
+            type Value = ValueSpec;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                f.write_str("a number or a table { function = \"name\", scale = number }")
+            }
+            fn visit_i64<E: de::Error>(self, v: i64) -> Result<ValueSpec, E> {
+                Ok(ValueSpec::Number(v as f64))
+            }
+            fn visit_u64<E: de::Error>(self, v: u64) -> Result<ValueSpec, E> {
+                Ok(ValueSpec::Number(v as f64))
+            }
+            fn visit_f64<E: de::Error>(self, v: f64) -> Result<ValueSpec, E> {
+                Ok(ValueSpec::Number(v))
+            }
+            fn visit_map<A: MapAccess<'de>>(self, map: A) -> Result<ValueSpec, A::Error> {
+                FunctionRef::deserialize(MapAccessDeserializer::new(map)).map(ValueSpec::Function)
+            }
+        }
+        deserializer.deserialize_any(SpecVisitor)
+    }
+}
+
+/// Exactly two values (serde's `[T; 2]` lets a third one pass unseen).
+#[derive(Clone, Copy)]
+pub(super) struct Pair<T>(pub [T; 2]);
+
+impl<'de, T: Deserialize<'de>> Deserialize<'de> for Pair<T> {
+    fn deserialize<D: de::Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        struct PairVisitor<T>(PhantomData<T>);
+        impl<'de, T: Deserialize<'de>> Visitor<'de> for PairVisitor<T> {
+            type Value = Pair<T>;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                f.write_str("an array of 2 values")
+            }
+            fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Pair<T>, A::Error> {
+                let first = seq
+                    .next_element()?
+                    .ok_or_else(|| de::Error::invalid_length(0, &self))?;
+                let second = seq
+                    .next_element()?
+                    .ok_or_else(|| de::Error::invalid_length(1, &self))?;
+                let mut count = 2;
+                while seq.next_element::<IgnoredAny>()?.is_some() {
+                    count += 1;
+                }
+                if count > 2 {
+                    return Err(de::Error::invalid_length(count, &self));
+                }
+                Ok(Pair([first, second]))
+            }
+        }
+        deserializer.deserialize_seq(PairVisitor(PhantomData))
+    }
+}

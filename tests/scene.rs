@@ -1,0 +1,1016 @@
+//! The scene reader: a good scene resolves to exact numbers, and every class
+//! of mistake is reported with file, line, key and value.
+
+use contact2d::mesh::{Edge, ElementKind, Mesh, generators};
+use contact2d::problem::{AnalysisKind, Kinematics, MaterialSpec, Scaled};
+use contact2d::scene::{self, SceneError, SceneErrorKind};
+use std::path::Path;
+
+/// A valid scene; the error tests each change one thing in it.
+const BASE: &str = r#"title = "base"
+
+[analysis]
+kind = "plane_strain"
+
+[[material]]
+name = "steel"
+model = "linear_elastic"
+E = 200000.0
+nu = 0.3
+
+[[body]]
+name = "block"
+material = "steel"
+mesh = { generator = "rectangle", origin = [0.0, 0.0], size = [2.0, 1.0], divisions = [2, 1] }
+
+[[body]]
+name = "wheel"
+material = "steel"
+mesh = { generator = "disk", center = [1.0, 3.0], radius = 2.0, divisions = 2, ratio = 1.0 }
+
+[[function]]
+name = "ramp"
+points = [[0.0, 0.0], [1.0, 1.0]]
+
+[[driver]]
+name = "base"
+set = "block.bottom"
+ux = 0.0
+uy = 0.0
+
+[[driver]]
+name = "press"
+set = "wheel.top"
+uy = { function = "ramp", scale = -0.1 }
+
+[[pressure]]
+set = "block.top"
+value = 1.0
+
+[[body_force]]
+body = "block"
+by = -1.0
+
+[[initial_stress]]
+body = "wheel"
+yy = 5.0
+
+[steps]
+dt = 0.5
+t_end = 1.0
+
+[solver]
+force_tolerance = 1e-8
+max_iterations = 20
+"#;
+
+const FILE: &str = "scenes/t.toml";
+
+/// Two bodies and every kind of load; `steps` given as dt and t_end.
+const TWO_BODIES: &str = r#"
+[analysis]
+kind = "plane_stress"
+thickness = 2.0
+kinematics = "mno"
+
+[[material]]
+name = "steel"
+model = "linear_elastic"
+E = 200000.0
+nu = 0.3
+
+[[material]]
+name = "rubber"
+model = "linear_elastic"
+E = 10
+nu = 0.5
+
+[[body]]
+name = "block"
+material = "rubber"
+mesh = { generator = "rectangle", origin = [0.0, -1.0], size = [4.0, 1.0], divisions = [4, 2] }
+
+[[body]]
+name = "wheel"
+material = "steel"
+element = "q8"
+mesh = { generator = "disk", center = [0.0, 3.0], radius = 3.0, divisions = 4, ratio = 2.0 }
+
+[[function]]
+name = "ramp"
+points = [[0.0, 0.0], [1.0, 1.0]]
+
+[[function]]
+name = "hold"
+points = [[0.0, 0.0], [0.5, 1.0], [2.0, 1.0]]
+
+[[driver]]
+name = "base"
+set = "block.bottom"
+ux = 0.0
+uy = 0
+
+[[driver]]
+name = "press"
+set = "wheel.top"
+uy = { function = "ramp", scale = -0.1 }
+
+[[driver]]
+name = "side"
+set = "block.left"
+ux = { function = "hold" }
+
+[[pressure]]
+set = "block.right"
+value = { function = "ramp", scale = 5.0 }
+follower = false
+
+[[pressure]]
+set = "wheel.arc"
+value = 2.5
+
+[[body_force]]
+body = "block"
+by = -9.81
+
+[[initial_stress]]
+body = "wheel"
+yy = 300.0
+xy = 1.5
+
+[steps]
+dt = 0.3
+t_end = 1.0
+
+[solver]
+force_tolerance = 1e-6
+max_iterations = 40
+"#;
+
+/// The edges of a body's own mesh, numbered as in the merged mesh.
+fn shifted(edges: &[Edge], nodes: usize, elements: usize) -> Vec<Edge> {
+    let shift = |e: &Edge| Edge {
+        element: e.element + elements,
+        face: e.face,
+        nodes: e.nodes.iter().map(|n| n + nodes).collect(),
+    };
+    edges.iter().map(shift).collect()
+}
+
+fn set(mesh: &Mesh, name: &str, offset: usize) -> Vec<usize> {
+    mesh.node_sets[name].iter().map(|n| n + offset).collect()
+}
+
+#[test]
+fn two_bodies_resolve_to_exact_numbers() {
+    let p = scene::parse(TWO_BODIES, Path::new("scenes/two_bodies.toml")).unwrap();
+    let block = generators::rectangle(ElementKind::Q4, [0.0, -1.0], [4.0, 1.0], [4, 2], [1.0, 1.0])
+        .unwrap();
+    let wheel = generators::disk(ElementKind::Q8, [0.0, 3.0], 3.0, 4, 2.0, false).unwrap();
+    let (nb, eb) = (block.nodes.len(), block.elements.len());
+    let (nw, ew) = (wheel.nodes.len(), wheel.elements.len());
+    assert_eq!((nb, eb), (15, 8));
+
+    assert_eq!(p.name, "two_bodies");
+    assert_eq!(p.analysis, AnalysisKind::PlaneStress { thickness: 2.0 });
+    assert_eq!(p.kinematics, Kinematics::MaterialNonlinearOnly);
+    assert_eq!(
+        p.materials[1].spec,
+        MaterialSpec::LinearElastic { e: 10.0, nu: 0.5 }
+    );
+
+    assert_eq!(p.mesh.nodes.len(), nb + nw);
+    assert_eq!(p.mesh.elements.len(), eb + ew);
+    assert_eq!(
+        (p.bodies[0].nodes.clone(), p.bodies[0].elements.clone()),
+        (0..nb, 0..eb)
+    );
+    assert_eq!(
+        (p.bodies[1].nodes.clone(), p.bodies[1].elements.clone()),
+        (nb..nb + nw, eb..eb + ew)
+    );
+    assert_eq!((p.bodies[0].material, p.bodies[1].material), (1, 0));
+    assert_eq!(p.element_material, [vec![1; eb], vec![0; ew]].concat());
+    assert_eq!(p.mesh.nodes[nb], wheel.nodes[0]);
+    assert_eq!(p.mesh.elements[eb].kind, ElementKind::Q8);
+    assert_eq!(
+        p.mesh.elements[eb].nodes,
+        wheel.elements[0]
+            .nodes
+            .iter()
+            .map(|n| n + nb)
+            .collect::<Vec<_>>()
+    );
+    for name in [
+        "block.bottom",
+        "block.top_left",
+        "wheel.contact_point",
+        "wheel.top",
+    ] {
+        assert!(p.mesh.node_sets.contains_key(name), "{name}");
+    }
+    assert!(p.mesh.edge_sets.contains_key("wheel.arc"));
+    assert_eq!(
+        p.mesh.element_sets["wheel.all"],
+        (eb..eb + ew).collect::<Vec<_>>()
+    );
+
+    let names: Vec<&str> = p.functions.iter().map(|f| f.name.as_str()).collect();
+    assert_eq!(names, ["ramp", "hold"]);
+    assert_eq!(
+        p.functions[1].points,
+        vec![(0.0, 0.0), (0.5, 1.0), (2.0, 1.0)]
+    );
+
+    let [base, press, side] = &p.drivers[..] else {
+        panic!("three drivers")
+    };
+    assert_eq!(
+        (base.name.as_str(), press.name.as_str(), side.name.as_str()),
+        ("base", "press", "side")
+    );
+    assert_eq!(base.nodes, set(&block, "bottom", 0));
+    assert_eq!(
+        (base.ux.clone(), base.uy.clone()),
+        (Some(Scaled::constant(0.0)), Some(Scaled::constant(0.0)))
+    );
+    assert_eq!(press.nodes, set(&wheel, "top", nb));
+    assert_eq!(press.ux, None);
+    assert_eq!(
+        press.uy,
+        Some(Scaled {
+            scale: -0.1,
+            function: Some(0)
+        })
+    );
+    assert_eq!(side.nodes, set(&block, "left", 0));
+    assert_eq!(
+        side.ux,
+        Some(Scaled {
+            scale: 1.0,
+            function: Some(1)
+        })
+    );
+    assert_eq!(side.uy, None);
+
+    assert_eq!(p.pressures.len(), 2);
+    assert_eq!(p.pressures[0].edges, block.edge_sets["right"]);
+    assert_eq!(
+        p.pressures[0].value,
+        Scaled {
+            scale: 5.0,
+            function: Some(0)
+        }
+    );
+    assert!(!p.pressures[0].follower);
+    assert_eq!(
+        p.pressures[1].edges,
+        shifted(&wheel.edge_sets["arc"], nb, eb)
+    );
+    assert_eq!(p.pressures[1].value, Scaled::constant(2.5));
+    assert!(p.pressures[1].follower);
+
+    assert_eq!(p.body_forces.len(), 1);
+    assert_eq!(p.body_forces[0].body, 0);
+    assert_eq!(
+        (p.body_forces[0].bx.clone(), p.body_forces[0].by.clone()),
+        (Scaled::constant(0.0), Scaled::constant(-9.81))
+    );
+    assert_eq!(p.initial_stresses.len(), 1);
+    assert_eq!(
+        (p.initial_stresses[0].body, p.initial_stresses[0].stress),
+        (1, [0.0, 300.0, 0.0, 1.5])
+    );
+    assert!(p.forces.is_empty());
+
+    // dt = 0.3 up to 1.0: the last increment is the shorter 0.1.
+    assert_eq!(p.times, vec![0.3, 0.6, 3.0 * 0.3, 1.0]);
+    assert_eq!(p.solver.force_tolerance, 1e-6);
+    assert_eq!(p.solver.max_iterations, 40);
+    assert_eq!(p.solver.displacement_tolerance, 1e-8);
+    assert_eq!(p.solver.max_bisections, 6);
+}
+
+#[test]
+fn steps_as_a_list_of_times() {
+    let text = TWO_BODIES.replace("dt = 0.3\nt_end = 1.0", "times = [0.25, 1, 2.5]");
+    let p = scene::parse(&text, Path::new("two_bodies.toml")).unwrap();
+    assert_eq!(p.times, vec![0.25, 1.0, 2.5]);
+    // dt dividing t_end: no extra step.
+    let text = TWO_BODIES.replace("dt = 0.3", "dt = 0.25");
+    let p = scene::parse(&text, Path::new("two_bodies.toml")).unwrap();
+    assert_eq!(p.times, vec![0.25, 0.5, 0.75, 1.0]);
+}
+
+#[test]
+fn defaults() {
+    let text = r#"
+[analysis]
+kind = "axisymmetric"
+[[material]]
+name = "m"
+model = "linear_elastic"
+E = 1.0
+nu = 0.0
+[[body]]
+name = "b"
+material = "m"
+[body.mesh]
+generator = "ring"
+center = [0.0, 0.0]
+r_inner = 1.0
+r_outer = 2.0
+angles = [0.0, 90.0]
+divisions = [2, 3]
+[steps]
+times = [1.0]
+"#;
+    let p = scene::parse(text, Path::new("dir/ring.toml")).unwrap();
+    let ring = generators::ring(
+        ElementKind::Q4,
+        [0.0, 0.0],
+        1.0,
+        2.0,
+        [0.0, 90.0],
+        [2, 3],
+        1.0,
+    )
+    .unwrap();
+    assert_eq!(p.name, "ring");
+    assert_eq!(p.analysis, AnalysisKind::Axisymmetric);
+    assert_eq!(p.kinematics, Kinematics::SmallStrain);
+    assert_eq!(p.mesh.nodes, ring.nodes);
+    assert_eq!(p.mesh.elements[0].kind, ElementKind::Q4);
+    assert_eq!(p.solver, contact2d::problem::SolverSettings::default());
+    assert!(p.drivers.is_empty());
+}
+
+/// BASE with the first `old` replaced by `new`, parsed; it must fail.
+fn bad(old: &str, new: &str) -> SceneError {
+    assert!(BASE.contains(old), "BASE has no {old:?}");
+    let text = BASE.replacen(old, new, 1);
+    match scene::parse(&text, Path::new(FILE)) {
+        Ok(_) => panic!("scene with {new:?} was accepted"),
+        Err(e) => e,
+    }
+}
+
+fn assert_error(e: &SceneError, kind: SceneErrorKind, expected: &str) {
+    assert_eq!(e.to_string(), expected);
+    assert_eq!(e.kind, kind, "{e}");
+}
+
+#[test]
+fn base_scene_is_valid() {
+    let p = scene::parse(BASE, Path::new(FILE)).unwrap();
+    assert_eq!(p.name, "base");
+    assert_eq!(p.times, vec![0.5, 1.0]);
+    assert_eq!(p.solver.max_iterations, 20);
+}
+
+#[test]
+fn syntax_error() {
+    let e = bad("nu = 0.3", "nu = 0.3.1");
+    assert_error(
+        &e,
+        SceneErrorKind::Syntax,
+        "scenes/t.toml:10: material[0].nu = 0.3.1: TOML syntax: invalid float",
+    );
+    let e = bad(r#"name = "wheel""#, r#"name = "wheel"#);
+    assert_error(
+        &e,
+        SceneErrorKind::Syntax,
+        r#"scenes/t.toml:18: body[1].name = "wheel: TOML syntax: invalid basic string, expected `"`"#,
+    );
+    let e = bad("dt = 0.5", "dt = 0.5\ndt = 0.25");
+    assert_error(
+        &e,
+        SceneErrorKind::Syntax,
+        "scenes/t.toml:51: steps.dt = 0.25: TOML syntax: duplicate key",
+    );
+}
+
+#[test]
+fn unknown_key_lists_the_allowed_keys() {
+    let e = bad("nu = 0.3", "nu = 0.3\nmu = 0.2");
+    assert_error(
+        &e,
+        SceneErrorKind::UnknownKey,
+        "scenes/t.toml:11: material[0].mu = 0.2: unknown key; allowed keys: name, model, E, nu",
+    );
+    // A generator's own keys are listed, not every generator's.
+    let e = bad("ratio = 1.0 }", "ratio = 1.0, size = [1.0, 1.0] }");
+    assert_error(
+        &e,
+        SceneErrorKind::UnknownKey,
+        "scenes/t.toml:20: body[1].mesh.size = [1.0, 1.0]: unknown key; \
+         allowed keys: generator, center, radius, divisions, ratio, half",
+    );
+    // Contact pairs come later: for now `[[contact]]` is unknown.
+    let e = bad("[steps]", "[[contact]]\npair = 1\n\n[steps]");
+    assert_error(
+        &e,
+        SceneErrorKind::UnknownKey,
+        "scenes/t.toml:49: contact = [[contact]]: unknown key; allowed keys: title, analysis, material, body, \
+         function, driver, pressure, body_force, initial_stress, steps, solver",
+    );
+    let e = bad(
+        "uy = { function = \"ramp\", scale = -0.1 }",
+        "uy = { function = \"ramp\", factor = -0.1 }",
+    );
+    assert_error(
+        &e,
+        SceneErrorKind::UnknownKey,
+        "scenes/t.toml:35: driver[1].uy.factor = -0.1: unknown key; allowed keys: function, scale",
+    );
+}
+
+#[test]
+fn missing_key() {
+    let e = bad("nu = 0.3\n", "");
+    assert_error(
+        &e,
+        SceneErrorKind::MissingKey,
+        "scenes/t.toml:6: material[0].nu = (missing): required key is missing",
+    );
+    let e = bad("radius = 2.0, ", "");
+    assert_error(
+        &e,
+        SceneErrorKind::MissingKey,
+        "scenes/t.toml:20: body[1].mesh.radius = (missing): required key is missing",
+    );
+    let e = bad("[steps]\ndt = 0.5\nt_end = 1.0\n", "");
+    assert_error(
+        &e,
+        SceneErrorKind::MissingKey,
+        "scenes/t.toml:1: steps = (missing): required key is missing",
+    );
+    let e = bad("kind = \"plane_strain\"", "kinematics = \"mno\"");
+    assert_error(
+        &e,
+        SceneErrorKind::MissingKey,
+        "scenes/t.toml:3: analysis.kind = (missing): required key is missing",
+    );
+    let e = bad("t_end = 1.0", "");
+    assert_error(
+        &e,
+        SceneErrorKind::MissingKey,
+        "scenes/t.toml:49: steps.t_end = (missing): dt needs t_end",
+    );
+    let e = bad("ux = 0.0\nuy = 0.0\n", "");
+    assert_error(
+        &e,
+        SceneErrorKind::MissingKey,
+        "scenes/t.toml:26: driver[0].ux = (missing): a driver prescribes ux, uy or both",
+    );
+    let e = bad("generator = \"disk\", ", "");
+    assert_error(
+        &e,
+        SceneErrorKind::MissingKey,
+        "scenes/t.toml:20: body[1].mesh.generator = (missing): \
+         a mesh needs `generator` (rectangle, disk, ring, plate_with_hole) or `file`",
+    );
+}
+
+#[test]
+fn wrong_type() {
+    let e = bad("E = 200000.0", "E = \"stiff\"");
+    assert_error(
+        &e,
+        SceneErrorKind::WrongType,
+        r#"scenes/t.toml:9: material[0].E = "stiff": expected a number, found string "stiff""#,
+    );
+    let e = bad("divisions = 2,", "divisions = [2, 2],");
+    assert_error(
+        &e,
+        SceneErrorKind::WrongType,
+        "scenes/t.toml:20: body[1].mesh.divisions = [2, 2]: expected a non-negative integer, found an array",
+    );
+    let e = bad("divisions = [2, 1]", "divisions = [2, -1]");
+    assert_error(
+        &e,
+        SceneErrorKind::WrongType,
+        "scenes/t.toml:15: body[0].mesh.divisions[1] = -1: expected a non-negative integer, found integer `-1`",
+    );
+    let e = bad("value = 1.0", "value = \"high\"");
+    assert_error(
+        &e,
+        SceneErrorKind::WrongType,
+        r#"scenes/t.toml:39: pressure[0].value = "high": expected a number or a table { function = "name", scale = number }, found string "high""#,
+    );
+    let e = bad("kind = \"plane_strain\"", "kind = 2");
+    assert_error(
+        &e,
+        SceneErrorKind::WrongType,
+        "scenes/t.toml:4: analysis.kind = 2: expected a string",
+    );
+    let e = bad("size = [2.0, 1.0]", "size = [2.0, 1.0, 3.0]");
+    assert_error(
+        &e,
+        SceneErrorKind::WrongType,
+        "scenes/t.toml:15: body[0].mesh.size = [2.0, 1.0, 3.0]: expected an array of 2 values, found 3 values",
+    );
+}
+
+#[test]
+fn unknown_word() {
+    let e = bad("kind = \"plane_strain\"", "kind = \"plane\"");
+    assert_error(
+        &e,
+        SceneErrorKind::InvalidValue,
+        r#"scenes/t.toml:4: analysis.kind = "plane": must be one of: plane_strain, plane_stress, axisymmetric"#,
+    );
+    let e = bad("model = \"linear_elastic\"", "model = \"elastic\"");
+    assert_error(
+        &e,
+        SceneErrorKind::InvalidValue,
+        r#"scenes/t.toml:8: material[0].model = "elastic": must be one of: linear_elastic"#,
+    );
+    let e = bad("generator = \"disk\"", "generator = \"circle\"");
+    assert_error(
+        &e,
+        SceneErrorKind::InvalidValue,
+        r#"scenes/t.toml:20: body[1].mesh.generator = "circle": must be one of: rectangle, disk, ring, plate_with_hole"#,
+    );
+    let e = bad(
+        "name = \"wheel\"\nmaterial = \"steel\"",
+        "name = \"wheel\"\nmaterial = \"steel\"\nelement = \"q9\"",
+    );
+    assert_error(
+        &e,
+        SceneErrorKind::InvalidValue,
+        r#"scenes/t.toml:20: body[1].element = "q9": must be one of: q4, q8"#,
+    );
+}
+
+#[test]
+fn material_constants_out_of_range() {
+    let e = bad("nu = 0.3", "nu = 0.5");
+    assert_error(
+        &e,
+        SceneErrorKind::InvalidValue,
+        "scenes/t.toml:10: material[0].nu = 0.5: Poisson's ratio must satisfy -1 < nu < 0.5 in plane strain",
+    );
+    let e = bad("nu = 0.3", "nu = -1.0");
+    assert_error(
+        &e,
+        SceneErrorKind::InvalidValue,
+        "scenes/t.toml:10: material[0].nu = -1.0: Poisson's ratio must satisfy -1 < nu < 0.5 in plane strain",
+    );
+    let plane_stress = BASE.replace("kind = \"plane_strain\"", "kind = \"plane_stress\"");
+    assert!(
+        scene::parse(
+            &plane_stress.replace("nu = 0.3", "nu = 0.5"),
+            Path::new(FILE)
+        )
+        .is_ok()
+    );
+    let e = scene::parse(
+        &plane_stress.replace("nu = 0.3", "nu = 0.51"),
+        Path::new(FILE),
+    )
+    .unwrap_err();
+    assert_error(
+        &e,
+        SceneErrorKind::InvalidValue,
+        "scenes/t.toml:10: material[0].nu = 0.51: Poisson's ratio must satisfy -1 < nu <= 0.5 in plane stress",
+    );
+    let e = bad(
+        "kind = \"plane_strain\"\n\n[[material]]\nname = \"steel\"\nmodel = \"linear_elastic\"\nE = 200000.0\nnu = 0.3",
+        "kind = \"axisymmetric\"\n\n[[material]]\nname = \"steel\"\nmodel = \"linear_elastic\"\nE = 200000.0\nnu = 0.5",
+    );
+    assert_error(
+        &e,
+        SceneErrorKind::InvalidValue,
+        "scenes/t.toml:10: material[0].nu = 0.5: Poisson's ratio must satisfy -1 < nu < 0.5 in axisymmetric analysis",
+    );
+    let e = bad("E = 200000.0", "E = 0");
+    assert_error(
+        &e,
+        SceneErrorKind::InvalidValue,
+        "scenes/t.toml:9: material[0].E = 0: Young's modulus must be positive",
+    );
+}
+
+#[test]
+fn analysis_out_of_range() {
+    let e = bad(
+        "kind = \"plane_strain\"",
+        "kind = \"plane_strain\"\nthickness = 0.0",
+    );
+    assert_error(
+        &e,
+        SceneErrorKind::InvalidValue,
+        "scenes/t.toml:5: analysis.thickness = 0.0: thickness must be positive",
+    );
+    let e = bad(
+        "kind = \"plane_strain\"",
+        "kind = \"axisymmetric\"\nthickness = 1.0",
+    );
+    assert_error(
+        &e,
+        SceneErrorKind::InvalidValue,
+        "scenes/t.toml:5: analysis.thickness = 1.0: axisymmetric analysis has no thickness (it works on the full circle)",
+    );
+}
+
+#[test]
+fn mesh_values_out_of_range() {
+    let e = bad("radius = 2.0", "radius = -2.0");
+    assert_error(
+        &e,
+        SceneErrorKind::InvalidValue,
+        "scenes/t.toml:20: body[1].mesh.radius = -2.0: radius must be positive",
+    );
+    let e = bad("divisions = 2,", "divisions = 0,");
+    assert_error(
+        &e,
+        SceneErrorKind::InvalidValue,
+        "scenes/t.toml:20: body[1].mesh.divisions = 0: divisions must be at least 1",
+    );
+    let e = bad("divisions = [2, 1]", "divisions = [0, 1]");
+    assert_error(
+        &e,
+        SceneErrorKind::InvalidValue,
+        "scenes/t.toml:15: body[0].mesh.divisions = [0, 1]: divisions must be at least 1",
+    );
+    let e = bad("ratio = 1.0", "ratio = 0.0");
+    assert_error(
+        &e,
+        SceneErrorKind::InvalidValue,
+        "scenes/t.toml:20: body[1].mesh.ratio = 0.0: ratio must be positive",
+    );
+    let e = bad(
+        "divisions = [2, 1]",
+        "divisions = [2, 1], ratio = [1.0, -2.0]",
+    );
+    assert_error(
+        &e,
+        SceneErrorKind::InvalidValue,
+        "scenes/t.toml:15: body[0].mesh.ratio = [1.0, -2.0]: both ratio components must be positive",
+    );
+    let e = bad("size = [2.0, 1.0]", "size = [2.0, 0.0]");
+    assert_error(
+        &e,
+        SceneErrorKind::InvalidValue,
+        "scenes/t.toml:15: body[0].mesh.size = [2.0, 0.0]: both size components must be positive",
+    );
+}
+
+#[test]
+fn ring_and_plate_bounds() {
+    let disk =
+        r#"generator = "disk", center = [1.0, 3.0], radius = 2.0, divisions = 2, ratio = 1.0"#;
+    let ring = r#"generator = "ring", center = [0.0, 0.0], r_inner = 2.0, r_outer = 2.0, angles = [0, 90], divisions = [2, 4]"#;
+    let e = bad(disk, ring);
+    assert_error(
+        &e,
+        SceneErrorKind::InvalidValue,
+        "scenes/t.toml:20: body[1].mesh.r_outer = 2.0: must exceed r_inner = 2.0",
+    );
+    let e = bad(
+        disk,
+        &ring
+            .replace("r_outer = 2.0", "r_outer = 3.0")
+            .replace("[0, 90]", "[90, 0]"),
+    );
+    assert_error(
+        &e,
+        SceneErrorKind::InvalidValue,
+        "scenes/t.toml:20: body[1].mesh.angles = [90, 0]: the second value must exceed the first",
+    );
+    let plate = r#"generator = "plate_with_hole", hole_radius = 1.0, width = 0.5, y_range = [0, 5], divisions = [4, 4], ratio = 2.0"#;
+    let e = bad(disk, plate);
+    assert_error(
+        &e,
+        SceneErrorKind::InvalidValue,
+        "scenes/t.toml:20: body[1].mesh.width = 0.5: must exceed hole_radius = 1.0",
+    );
+}
+
+#[test]
+fn non_finite_numbers_anywhere() {
+    let e = bad("radius = 2.0", "radius = nan");
+    assert_error(
+        &e,
+        SceneErrorKind::InvalidValue,
+        "scenes/t.toml:20: body[1].mesh.radius = nan: numbers must be finite",
+    );
+    let e = bad(
+        "points = [[0.0, 0.0], [1.0, 1.0]]",
+        "points = [[0.0, 0.0], [1.0, inf]]",
+    );
+    assert_error(
+        &e,
+        SceneErrorKind::InvalidValue,
+        "scenes/t.toml:24: function[0].points[1][1] = inf: numbers must be finite",
+    );
+    let e = bad("yy = 5.0", "yy = -inf");
+    assert_error(
+        &e,
+        SceneErrorKind::InvalidValue,
+        "scenes/t.toml:47: initial_stress[0].yy = -inf: numbers must be finite",
+    );
+    let e = bad("scale = -0.1", "scale = 1e999");
+    assert_error(
+        &e,
+        SceneErrorKind::InvalidValue,
+        "scenes/t.toml:35: driver[1].uy.scale = 1e999: numbers must be finite",
+    );
+}
+
+#[test]
+fn times_out_of_order() {
+    let e = bad(
+        "points = [[0.0, 0.0], [1.0, 1.0]]",
+        "points = [[0.0, 0.0], [1.0, 1.0], [1.0, 2.0]]",
+    );
+    assert_error(
+        &e,
+        SceneErrorKind::InvalidValue,
+        "scenes/t.toml:24: function[0].points[2] = [1.0, 2.0]: times must be strictly increasing (1.0 follows 1.0)",
+    );
+    let e = bad("dt = 0.5\nt_end = 1.0", "times = [0.5, 1.5, 1.0]");
+    assert_error(
+        &e,
+        SceneErrorKind::InvalidValue,
+        "scenes/t.toml:50: steps.times[2] = 1.0: times must be strictly increasing (1.0 follows 1.5)",
+    );
+    let e = bad("dt = 0.5\nt_end = 1.0", "times = [0.0, 1.0]");
+    assert_error(
+        &e,
+        SceneErrorKind::InvalidValue,
+        "scenes/t.toml:50: steps.times[0] = 0.0: times must be positive",
+    );
+    let e = bad("dt = 0.5\nt_end = 1.0", "times = []");
+    assert_error(
+        &e,
+        SceneErrorKind::InvalidValue,
+        "scenes/t.toml:50: steps.times = []: at least one time is required",
+    );
+    let e = bad("dt = 0.5", "dt = 0.5\ntimes = [1.0]");
+    assert_error(
+        &e,
+        SceneErrorKind::InvalidValue,
+        "scenes/t.toml:51: steps.times = [1.0]: give either times, or dt and t_end, not both",
+    );
+}
+
+#[test]
+fn steps_and_solver_out_of_range() {
+    let e = bad("dt = 0.5", "dt = 0.0");
+    assert_error(
+        &e,
+        SceneErrorKind::InvalidValue,
+        "scenes/t.toml:50: steps.dt = 0.0: dt must be positive",
+    );
+    let e = bad("t_end = 1.0", "t_end = -1");
+    assert_error(
+        &e,
+        SceneErrorKind::InvalidValue,
+        "scenes/t.toml:51: steps.t_end = -1: t_end must be positive",
+    );
+    let e = bad("dt = 0.5", "dt = 1e-9");
+    assert_error(
+        &e,
+        SceneErrorKind::InvalidValue,
+        "scenes/t.toml:50: steps.dt = 1e-9: t_end / dt = 1000000000 increments; at most 1000000",
+    );
+    let e = bad("force_tolerance = 1e-8", "force_tolerance = 0.0");
+    assert_error(
+        &e,
+        SceneErrorKind::InvalidValue,
+        "scenes/t.toml:54: solver.force_tolerance = 0.0: force_tolerance must be positive",
+    );
+    let e = bad("force_tolerance = 1e-8", "energy_tolerance = -1e-16");
+    assert_error(
+        &e,
+        SceneErrorKind::InvalidValue,
+        "scenes/t.toml:54: solver.energy_tolerance = -1e-16: energy_tolerance must be positive",
+    );
+    let e = bad("max_iterations = 20", "max_iterations = 0");
+    assert_error(
+        &e,
+        SceneErrorKind::InvalidValue,
+        "scenes/t.toml:55: solver.max_iterations = 0: at least one iteration is needed",
+    );
+}
+
+#[test]
+fn unknown_references() {
+    let e = bad("material = \"steel\"", "material = \"iron\"");
+    assert_error(
+        &e,
+        SceneErrorKind::UnknownReference,
+        r#"scenes/t.toml:14: body[0].material = "iron": no material of that name; materials: steel"#,
+    );
+    let e = bad("body = \"block\"", "body = \"brick\"");
+    assert_error(
+        &e,
+        SceneErrorKind::UnknownReference,
+        r#"scenes/t.toml:42: body_force[0].body = "brick": no body of that name; bodies: block, wheel"#,
+    );
+    let e = bad("function = \"ramp\"", "function = \"rmap\"");
+    assert_error(
+        &e,
+        SceneErrorKind::UnknownReference,
+        r#"scenes/t.toml:35: driver[1].uy.function = "rmap": no function of that name; functions: ramp"#,
+    );
+    let e = bad("set = \"wheel.top\"", "set = \"tyre.top\"");
+    assert_error(
+        &e,
+        SceneErrorKind::UnknownReference,
+        r#"scenes/t.toml:34: driver[1].set = "tyre.top": no body of that name; bodies: block, wheel"#,
+    );
+    let e = bad("set = \"block.top\"", "set = \"block.lid\"");
+    assert_error(
+        &e,
+        SceneErrorKind::UnknownReference,
+        r#"scenes/t.toml:38: pressure[0].set = "block.lid": body `block` has no edge set `lid`; available edge sets: bottom, left, right, top"#,
+    );
+    let e = bad("set = \"block.bottom\"", "set = \"block.base\"");
+    let block_sets = "bottom, bottom_left, bottom_right, left, right, top, top_left, top_right";
+    assert_error(
+        &e,
+        SceneErrorKind::UnknownReference,
+        &format!(
+            r#"scenes/t.toml:28: driver[0].set = "block.base": body `block` has no set `base`; available sets: {block_sets}"#
+        ),
+    );
+    let e = bad("set = \"block.top\"", "set = \"block.top_left\"");
+    assert_error(
+        &e,
+        SceneErrorKind::UnknownReference,
+        r#"scenes/t.toml:38: pressure[0].set = "block.top_left": `top_left` is a node set; this needs an edge set; edge sets of `block`: bottom, left, right, top"#,
+    );
+    let e = bad("set = \"block.bottom\"", "set = \"bottom\"");
+    assert_error(
+        &e,
+        SceneErrorKind::InvalidValue,
+        r#"scenes/t.toml:28: driver[0].set = "bottom": a set is named <body>.<set>"#,
+    );
+}
+
+#[test]
+fn duplicate_and_bad_names() {
+    let e = bad("name = \"wheel\"", "name = \"block\"");
+    assert_error(
+        &e,
+        SceneErrorKind::Duplicate,
+        r#"scenes/t.toml:18: body[1].name = "block": duplicate body name"#,
+    );
+    let e = bad("name = \"press\"", "name = \"base\"");
+    assert_error(
+        &e,
+        SceneErrorKind::Duplicate,
+        r#"scenes/t.toml:33: driver[1].name = "base": duplicate driver name"#,
+    );
+    let e = bad(
+        "[[driver]]",
+        "[[function]]\nname = \"ramp\"\npoints = [[0.0, 1.0]]\n\n[[driver]]",
+    );
+    assert_error(
+        &e,
+        SceneErrorKind::Duplicate,
+        r#"scenes/t.toml:27: function[1].name = "ramp": duplicate function name"#,
+    );
+    let e = bad(
+        "[[body]]",
+        "[[material]]\nname = \"steel\"\nmodel = \"linear_elastic\"\nE = 1.0\nnu = 0.0\n\n[[body]]",
+    );
+    assert_error(
+        &e,
+        SceneErrorKind::Duplicate,
+        r#"scenes/t.toml:13: material[1].name = "steel": duplicate material name"#,
+    );
+    let e = bad("name = \"wheel\"", "name = \"big.wheel\"");
+    assert_error(
+        &e,
+        SceneErrorKind::InvalidValue,
+        r#"scenes/t.toml:18: body[1].name = "big.wheel": a body name must not contain '.' (sets are named <body>.<set>)"#,
+    );
+    let e = bad("name = \"press\"", "name = \"press.y\"");
+    assert_error(
+        &e,
+        SceneErrorKind::InvalidValue,
+        r#"scenes/t.toml:33: driver[1].name = "press.y": a driver name must not contain '.'"#,
+    );
+}
+
+#[test]
+fn scene_files_on_disk() {
+    let e = scene::load(Path::new("tests/data/scenes/syntax.toml")).unwrap_err();
+    assert_error(
+        &e,
+        SceneErrorKind::Syntax,
+        "tests/data/scenes/syntax.toml:9: material[0].nu = [0.3: TOML syntax: unclosed array, expected `]`",
+    );
+    let e = scene::load(Path::new("tests/data/scenes/element_with_file.toml")).unwrap_err();
+    assert_error(
+        &e,
+        SceneErrorKind::InvalidValue,
+        r#"tests/data/scenes/element_with_file.toml:14: body[0].element = "q8": a mesh file brings its own element kind; remove `element`"#,
+    );
+    let e = scene::load(Path::new("tests/data/scenes/no_such_scene.toml")).unwrap_err();
+    assert_eq!(e.kind, SceneErrorKind::Io);
+    assert!(
+        e.to_string()
+            .starts_with("tests/data/scenes/no_such_scene.toml:1: (file) = "),
+        "{e}"
+    );
+}
+
+#[test]
+fn unreadable_mesh_file_names_the_scene_line() {
+    let e = scene::load(Path::new("tests/data/scenes/missing_mesh.toml")).unwrap_err();
+    assert_eq!(e.kind, SceneErrorKind::Mesh);
+    let prefix =
+        r#"tests/data/scenes/missing_mesh.toml:14: body[0].mesh.file = "meshes/none.msh": "#;
+    let text = e.to_string();
+    assert!(text.starts_with(prefix), "{text}");
+    // The mesh reader's own message, with the resolved path.
+    assert!(
+        e.message.contains("tests/data/scenes/meshes/none.msh"),
+        "{text}"
+    );
+}
+
+/// Two unit quads side by side: physical surfaces "left_block" and
+/// "right_block", physical curve "base" under both.
+const TWO_QUADS_MSH: &str = "$MeshFormat
+4.1 0 8
+$EndMeshFormat
+$PhysicalNames
+3
+1 1 \"base\"
+2 2 \"left_block\"
+2 3 \"right_block\"
+$EndPhysicalNames
+$Entities
+0 1 2 0
+1 0 0 0 2 0 0 1 1 0
+1 0 0 0 1 1 0 1 2 0
+2 1 0 0 2 1 0 1 3 0
+$EndEntities
+$Nodes
+1 6 1 6
+2 1 0 6
+1
+2
+3
+4
+5
+6
+0 0 0
+1 0 0
+2 0 0
+0 1 0
+1 1 0
+2 1 0
+$EndNodes
+$Elements
+3 4 1 4
+1 1 1 2
+1 1 2
+2 2 3
+2 1 3 1
+3 1 2 5 4
+2 2 3 1
+4 2 3 6 5
+$EndElements
+";
+
+#[test]
+fn gmsh_file_and_group() {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("scene_gmsh");
+    std::fs::create_dir_all(dir.join("meshes")).unwrap();
+    std::fs::write(dir.join("meshes/quads.msh"), TWO_QUADS_MSH).unwrap();
+    let scene_text = |group: &str| {
+        format!(
+            "[analysis]\nkind = \"plane_strain\"\n\n[[material]]\nname = \"m\"\nmodel = \"linear_elastic\"\n\
+             E = 1.0\nnu = 0.25\n\n[[body]]\nname = \"b\"\nmaterial = \"m\"\n\
+             mesh = {{ file = \"meshes/quads.msh\"{group} }}\n\n[steps]\ntimes = [1.0]\n"
+        )
+    };
+    let path = dir.join("quads.toml");
+    std::fs::write(&path, scene_text("")).unwrap();
+    let p = scene::load(&path).unwrap();
+    assert_eq!((p.mesh.nodes.len(), p.mesh.elements.len()), (6, 2));
+    assert_eq!(p.bodies[0].elements, 0..2);
+    assert!(p.mesh.element_sets.contains_key("b.right_block"));
+    assert_eq!(p.mesh.edge_sets["b.base"].len(), 2);
+
+    std::fs::write(&path, scene_text(", group = \"right_block\"")).unwrap();
+    let p = scene::load(&path).unwrap();
+    assert_eq!(p.mesh.elements.len(), 1);
+    assert_eq!(p.element_material, vec![0]);
+
+    std::fs::write(&path, scene_text(", group = \"lid\"")).unwrap();
+    let e = scene::load(&path).unwrap_err();
+    let expected = format!(
+        "{}:13: body[0].mesh.group = \"lid\": the mesh file has no 2D physical group of that name; \
+         groups: left_block, right_block",
+        path.display()
+    );
+    assert_error(&e, SceneErrorKind::UnknownReference, &expected);
+}
