@@ -1,1 +1,436 @@
-fn main(){}
+//! The command line: `run` solves a scene's load history and writes what was
+//! asked for (summary JSON, VTK series); `check` validates a scene and says
+//! what it contains. Exit codes: 0 done, 1 a step failed or output could not
+//! be written, 2 the scene (or the command line) is wrong.
+
+use clap::{Parser, Subcommand};
+use contact2d::newton::Solver;
+use contact2d::output::{Summary, write_pvd, write_vtu};
+use contact2d::problem::{AnalysisKind, Kinematics, MaterialSpec, Problem, Scaled};
+use contact2d::results::{LogCategory, StepResult};
+use indicatif::{ProgressBar, ProgressStyle};
+use std::collections::BTreeMap;
+use std::io::{IsTerminal, Write as _};
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::time::{Duration, Instant};
+
+const VERSION: &str = concat!(
+    env!("CARGO_PKG_VERSION"),
+    " (",
+    env!("CONTACT2D_REVISION"),
+    ")"
+);
+
+#[derive(Parser)]
+#[command(
+    name = "contact2d",
+    version = VERSION,
+    about = "2D implicit finite-element contact solver (Bathe & Chaudhary 1984)"
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Solve every increment of the scene's load history.
+    Run {
+        /// The scene file (TOML).
+        scene: PathBuf,
+        /// Write the JSON summary (SPEC section 5) to FILE.
+        #[arg(long, value_name = "FILE")]
+        summary: Option<PathBuf>,
+        /// Write one .vtu per converged increment and a .pvd series into DIR.
+        #[arg(long, value_name = "DIR")]
+        vtk: Option<PathBuf>,
+    },
+    /// Validate a scene and print what it contains.
+    Check {
+        /// The scene file (TOML).
+        scene: PathBuf,
+    },
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    match cli.command {
+        Command::Run {
+            scene,
+            summary,
+            vtk,
+        } => run(&scene, summary.as_deref(), vtk.as_deref()),
+        Command::Check { scene } => check(&scene),
+    }
+}
+
+/// Scene error: printed with its file:line, exit code 2.
+fn scene_failure(msg: impl std::fmt::Display) -> ExitCode {
+    eprintln!("error: {msg}");
+    ExitCode::from(2)
+}
+
+fn failure(msg: impl std::fmt::Display) -> ExitCode {
+    eprintln!("error: {msg}");
+    ExitCode::from(1)
+}
+
+/// Prints a line on stdout, above the progress bar when there is one. A
+/// closed stdout (`| head`) does not stop the solve.
+fn say(bar: &Option<ProgressBar>, line: &str) {
+    let print = || {
+        let _ = writeln!(std::io::stdout(), "{line}");
+    };
+    match bar {
+        Some(b) => b.suspend(print),
+        None => print(),
+    }
+}
+
+fn run(scene: &Path, summary_path: Option<&Path>, vtk_dir: Option<&Path>) -> ExitCode {
+    let problem = match contact2d::scene::load(scene) {
+        Ok(p) => p,
+        Err(e) => return scene_failure(e),
+    };
+    let times = problem.times.clone();
+    let driver_names: Vec<String> = problem.drivers.iter().map(|d| d.name.clone()).collect();
+    let max_bisections = problem.solver.max_bisections;
+    let title = problem.name.clone();
+    let (n_nodes, n_elements) = (problem.mesh.nodes.len(), problem.mesh.elements.len());
+    let mut solver = match Solver::new(problem) {
+        Ok(s) => s,
+        Err(e) => return scene_failure(format!("{}: {e}", scene.display())),
+    };
+
+    // Fail before solving when the outputs cannot be written.
+    if let Some(dir) = vtk_dir
+        && let Err(e) = std::fs::create_dir_all(dir)
+    {
+        return failure(format!("cannot create {}: {e}", dir.display()));
+    }
+    if let Some(parent) = summary_path.and_then(Path::parent)
+        && !parent.as_os_str().is_empty()
+        && let Err(e) = std::fs::create_dir_all(parent)
+    {
+        return failure(format!("cannot create {}: {e}", parent.display()));
+    }
+    let stem = scene
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "scene".into());
+
+    say(
+        &None,
+        &format!("contact2d {VERSION}: {title} ({})", scene.display()),
+    );
+    say(
+        &None,
+        &format!(
+            "{n_nodes} nodes, {n_elements} elements, {} unknowns, {} increments",
+            solver.dofs(),
+            times.len()
+        ),
+    );
+
+    let bar = std::io::stdout().is_terminal().then(|| {
+        let style =
+            ProgressStyle::with_template("{bar:40} {pos}/{len} increments, {msg} [{elapsed}]")
+                .unwrap_or_else(|_| ProgressStyle::default_bar());
+        ProgressBar::new(times.len() as u64).with_style(style)
+    });
+
+    let mut summary = Summary::new(scene.display().to_string(), title, solver.dofs());
+    let mut series: Vec<(f64, String)> = Vec::new();
+    let mut solve_time = Duration::ZERO;
+    let mut failed = None;
+    for (i, &t) in times.iter().enumerate() {
+        let mut newton_lines = 0;
+        let started = Instant::now();
+        let result = solver.advance(t, &mut |cat, msg| {
+            if cat == LogCategory::Newton {
+                newton_lines += 1;
+            }
+            say(&bar, &format!("  [{}] {msg}", cat.fmi_name()));
+        });
+        solve_time += started.elapsed();
+        let step = match result {
+            Ok(step) => step,
+            Err(e) => {
+                summary.steps.push(Summary::failed_step(
+                    t,
+                    newton_lines,
+                    max_bisections,
+                    driver_names.iter().cloned(),
+                ));
+                failed = Some(e.to_string());
+                break;
+            }
+        };
+        say(&bar, &step_line(i + 1, times.len(), &step));
+        summary.steps.push(step);
+        if let Some(dir) = vtk_dir {
+            let file = format!("{stem}_{:04}.vtu", i + 1);
+            let stress = solver.element_stresses();
+            let p = solver.problem();
+            if let Err(e) = write_vtu(&dir.join(&file), &p.mesh, &solver.state().u, &stress) {
+                failed = Some(format!("cannot write {}: {e}", dir.join(&file).display()));
+                break;
+            }
+            series.push((t, file));
+        }
+        if let Some(b) = &bar {
+            b.set_message(format!("t = {t}"));
+            b.inc(1);
+        }
+    }
+    if let Some(b) = &bar {
+        b.finish_and_clear();
+    }
+    summary.wall_s = solve_time.as_secs_f64();
+    let written = write_outputs(&summary, summary_path, vtk_dir, &stem, &series);
+    if let Some(e) = failed {
+        if let Err(w) = written {
+            eprintln!("error: {w}");
+        }
+        return failure(e);
+    }
+    if let Err(e) = written {
+        return failure(e);
+    }
+    say(
+        &None,
+        &format!(
+            "done: {} increments in {:.3} s",
+            summary.steps.len(),
+            summary.wall_s
+        ),
+    );
+    ExitCode::SUCCESS
+}
+
+/// The summary (when asked for) and the VTK series (when there is one).
+fn write_outputs(
+    summary: &Summary,
+    summary_path: Option<&Path>,
+    vtk_dir: Option<&Path>,
+    stem: &str,
+    series: &[(f64, String)],
+) -> Result<(), String> {
+    let mut result = Ok(());
+    if let Some(dir) = vtk_dir {
+        let pvd = dir.join(format!("{stem}.pvd"));
+        if let Err(e) = write_pvd(&pvd, series) {
+            result = Err(format!("cannot write {}: {e}", pvd.display()));
+        }
+    }
+    if let Some(path) = summary_path {
+        if let Err(e) = summary.write(path) {
+            result = Err(format!("cannot write {}: {e}", path.display()));
+        } else {
+            say(&None, &format!("summary: {}", path.display()));
+        }
+    }
+    result
+}
+
+/// One line per increment: time, work, residual, NEQC, driver reactions.
+fn step_line(i: usize, n: usize, s: &StepResult) -> String {
+    use std::fmt::Write;
+    let mut line = format!(
+        "step {i}/{n}  t = {}  iterations {}  substeps {}  |r|/|r0| = {:.3e}  NEQC {}",
+        s.time, s.iterations, s.substeps, s.residual, s.neqc
+    );
+    for (name, r) in &s.drivers {
+        let _ = write!(line, "  {name}: Rx = {:.6e} Ry = {:.6e}", r.rx, r.ry);
+    }
+    line
+}
+
+fn check(scene: &Path) -> ExitCode {
+    let problem = match contact2d::scene::load(scene) {
+        Ok(p) => p,
+        Err(e) => return scene_failure(e),
+    };
+    let mut text = describe(scene, &problem);
+    let solver = Solver::new(problem);
+    if let Ok(s) = &solver {
+        text += &format!("unknowns: {}\nok\n", s.dofs());
+    }
+    let _ = std::io::stdout().write_all(text.as_bytes());
+    match solver {
+        Ok(_) => ExitCode::SUCCESS,
+        Err(e) => scene_failure(format!("{}: {e}", scene.display())),
+    }
+}
+
+fn scaled(s: &Scaled, p: &Problem) -> String {
+    match s.function.and_then(|f| p.functions.get(f)) {
+        Some(f) => format!("{} * {}(t)", s.scale, f.name),
+        None => format!("{}", s.scale),
+    }
+}
+
+/// What `check` prints about a scene.
+fn describe(scene: &Path, p: &Problem) -> String {
+    use std::fmt::Write;
+    let mut o = String::new();
+    let _ = writeln!(o, "scene: {} ({})", p.name, scene.display());
+    let analysis = match p.analysis {
+        AnalysisKind::PlaneStrain { thickness } => format!("plane strain, thickness {thickness}"),
+        AnalysisKind::PlaneStress { thickness } => format!("plane stress, thickness {thickness}"),
+        AnalysisKind::Axisymmetric => "axisymmetric".into(),
+    };
+    let kinematics = match p.kinematics {
+        Kinematics::SmallStrain => "small strain",
+        Kinematics::MaterialNonlinearOnly => "materially-nonlinear-only",
+        Kinematics::TotalLagrangian => "total Lagrangian",
+    };
+    let _ = writeln!(o, "analysis: {analysis}; kinematics: {kinematics}");
+    let _ = writeln!(
+        o,
+        "mesh: {} nodes, {} elements",
+        p.mesh.nodes.len(),
+        p.mesh.elements.len()
+    );
+
+    let _ = writeln!(o, "materials:");
+    for m in &p.materials {
+        let law = match &m.spec {
+            MaterialSpec::LinearElastic { e, nu } => format!("linear_elastic, E = {e}, nu = {nu}"),
+        };
+        let _ = writeln!(o, "  {}: {law}", m.name);
+    }
+
+    let _ = writeln!(o, "bodies:");
+    for b in &p.bodies {
+        let elements = p.mesh.elements.get(b.elements.clone()).unwrap_or(&[]);
+        let mut kinds: BTreeMap<String, usize> = BTreeMap::new();
+        for e in elements {
+            *kinds.entry(format!("{:?}", e.kind)).or_default() += 1;
+        }
+        let kinds: Vec<String> = kinds.iter().map(|(k, n)| format!("{n} {k}")).collect();
+        let material = p.materials.get(b.material).map_or("?", |m| m.name.as_str());
+        let _ = writeln!(
+            o,
+            "  {}: {} elements ({}), {} nodes, material {material}",
+            b.name,
+            elements.len(),
+            kinds.join(", "),
+            b.nodes.len()
+        );
+        // Set name -> (nodes, edges, elements) of this body.
+        let prefix = format!("{}.", b.name);
+        let mut sets: BTreeMap<&str, [Option<usize>; 3]> = BTreeMap::new();
+        let counts = (p.mesh.node_sets.iter().map(|(k, v)| (0, k, v.len())))
+            .chain(p.mesh.edge_sets.iter().map(|(k, v)| (1, k, v.len())))
+            .chain(p.mesh.element_sets.iter().map(|(k, v)| (2, k, v.len())));
+        for (c, name, n) in counts {
+            if let Some(short) = name.strip_prefix(&prefix) {
+                sets.entry(short).or_default()[c] = Some(n);
+            }
+        }
+        let sets: Vec<String> = sets
+            .iter()
+            .map(|(name, counts)| {
+                let parts: Vec<String> = counts
+                    .iter()
+                    .zip(["nodes", "edges", "elements"])
+                    .filter_map(|(n, what)| n.map(|n| format!("{n} {what}")))
+                    .collect();
+                format!("{name} ({})", parts.join(", "))
+            })
+            .collect();
+        let _ = writeln!(o, "    sets: {}", sets.join(", "));
+    }
+
+    if !p.functions.is_empty() {
+        let _ = writeln!(o, "functions:");
+        for f in &p.functions {
+            let _ = writeln!(o, "  {}: {} points", f.name, f.points.len());
+        }
+    }
+
+    let _ = writeln!(o, "drivers:");
+    if p.drivers.is_empty() {
+        let _ = writeln!(o, "  (none)");
+    }
+    for d in &p.drivers {
+        let comp = |c: &Option<Scaled>| c.as_ref().map_or("free".to_string(), |s| scaled(s, p));
+        let _ = writeln!(
+            o,
+            "  {}: {} nodes, ux = {}, uy = {}",
+            d.name,
+            d.nodes.len(),
+            comp(&d.ux),
+            comp(&d.uy)
+        );
+    }
+
+    let _ = writeln!(o, "loads:");
+    let loads = p.pressures.len() + p.forces.len() + p.body_forces.len() + p.initial_stresses.len();
+    if loads == 0 {
+        let _ = writeln!(o, "  (none)");
+    }
+    let body_name = |i: usize| p.bodies.get(i).map_or("?", |b| b.name.as_str());
+    for l in &p.pressures {
+        let _ = writeln!(
+            o,
+            "  pressure {} on {} edges ({})",
+            scaled(&l.value, p),
+            l.edges.len(),
+            if l.follower { "follower" } else { "dead" }
+        );
+    }
+    for l in &p.forces {
+        let _ = writeln!(
+            o,
+            "  force fx = {}, fy = {} at each of {} nodes",
+            scaled(&l.fx, p),
+            scaled(&l.fy, p),
+            l.nodes.len()
+        );
+    }
+    for l in &p.body_forces {
+        let _ = writeln!(
+            o,
+            "  body force bx = {}, by = {} on {}",
+            scaled(&l.bx, p),
+            scaled(&l.by, p),
+            body_name(l.body)
+        );
+    }
+    for l in &p.initial_stresses {
+        let [xx, yy, zz, xy] = l.stress;
+        let _ = writeln!(
+            o,
+            "  initial stress xx = {xx}, yy = {yy}, zz = {zz}, xy = {xy} in {}",
+            body_name(l.body)
+        );
+    }
+
+    match (p.times.first(), p.times.last()) {
+        (Some(first), Some(last)) => {
+            let _ = writeln!(
+                o,
+                "steps: {} increments, t = {first} .. {last}",
+                p.times.len()
+            );
+        }
+        _ => {
+            let _ = writeln!(o, "steps: none");
+        }
+    }
+    let s = &p.solver;
+    let _ = writeln!(
+        o,
+        "solver: force_tolerance {:e}, displacement_tolerance {:e}, energy_tolerance {:e}, \
+         max_iterations {}, max_bisections {}",
+        s.force_tolerance,
+        s.displacement_tolerance,
+        s.energy_tolerance,
+        s.max_iterations,
+        s.max_bisections
+    );
+    o
+}

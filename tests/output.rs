@@ -1,0 +1,302 @@
+//! The output writers: VTK XML content read back (cell types, offsets,
+//! connectivity, values that round-trip) and the summary JSON shape.
+
+use contact2d::mesh::{Element, ElementKind, Mesh};
+use contact2d::output::{Summary, von_mises, write_pvd, write_vtu};
+use contact2d::results::{DriverResult, StepResult};
+use std::path::PathBuf;
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("contact2d-output-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir.join(name)
+}
+
+/// The whitespace-separated values of the DataArray named `name`.
+fn data_array<'a>(xml: &'a str, name: &str) -> Vec<&'a str> {
+    let tag = format!("Name=\"{name}\"");
+    let at = xml
+        .find(&tag)
+        .unwrap_or_else(|| panic!("no DataArray {name}"));
+    let start = at + xml[at..].find('>').unwrap() + 1;
+    let end = start + xml[start..].find("</DataArray>").unwrap();
+    xml[start..end].split_whitespace().collect()
+}
+
+fn numbers(xml: &str, name: &str) -> Vec<f64> {
+    data_array(xml, name)
+        .iter()
+        .map(|v| v.parse::<f64>().unwrap())
+        .collect()
+}
+
+fn integers(xml: &str, name: &str) -> Vec<usize> {
+    data_array(xml, name)
+        .iter()
+        .map(|v| v.parse::<usize>().unwrap())
+        .collect()
+}
+
+fn two_q4() -> Mesh {
+    Mesh {
+        nodes: vec![
+            [0.0, 0.0],
+            [1.0, 0.0],
+            [2.0, 0.0],
+            [0.0, 1.0],
+            [1.0, 1.0],
+            [2.0, 1.0],
+        ],
+        elements: vec![
+            Element {
+                kind: ElementKind::Q4,
+                nodes: vec![0, 1, 4, 3],
+            },
+            Element {
+                kind: ElementKind::Q4,
+                nodes: vec![1, 2, 5, 4],
+            },
+        ],
+        ..Mesh::default()
+    }
+}
+
+#[test]
+fn vtu_of_two_q4_elements() {
+    let mesh = two_q4();
+    // Values that print with many digits, or tiny and huge exponents.
+    let u = [
+        0.1 + 0.2,
+        -1.0 / 3.0,
+        1e-300,
+        -2.5e300,
+        std::f64::consts::PI,
+        0.0,
+        -0.0,
+        f64::MIN_POSITIVE,
+        1.0 / 7.0,
+        123456789.12345679,
+        -5e-324,
+        2.0_f64.sqrt(),
+    ];
+    let stress = [[1.0, 0.0, 0.0, 0.0], [0.0, 0.0, 0.0, 2.0]];
+    let path = scratch("two_q4.vtu");
+    write_vtu(&path, &mesh, &u, &stress).unwrap();
+    let xml = std::fs::read_to_string(&path).unwrap();
+
+    assert!(xml.starts_with("<?xml"));
+    assert!(xml.contains(r#"<VTKFile type="UnstructuredGrid""#));
+    assert!(xml.contains(r#"<Piece NumberOfPoints="6" NumberOfCells="2">"#));
+    assert_eq!(integers(&xml, "types"), vec![9, 9]);
+    assert_eq!(integers(&xml, "offsets"), vec![4, 8]);
+    assert_eq!(integers(&xml, "connectivity"), vec![0, 1, 4, 3, 1, 2, 5, 4]);
+
+    let points = numbers(&xml, "Points");
+    assert_eq!(points.len(), 3 * 6);
+    for (n, p) in mesh.nodes.iter().enumerate() {
+        assert_eq!(&points[3 * n..3 * n + 3], &[p[0], p[1], 0.0]);
+    }
+
+    let d = numbers(&xml, "displacement");
+    assert_eq!(d.len(), 3 * 6);
+    for n in 0..6 {
+        // Bit for bit, sign of zero included.
+        assert_eq!(d[3 * n].to_bits(), u[2 * n].to_bits(), "ux of node {n}");
+        assert_eq!(
+            d[3 * n + 1].to_bits(),
+            u[2 * n + 1].to_bits(),
+            "uy of node {n}"
+        );
+        assert_eq!(d[3 * n + 2], 0.0);
+    }
+
+    assert_eq!(
+        numbers(&xml, "stress"),
+        vec![1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 2.0]
+    );
+    let vm = numbers(&xml, "von_mises");
+    assert_eq!(vm.len(), 2);
+    assert!((vm[0] - 1.0).abs() < 1e-15);
+    assert!((vm[1] - 2.0 * 3.0_f64.sqrt()).abs() < 1e-14);
+}
+
+#[test]
+fn vtu_of_one_q8_element() {
+    // Corners counter-clockwise, then the mid-sides of faces 0..3: VTK's
+    // own order for VTK_QUADRATIC_QUAD.
+    let mesh = Mesh {
+        nodes: vec![
+            [0.0, 0.0],
+            [2.0, 0.0],
+            [2.0, 2.0],
+            [0.0, 2.0],
+            [1.0, 0.0],
+            [2.0, 1.0],
+            [1.0, 2.0],
+            [0.0, 1.0],
+        ],
+        elements: vec![Element {
+            kind: ElementKind::Q8,
+            nodes: vec![0, 1, 2, 3, 4, 5, 6, 7],
+        }],
+        ..Mesh::default()
+    };
+    let u: Vec<f64> = (0..16).map(|i| 1e-3 * i as f64 / 3.0).collect();
+    let s = [10.0, -4.0, 1.5, 2.25];
+    let path = scratch("one_q8.vtu");
+    write_vtu(&path, &mesh, &u, &[s]).unwrap();
+    let xml = std::fs::read_to_string(&path).unwrap();
+
+    assert!(xml.contains(r#"<Piece NumberOfPoints="8" NumberOfCells="1">"#));
+    assert_eq!(integers(&xml, "types"), vec![23]);
+    assert_eq!(integers(&xml, "offsets"), vec![8]);
+    assert_eq!(integers(&xml, "connectivity"), (0..8).collect::<Vec<_>>());
+    let d = numbers(&xml, "displacement");
+    let back: Vec<f64> = d.chunks(3).flat_map(|c| [c[0], c[1]]).collect();
+    assert_eq!(back, u);
+    assert_eq!(numbers(&xml, "stress"), s.to_vec());
+    let [xx, yy, zz, xy] = s;
+    let expected =
+        (((xx - yy).powi(2) + (yy - zz).powi(2) + (zz - xx).powi(2)) / 2.0 + 3.0 * xy * xy).sqrt();
+    assert_eq!(numbers(&xml, "von_mises"), vec![von_mises(&s)]);
+    assert!((von_mises(&s) - expected).abs() <= 1e-14 * expected);
+}
+
+#[test]
+fn vtu_refuses_arrays_of_the_wrong_length() {
+    let mesh = two_q4();
+    let path = scratch("wrong.vtu");
+    let err = write_vtu(&path, &mesh, &[0.0; 11], &[[0.0; 4]; 2]).unwrap_err();
+    assert_eq!(err.kind(), std::io::ErrorKind::InvalidInput);
+    let err = write_vtu(&path, &mesh, &[0.0; 12], &[[0.0; 4]; 1]).unwrap_err();
+    assert_eq!(err.kind(), std::io::ErrorKind::InvalidInput);
+}
+
+#[test]
+fn pvd_lists_the_series_in_order() {
+    let path = scratch("series.pvd");
+    let entries = vec![
+        (0.5, "run_0001.vtu".to_string()),
+        (1.0, "run_0002.vtu".to_string()),
+        (0.1 + 0.2, "a&b\"<c>.vtu".to_string()),
+    ];
+    write_pvd(&path, &entries).unwrap();
+    let xml = std::fs::read_to_string(&path).unwrap();
+    assert!(xml.contains(r#"<VTKFile type="Collection""#));
+    let sets: Vec<&str> = xml.lines().filter(|l| l.contains("<DataSet")).collect();
+    assert_eq!(sets.len(), 3);
+    let attr = |line: &str, key: &str| -> String {
+        let start = line.find(&format!("{key}=\"")).unwrap() + key.len() + 2;
+        let end = start + line[start..].find('"').unwrap();
+        line[start..end].to_string()
+    };
+    assert_eq!(attr(sets[0], "file"), "run_0001.vtu");
+    assert_eq!(attr(sets[1], "file"), "run_0002.vtu");
+    assert_eq!(attr(sets[2], "file"), "a&amp;b&quot;&lt;c&gt;.vtu");
+    let times: Vec<f64> = sets
+        .iter()
+        .map(|l| attr(l, "timestep").parse().unwrap())
+        .collect();
+    assert_eq!(times, vec![0.5, 1.0, 0.1 + 0.2]);
+}
+
+fn converged_step() -> StepResult {
+    let r = |rx, ry| DriverResult { rx, ry };
+    StepResult {
+        time: 0.5,
+        converged: true,
+        iterations: 3,
+        substeps: 1,
+        residual: 1.5e-11,
+        neqc: 0,
+        // Not in alphabetical order: the file keeps this order.
+        drivers: vec![
+            ("zeta".into(), r(0.0, -25.0)),
+            ("alpha".into(), r(1.0, 2.0)),
+            ("mid".into(), r(-3.5, 0.125)),
+        ],
+    }
+}
+
+#[test]
+fn summary_has_the_spec_shape() {
+    let mut summary = Summary::new("scenes/x.toml", "X", 1234);
+    summary.wall_s = 0.25;
+    summary.steps.push(converged_step());
+    let text = summary.to_json();
+    let v: serde_json::Value = serde_json::from_str(&text).unwrap();
+
+    assert_eq!(v["scene"], "scenes/x.toml");
+    assert_eq!(v["dofs"], 1234);
+    assert_eq!(v["wall_s"], 0.25);
+    assert_eq!(v["title"], "X");
+    assert!(
+        v["build"]
+            .as_str()
+            .unwrap()
+            .starts_with(env!("CARGO_PKG_VERSION"))
+    );
+    let steps = v["steps"].as_array().unwrap();
+    assert_eq!(steps.len(), 1);
+    let s = &steps[0];
+    let mut keys: Vec<&str> = s.as_object().unwrap().keys().map(|k| k.as_str()).collect();
+    keys.sort_unstable();
+    assert_eq!(
+        keys,
+        [
+            "converged",
+            "drivers",
+            "iterations",
+            "neqc",
+            "pairs",
+            "residual",
+            "substeps",
+            "time"
+        ]
+    );
+    assert_eq!(s["time"], 0.5);
+    assert_eq!(s["converged"], true);
+    assert_eq!(s["iterations"], 3);
+    assert_eq!(s["substeps"], 1);
+    assert_eq!(s["residual"], 1.5e-11);
+    assert_eq!(s["neqc"], 0);
+    assert_eq!(s["pairs"], serde_json::json!({}));
+    assert_eq!(
+        s["drivers"],
+        serde_json::json!({
+            "zeta": { "Rx": 0.0, "Ry": -25.0 },
+            "alpha": { "Rx": 1.0, "Ry": 2.0 },
+            "mid": { "Rx": -3.5, "Ry": 0.125 },
+        })
+    );
+    // Scene order, not alphabetical.
+    let at = |k: &str| text.find(&format!("\"{k}\"")).unwrap();
+    assert!(at("zeta") < at("alpha") && at("alpha") < at("mid"));
+}
+
+#[test]
+fn summary_records_a_failed_step_last() {
+    let mut summary = Summary::new("s.toml", "S", 10);
+    summary.steps.push(converged_step());
+    let names = ["zeta", "alpha", "mid"].map(String::from);
+    summary
+        .steps
+        .push(Summary::failed_step(1.0, 31, 6, names.iter().cloned()));
+    let path = scratch("summary.json");
+    summary.write(&path).unwrap();
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
+    let steps = v["steps"].as_array().unwrap();
+    assert_eq!(steps.len(), 2);
+    assert_eq!(steps[0]["converged"], true);
+    let f = &steps[1];
+    assert_eq!(f["time"], 1.0);
+    assert_eq!(f["converged"], false);
+    assert_eq!(f["iterations"], 31);
+    assert_eq!(f["substeps"], 6);
+    // Unknown values are null, never a number that could be mistaken.
+    assert!(f["residual"].is_null());
+    assert!(f["drivers"]["zeta"]["Ry"].is_null());
+    assert_eq!(f["drivers"].as_object().unwrap().len(), 3);
+    assert_eq!(f["pairs"], serde_json::json!({}));
+}
