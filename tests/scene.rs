@@ -412,7 +412,7 @@ fn unknown_key_lists_the_allowed_keys() {
         &e,
         SceneErrorKind::UnknownKey,
         "scenes/t.toml:49: contact = [[contact]]: unknown key; allowed keys: title, analysis, material, body, \
-         function, driver, pressure, body_force, initial_stress, steps, solver",
+         node_set, function, driver, pressure, force, body_force, initial_stress, steps, solver",
     );
     let e = bad(
         "uy = { function = \"ramp\", scale = -0.1 }",
@@ -1013,4 +1013,61 @@ fn gmsh_file_and_group() {
         path.display()
     );
     assert_error(&e, SceneErrorKind::UnknownReference, &expected);
+}
+
+/// BASE with `extra` appended before `[steps]`, parsed.
+fn with(extra: &str) -> Result<contact2d::problem::Problem, SceneError> {
+    let text = BASE.replacen("[steps]", &format!("{extra}\n[steps]"), 1);
+    scene::parse(&text, Path::new(FILE))
+}
+
+#[test]
+fn node_sets_by_location_and_nodal_forces() {
+    // block: 2 x 1 Q4 elements over [0, 2] x [0, 1], nodes on a 3 x 2 grid.
+    let p = with(
+        "[[node_set]]\nname = \"block.corner\"\nnearest = [2.1, 1.05]\n\n\
+         [[node_set]]\nname = \"block.right_side\"\nbox = [[1.5, -1.0], [2.0, 2.0]]\n\n\
+         [[force]]\nset = \"block.corner\"\nfy = { function = \"ramp\", scale = -3.0 }\n\n\
+         [[force]]\nset = \"block.right_side\"\nfx = 2.0\n",
+    )
+    .unwrap();
+    let corner = &p.mesh.node_sets["block.corner"];
+    assert_eq!(corner.len(), 1);
+    assert_eq!(p.mesh.nodes[corner[0]], [2.0, 1.0]);
+    let mut side: Vec<[f64; 2]> = p.mesh.node_sets["block.right_side"]
+        .iter()
+        .map(|&n| p.mesh.nodes[n])
+        .collect();
+    side.sort_by(|a, b| a[1].total_cmp(&b[1]));
+    assert_eq!(side, vec![[2.0, 0.0], [2.0, 1.0]]);
+    assert_eq!(p.forces.len(), 2);
+    assert_eq!(p.forces[0].nodes, *corner);
+    assert_eq!(p.forces[0].fx, Scaled::constant(0.0));
+    assert_eq!(p.forces[0].fy.scale, -3.0);
+    assert_eq!(p.forces[0].fy.function, Some(0));
+    assert_eq!(p.forces[1].fx, Scaled::constant(2.0));
+
+    let e = with("[[node_set]]\nname = \"block.empty\"\nbox = [[5.0, 5.0], [6.0, 6.0]]\n")
+        .unwrap_err();
+    assert_error(
+        &e,
+        SceneErrorKind::InvalidValue,
+        "scenes/t.toml:51: node_set[0].box = [[5.0, 5.0], [6.0, 6.0]]: no node of body `block` \
+         lies in this box; the body spans [[0, 0], [2, 1]]",
+    );
+    let e = with("[[node_set]]\nname = \"block.top\"\nnearest = [0.0, 0.0]\n").unwrap_err();
+    assert_error(
+        &e,
+        SceneErrorKind::Duplicate,
+        r#"scenes/t.toml:50: node_set[0].name = "block.top": a set of that name already exists"#,
+    );
+    let e = with("[[node_set]]\nname = \"block.p\"\n").unwrap_err();
+    assert_eq!(e.kind, SceneErrorKind::MissingKey, "{e}");
+    assert!(e.to_string().contains("node_set[0].nearest"), "{e}");
+    let e = with("[[force]]\nset = \"block.nowhere\"\nfx = 1.0\n").unwrap_err();
+    assert_eq!(e.kind, SceneErrorKind::UnknownReference, "{e}");
+    assert!(e.to_string().starts_with("scenes/t.toml:50: force[0].set"), "{e}");
+    let e = with("[[force]]\nset = \"block.top\"\n").unwrap_err();
+    assert_eq!(e.kind, SceneErrorKind::MissingKey, "{e}");
+    assert!(e.to_string().contains("force[0].fx"), "{e}");
 }

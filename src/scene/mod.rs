@@ -9,7 +9,7 @@ mod raw;
 use crate::mesh::{Edge, Mesh};
 use crate::problem::{
     AnalysisKind, Body, BodyForce, Driver, InitialStress, Kinematics, Material, MaterialSpec,
-    Pressure, Problem, Scaled, SolverSettings, TimeFunction,
+    NodalForce, Pressure, Problem, Scaled, SolverSettings, TimeFunction,
 };
 use locate::Source;
 use raw::{AnalysisName, KinematicsName, ModelName, ValueSpec};
@@ -115,8 +115,10 @@ impl<'a> Resolver<'a> {
         self.materials(&scene.material)?;
         self.functions(&scene.function)?;
         self.bodies(&scene.body)?;
+        self.node_sets(&scene.node_set)?;
         let drivers = self.drivers(&scene.driver)?;
         let pressures = self.pressures(&scene.pressure)?;
+        let forces = self.forces(&scene.force)?;
         let body_forces = self.body_forces(&scene.body_force)?;
         let initial_stresses = self.initial_stresses(&scene.initial_stress)?;
         let times = self.times(&scene.steps)?;
@@ -140,7 +142,7 @@ impl<'a> Resolver<'a> {
             functions: self.functions,
             drivers,
             pressures,
-            forces: Vec::new(),
+            forces,
             body_forces,
             initial_stresses,
             times,
@@ -574,6 +576,107 @@ impl<'a> Resolver<'a> {
             });
         }
         Ok(drivers)
+    }
+
+    /// Node sets picked by location, added to the mesh as `<body>.<name>`.
+    fn node_sets(&mut self, list: &[Spanned<raw::NodeSet>]) -> Result<(), SceneError> {
+        for (i, s) in list.iter().enumerate() {
+            let span = s.span();
+            let s = s.get_ref();
+            let key = format!("node_set[{i}].name");
+            let (body, _) = self.set_ref(&s.name, &key)?;
+            let b = &self.bodies[self.bodies.iter().position(|b| b.name == body).unwrap_or(0)];
+            let full = s.name.get_ref();
+            if self.mesh.node_sets.contains_key(full) || self.mesh.edge_sets.contains_key(full) {
+                return Err(self.src.at(
+                    SceneErrorKind::Duplicate,
+                    s.name.span(),
+                    key,
+                    "a set of that name already exists",
+                ));
+            }
+            let coords = |n: usize| self.mesh.nodes[n];
+            let nodes: Vec<usize> = match (&s.nearest, &s.bounds) {
+                (Some(p), None) => {
+                    let [x, y] = p.get_ref().0;
+                    let d2 = |n: usize| (coords(n)[0] - x).powi(2) + (coords(n)[1] - y).powi(2);
+                    let nearest = b.nodes.clone().min_by(|&m, &n| d2(m).total_cmp(&d2(n)));
+                    nearest.into_iter().collect()
+                }
+                (None, Some(bounds)) => {
+                    let [lo, hi] = bounds.get_ref().0.each_ref().map(|p| p.0);
+                    let bkey = format!("node_set[{i}].box");
+                    if lo[0] > hi[0] || lo[1] > hi[1] {
+                        return Err(self.invalid(
+                            bounds.span(),
+                            bkey,
+                            "a box is [[xmin, ymin], [xmax, ymax]] with min <= max",
+                        ));
+                    }
+                    // Nodes on the box's sides belong to it: a tolerance of
+                    // 1e-9 of the body's extent absorbs generator round-off.
+                    let (mut min, mut max) = ([f64::MAX; 2], [f64::MIN; 2]);
+                    for n in b.nodes.clone() {
+                        let p = coords(n);
+                        min = [min[0].min(p[0]), min[1].min(p[1])];
+                        max = [max[0].max(p[0]), max[1].max(p[1])];
+                    }
+                    let tol = 1e-9 * (max[0] - min[0]).max(max[1] - min[1]);
+                    let inside = |n: &usize| {
+                        let p = coords(*n);
+                        p[0] >= lo[0] - tol
+                            && p[0] <= hi[0] + tol
+                            && p[1] >= lo[1] - tol
+                            && p[1] <= hi[1] + tol
+                    };
+                    let nodes: Vec<usize> = b.nodes.clone().filter(inside).collect();
+                    if nodes.is_empty() {
+                        return Err(self.invalid(
+                            bounds.span(),
+                            bkey,
+                            format!(
+                                "no node of body `{body}` lies in this box; the body spans \
+                                 [[{}, {}], [{}, {}]]",
+                                min[0], min[1], max[0], max[1]
+                            ),
+                        ));
+                    }
+                    nodes
+                }
+                _ => {
+                    return Err(self.src.missing(
+                        span,
+                        format!("node_set[{i}].nearest"),
+                        "a node set gives exactly one of `nearest = [x, y]` or \
+                         `box = [[xmin, ymin], [xmax, ymax]]`",
+                    ));
+                }
+            };
+            self.mesh.node_sets.insert(full.clone(), nodes);
+        }
+        Ok(())
+    }
+
+    fn forces(&self, list: &[Spanned<raw::Force>]) -> Result<Vec<NodalForce>, SceneError> {
+        let resolve = |(i, f): (usize, &Spanned<raw::Force>)| {
+            let span = f.span();
+            let f = f.get_ref();
+            let fx = self.optional_scaled(f.fx.as_ref(), &format!("force[{i}].fx"))?;
+            let fy = self.optional_scaled(f.fy.as_ref(), &format!("force[{i}].fy"))?;
+            if fx.is_none() && fy.is_none() {
+                return Err(self.src.missing(
+                    span,
+                    format!("force[{i}].fx"),
+                    "a force gives fx, fy or both",
+                ));
+            }
+            Ok(NodalForce {
+                nodes: self.node_set(&f.set, &format!("force[{i}].set"))?,
+                fx: fx.unwrap_or(Scaled::constant(0.0)),
+                fy: fy.unwrap_or(Scaled::constant(0.0)),
+            })
+        };
+        list.iter().enumerate().map(resolve).collect()
     }
 
     fn pressures(&self, list: &[raw::Pressure]) -> Result<Vec<Pressure>, SceneError> {

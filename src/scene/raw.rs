@@ -19,11 +19,15 @@ pub(super) struct Scene {
     pub material: Spanned<Vec<IgnoredAny>>,
     pub body: Spanned<Vec<Spanned<Body>>>,
     #[serde(default)]
+    pub node_set: Vec<Spanned<NodeSet>>,
+    #[serde(default)]
     pub function: Vec<Spanned<Function>>,
     #[serde(default)]
     pub driver: Vec<Spanned<Driver>>,
     #[serde(default)]
     pub pressure: Vec<Pressure>,
+    #[serde(default)]
+    pub force: Vec<Spanned<Force>>,
     #[serde(default)]
     pub body_force: Vec<BodyForce>,
     #[serde(default)]
@@ -186,6 +190,27 @@ pub(super) struct Pressure {
     pub set: Spanned<String>,
     pub value: ValueSpec,
     pub follower: Option<bool>,
+}
+
+/// A node set picked by location: the node nearest a point, or every node
+/// inside a box.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct NodeSet {
+    pub name: Spanned<String>,
+    pub nearest: Option<Spanned<Pair<f64>>>,
+    #[serde(rename = "box")]
+    pub bounds: Option<Spanned<Pair<Pair<f64>>>>,
+}
+
+/// A dead force on every node of a set (per node, per unit thickness in
+/// plane strain, total over the circle in axisymmetry).
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct Force {
+    pub set: Spanned<String>,
+    pub fx: Option<ValueSpec>,
+    pub fy: Option<ValueSpec>,
 }
 
 #[derive(Deserialize)]
