@@ -1047,8 +1047,8 @@ fn node_sets_by_location_and_nodal_forces() {
     assert_eq!(p.forces[0].fy.function, Some(0));
     assert_eq!(p.forces[1].fx, Scaled::constant(2.0));
 
-    let e = with("[[node_set]]\nname = \"block.empty\"\nbox = [[5.0, 5.0], [6.0, 6.0]]\n")
-        .unwrap_err();
+    let e =
+        with("[[node_set]]\nname = \"block.empty\"\nbox = [[5.0, 5.0], [6.0, 6.0]]\n").unwrap_err();
     assert_error(
         &e,
         SceneErrorKind::InvalidValue,
@@ -1066,7 +1066,10 @@ fn node_sets_by_location_and_nodal_forces() {
     assert!(e.to_string().contains("node_set[0].nearest"), "{e}");
     let e = with("[[force]]\nset = \"block.nowhere\"\nfx = 1.0\n").unwrap_err();
     assert_eq!(e.kind, SceneErrorKind::UnknownReference, "{e}");
-    assert!(e.to_string().starts_with("scenes/t.toml:50: force[0].set"), "{e}");
+    assert!(
+        e.to_string().starts_with("scenes/t.toml:50: force[0].set"),
+        "{e}"
+    );
     let e = with("[[force]]\nset = \"block.top\"\n").unwrap_err();
     assert_eq!(e.kind, SceneErrorKind::MissingKey, "{e}");
     assert!(e.to_string().contains("force[0].fx"), "{e}");

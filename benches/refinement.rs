@@ -1,0 +1,122 @@
+//! Run time against error for the verification scenes under mesh refinement,
+//! and the throughput of a large mesh.
+//!
+//!     cargo bench --bench refinement
+//!
+//! Prints one line per run: scene, mesh, unknowns, increments, Newton
+//! iterations, factorizations, wall time and the error against the exact or
+//! published value. Nothing is asserted here; tests/scenes.rs asserts the
+//! accuracy on the shipped meshes.
+
+use contact2d::newton::Solver;
+use contact2d::scene;
+use std::path::PathBuf;
+use std::time::Instant;
+
+struct Run {
+    solver: Solver,
+    seconds: f64,
+    iterations: usize,
+}
+
+fn run(name: &str, edits: &[(&str, String)]) -> Run {
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("scenes")
+        .join(name);
+    let mut text = std::fs::read_to_string(&path).unwrap();
+    for (old, new) in edits {
+        assert!(text.contains(old), "{name} has no {old:?}");
+        text = text.replacen(old, new, 1);
+    }
+    let problem = scene::parse(&text, &path).unwrap_or_else(|e| panic!("{e}"));
+    let times = problem.times.clone();
+    let start = Instant::now();
+    let mut solver = Solver::new(problem).unwrap();
+    let mut iterations = 0;
+    for t in times {
+        let r = solver.advance(t, &mut |_, _| {}).unwrap();
+        iterations += r.iterations;
+    }
+    Run {
+        seconds: start.elapsed().as_secs_f64(),
+        solver,
+        iterations,
+    }
+}
+
+fn print(scene: &str, mesh: &str, r: &Run, error: &str) {
+    println!(
+        "{scene:<11} {mesh:<12} dofs {:>7}  increments {:>2}  iterations {:>3}  factorizations {:>3}  {:>9.4} s  {error}",
+        r.solver.dofs(),
+        r.solver.problem().times.len(),
+        r.iterations,
+        r.solver.factorizations(),
+        r.seconds,
+    );
+}
+
+/// Largest relative error of nodal u_r against Lame (a = 1, b = 2, p = 100).
+fn lame_error(s: &Solver) -> f64 {
+    let (a, b, p, e, nu) = (1.0, 2.0, 100.0, 210000.0, 0.3);
+    let k = p * a * a / (b * b - a * a);
+    let exact = |r: f64| (1.0f64 + nu) * k / e * ((1.0 - 2.0 * nu) * r + b * b / r);
+    let mesh = &s.problem().mesh;
+    (0..mesh.nodes.len())
+        .map(|n| (s.state().displacement(n)[0] / exact(mesh.nodes[n][0]) - 1.0).abs())
+        .fold(0.0, f64::max)
+}
+
+fn main() {
+    for element in ["q4", "q8"] {
+        for n in [4, 8, 16, 32, 64] {
+            let r = run(
+                "verification/lame_cylinder.toml",
+                &[
+                    ("element = \"q8\"", format!("element = \"{element}\"")),
+                    ("divisions = [8, 1]", format!("divisions = [{n}, 1]")),
+                ],
+            );
+            let mesh = format!("{element} {n}x1");
+            print(
+                "lame",
+                &mesh,
+                &r,
+                &format!("max |u_r error| {:.3e}", lame_error(&r.solver)),
+            );
+        }
+    }
+    for (nx, ny) in [(25, 1), (50, 2), (100, 4), (200, 8)] {
+        let r = run(
+            "verification/cantilever_tip_load.toml",
+            &[("divisions = [50, 2]", format!("divisions = [{nx}, {ny}]"))],
+        );
+        let p = r.solver.problem();
+        let tip = p.mesh.node_sets["beam.tip"][0];
+        let [ux, uy] = r.solver.state().displacement(tip);
+        let error = format!(
+            "v/L {:.6} ({:+.2e}), u/L {:.6} ({:+.2e}) vs Mattiasson 0.30172, 0.05643",
+            -uy / 10.0,
+            -uy / 10.0 / 0.30172 - 1.0,
+            -ux / 10.0,
+            -ux / 10.0 / 0.05643 - 1.0
+        );
+        print("cantilever", &format!("q8 {nx}x{ny}"), &r, &error);
+    }
+    // Throughput: a large axisymmetric Q8 mesh, one linear increment.
+    for (nx, ny) in [(100, 25), (200, 50), (400, 100)] {
+        let r = run(
+            "verification/lame_cylinder.toml",
+            &[
+                ("divisions = [8, 1]", format!("divisions = [{nx}, {ny}]")),
+                ("dt = 0.5", "dt = 1.0".to_string()),
+            ],
+        );
+        let mesh = format!("q8 {nx}x{ny}");
+        print(
+            "lame large",
+            &mesh,
+            &r,
+            &format!("max |u_r error| {:.3e}", lame_error(&r.solver)),
+        );
+    }
+}
