@@ -215,6 +215,7 @@ impl Solver {
             residual,
             neqc: 0,
             drivers: self.driver_results(),
+            pairs: Vec::new(),
         })
     }
 

@@ -142,6 +142,70 @@ pub struct InitialStress {
     pub stress: [f64; 4],
 }
 
+/// A rigid target: a polyline with no degrees of freedom, its points in the
+/// order that puts the target on the left (the contact kernel's convention),
+/// moved as a rigid body about `reference` by `ux`, `uy` and a rotation
+/// `theta` (radians, counter-clockwise). Its reaction (Rx, Ry, Mz about the
+/// moved reference point) is reported under its name, like a driver's.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Rigid {
+    pub name: String,
+    pub points: Vec<[f64; 2]>,
+    pub reference: [f64; 2],
+    pub ux: Scaled,
+    pub uy: Scaled,
+    pub theta: Scaled,
+}
+
+/// What a contactor surface is pressed against.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Target {
+    /// Segments `[A, B]` between consecutive surface nodes of a deformable
+    /// body, each with the target body on its left.
+    Body {
+        body: usize,
+        segments: Vec<[usize; 2]>,
+    },
+    /// A rigid target (index into `Problem::rigids`); its segments join
+    /// consecutive points.
+    Rigid(usize),
+}
+
+/// Which static coefficient a segment that is sticking uses.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FrictionRule {
+    /// mu_s until the segment first slides, mu_d from then on for good (the
+    /// paper's usual algorithm).
+    MuDAfterSlip,
+    /// mu_s throughout (the paper's experiment).
+    AlwaysMuS,
+}
+
+/// How nodal tractions are recovered from the out-of-balance forces.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Recovery {
+    /// The tridiagonal systems of Eqs. (26)/(27).
+    Consistent,
+    /// Each node's force over its tributary length (area in axisymmetry).
+    Lumped,
+}
+
+/// A contactor surface against a target (Section 2 of the paper).
+#[derive(Clone, Debug, PartialEq)]
+pub struct ContactPair {
+    pub name: String,
+    /// The body the contactor nodes belong to.
+    pub body: usize,
+    /// Contactor surface nodes in order, the body on the left from one to
+    /// the next (8-node sides contribute their mid-side nodes).
+    pub contactor: Vec<usize>,
+    pub target: Target,
+    pub mu_s: f64,
+    pub mu_d: f64,
+    pub rule: FrictionRule,
+    pub recovery: Recovery,
+}
+
 /// Newton control. Tolerances are relative to the first iteration of an
 /// increment (force and displacement norms, energy).
 #[derive(Clone, Debug, PartialEq)]
@@ -178,6 +242,8 @@ pub struct Problem {
     pub bodies: Vec<Body>,
     pub functions: Vec<TimeFunction>,
     pub drivers: Vec<Driver>,
+    pub rigids: Vec<Rigid>,
+    pub contacts: Vec<ContactPair>,
     pub pressures: Vec<Pressure>,
     pub forces: Vec<NodalForce>,
     pub body_forces: Vec<BodyForce>,

@@ -10,6 +10,61 @@ pub struct DriverResult {
     pub rx: f64,
     #[serde(rename = "Ry")]
     pub ry: f64,
+    /// Moment about the reference point (rigid targets only).
+    #[serde(rename = "Mz", skip_serializing_if = "Option::is_none")]
+    pub mz: Option<f64>,
+}
+
+/// Contact state of a contactor node (the summary's and the FMU's codes).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+#[serde(into = "i32")]
+pub enum NodeState {
+    #[default]
+    Open,
+    Stick,
+    Slip,
+}
+
+impl From<NodeState> for i32 {
+    /// 0 open, 1 sticking, 2 sliding.
+    fn from(s: NodeState) -> i32 {
+        match s {
+            NodeState::Open => 0,
+            NodeState::Stick => 1,
+            NodeState::Slip => 2,
+        }
+    }
+}
+
+/// Per contactor node, in contactor order: current position, the normal
+/// traction (positive in compression) and the tangential traction (positive
+/// from a node toward the next), and the state.
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct PairNodes {
+    pub x: Vec<f64>,
+    pub y: Vec<f64>,
+    pub tn: Vec<f64>,
+    pub tt: Vec<f64>,
+    pub state: Vec<NodeState>,
+}
+
+/// Resultants of one contact pair: the force the target exerts on the
+/// contactor (global Fx, Fy; Fn, Ft its normal and tangential parts summed
+/// over the contactor segments), node counts by state, and the nodes.
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct PairResult {
+    #[serde(rename = "Fx")]
+    pub fx: f64,
+    #[serde(rename = "Fy")]
+    pub fy: f64,
+    #[serde(rename = "Fn")]
+    pub fn_: f64,
+    #[serde(rename = "Ft")]
+    pub ft: f64,
+    pub n_stick: usize,
+    pub n_slip: usize,
+    pub n_open: usize,
+    pub nodes: PairNodes,
 }
 
 /// One converged (or failed) increment.
@@ -25,8 +80,11 @@ pub struct StepResult {
     pub residual: f64,
     /// Number of contact equations (0 until contact exists).
     pub neqc: usize,
-    /// Per driver, by name, in scene order.
+    /// Per driver, by name, in scene order; rigid targets follow the
+    /// drivers, with their moment.
     pub drivers: Vec<(String, DriverResult)>,
+    /// Per contact pair, by name, in scene order.
+    pub pairs: Vec<(String, PairResult)>,
 }
 
 /// Log categories; they are the FMU logger's categories.

@@ -201,7 +201,7 @@ fn pvd_lists_the_series_in_order() {
 }
 
 fn converged_step() -> StepResult {
-    let r = |rx, ry| DriverResult { rx, ry };
+    let r = |rx, ry| DriverResult { rx, ry, mz: None };
     StepResult {
         time: 0.5,
         converged: true,
@@ -215,6 +215,7 @@ fn converged_step() -> StepResult {
             ("alpha".into(), r(1.0, 2.0)),
             ("mid".into(), r(-3.5, 0.125)),
         ],
+        pairs: vec![],
     }
 }
 

@@ -60,10 +60,12 @@ impl Summary {
                         DriverResult {
                             rx: f64::NAN,
                             ry: f64::NAN,
+                            mz: None,
                         },
                     )
                 })
                 .collect(),
+            pairs: Vec::new(),
         }
     }
 

@@ -141,6 +141,8 @@ impl<'a> Resolver<'a> {
             bodies: self.bodies,
             functions: self.functions,
             drivers,
+            rigids: Vec::new(),
+            contacts: Vec::new(),
             pressures,
             forces,
             body_forces,

@@ -36,6 +36,8 @@ pub fn problem(
             points: vec![(0.0, 0.0), (1.0, 1.0)],
         }],
         drivers: vec![],
+        rigids: vec![],
+        contacts: vec![],
         pressures: vec![],
         forces: vec![],
         body_forces: vec![],
