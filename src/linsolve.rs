@@ -107,3 +107,85 @@ impl LinearSolver {
         Ok(())
     }
 }
+
+/// The saddle-point system of Eq. (18): the free-dof tangent bordered by the
+/// contact rows, `[K + K_c, C^T; C, 0]`. Its pattern changes with the contact
+/// set; the symbolic LU analysis is kept while the pattern holds.
+#[derive(Default)]
+pub struct Augmented {
+    col_ptr: Vec<usize>,
+    row_idx: Vec<usize>,
+    values: Vec<f64>,
+    symbolic: Option<(SymbolicSparseColMat<usize>, SymbolicLu<usize>)>,
+    pub factorizations: usize,
+    /// Symbolic analyses done (one per distinct pattern in a row).
+    pub analyses: usize,
+}
+
+impl Augmented {
+    /// Solve `A x = rhs` in place, A of order `rhs.len()` given as the CSC
+    /// tangent `k` over `pattern` (the first `pattern.n` unknowns) plus the
+    /// entries `extra` (row, col, value; duplicates are summed).
+    pub fn solve(
+        &mut self,
+        pattern: &Pattern,
+        k: &[f64],
+        extra: &mut [(usize, usize, f64)],
+        rhs: &mut [f64],
+    ) -> Result<(), LinearError> {
+        let n = rhs.len();
+        extra.sort_unstable_by_key(|&(r, c, _)| (c, r));
+        let (col_ptr, row_idx, values) = (&mut self.col_ptr, &mut self.row_idx, &mut self.values);
+        let old_ptr = std::mem::take(col_ptr);
+        let old_idx = std::mem::take(row_idx);
+        values.clear();
+        col_ptr.push(0);
+        let mut e = 0;
+        let mut column: Vec<(usize, f64)> = Vec::new();
+        for c in 0..n {
+            column.clear();
+            if c < pattern.n {
+                for p in pattern.col_ptr[c]..pattern.col_ptr[c + 1] {
+                    column.push((pattern.row_idx[p], k[p]));
+                }
+            }
+            let start = e;
+            while e < extra.len() && extra[e].1 == c {
+                column.push((extra[e].0, extra[e].2));
+                e += 1;
+            }
+            if e > start {
+                column.sort_unstable_by_key(|&(r, _)| r);
+            }
+            let mut last = usize::MAX;
+            for &(r, v) in &column {
+                if r == last {
+                    *values.last_mut().expect("a previous entry") += v;
+                } else {
+                    row_idx.push(r);
+                    values.push(v);
+                    last = r;
+                }
+            }
+            col_ptr.push(row_idx.len());
+        }
+        let same = self.symbolic.is_some() && old_ptr == *col_ptr && old_idx == *row_idx;
+        if !same {
+            let s = SymbolicSparseColMat::new_checked(n, n, col_ptr.clone(), None, row_idx.clone());
+            let lu = SymbolicLu::try_new(s.as_ref())
+                .map_err(|e| LinearError::Factorization(format!("{e:?}")))?;
+            self.symbolic = Some((s, lu));
+            self.analyses += 1;
+        }
+        let (s, lu) = self.symbolic.as_ref().expect("set above");
+        let mat = SparseColMatRef::new(s.as_ref(), &self.values);
+        self.factorizations += 1;
+        let f = Lu::try_new_with_symbolic(lu.clone(), mat)
+            .map_err(|e| LinearError::Factorization(format!("{e:?}")))?;
+        f.solve_in_place(MatMut::from_column_major_slice_mut(rhs, n, 1));
+        if rhs.iter().any(|v| !v.is_finite()) {
+            return Err(LinearError::NonFinite);
+        }
+        Ok(())
+    }
+}

@@ -4,7 +4,8 @@
 //! converged state untouched.
 
 use crate::assembly::{Model, PRESCRIBED, Workspace};
-use crate::linsolve::LinearSolver;
+use crate::contact::pairs::{self, ContactSystem, Flips, PairMemory};
+use crate::linsolve::{Augmented, LinearSolver};
 use crate::problem::Problem;
 use crate::results::{DriverResult, LogCategory, StepResult};
 use crate::state::State;
@@ -45,6 +46,10 @@ pub struct Solver {
     k: Vec<f64>,
     /// The factorization in `linear` is of the current constant tangent.
     factor_valid: bool,
+    /// The bordered system of Eq. (18), used while contact rows exist.
+    augmented: Augmented,
+    /// The contact part of the last converged iteration (for results).
+    contact: Option<ContactSystem>,
 }
 
 impl Solver {
@@ -91,6 +96,7 @@ impl Solver {
             time: 0.0,
             u: vec![0.0; ndof],
             history: vec![0.0; model.history_len],
+            contact: problem.contacts.iter().map(PairMemory::new).collect(),
         };
         let inputs = vec![[None, None]; problem.drivers.len()];
         Ok(Solver {
@@ -104,6 +110,8 @@ impl Solver {
             r: vec![0.0; ndof],
             k: vec![0.0; nnz],
             factor_valid: false,
+            augmented: Augmented::default(),
+            contact: None,
         })
     }
 
@@ -131,7 +139,7 @@ impl Solver {
 
     /// Number of numeric factorizations done so far.
     pub fn factorizations(&self) -> usize {
-        self.linear.factorizations
+        self.linear.factorizations + self.augmented.factorizations
     }
 
     /// Override a driver component: reach `value` at the end of the next
@@ -213,9 +221,9 @@ impl Solver {
             iterations,
             substeps: bisections,
             residual,
-            neqc: 0,
+            neqc: self.contact.as_ref().map_or(0, |c| c.neqc()),
             drivers: self.driver_results(),
-            pairs: Vec::new(),
+            pairs: self.pair_results(),
         })
     }
 
@@ -227,15 +235,49 @@ impl Solver {
             .iter()
             .map(|d| (d.name.clone(), DriverResult::default()))
             .collect();
+        // Contact forces that land on prescribed dofs are part of the load
+        // there, not of the reaction.
+        let mut contact_force = std::collections::HashMap::new();
+        if let Some(c) = &self.contact {
+            for &(d, f) in &c.force {
+                *contact_force.entry(d).or_insert(0.0) += f;
+            }
+        }
         for p in &self.prescribed {
-            let f = self.r[p.dof];
+            let f = self.r[p.dof] - contact_force.get(&p.dof).copied().unwrap_or(0.0);
             if p.component == 0 {
                 out[p.driver].1.rx += f;
             } else {
                 out[p.driver].1.ry += f;
             }
         }
+        if let Some(c) = &self.contact {
+            for (rigid, f) in self.problem.rigids.iter().zip(&c.rigid) {
+                out.push((
+                    rigid.name.clone(),
+                    DriverResult {
+                        rx: f[0],
+                        ry: f[1],
+                        mz: Some(f[2]),
+                    },
+                ));
+            }
+        }
         out
+    }
+
+    fn pair_results(&self) -> Vec<(String, crate::results::PairResult)> {
+        let pairs = self
+            .contact
+            .as_ref()
+            .map(|c| c.pairs.clone())
+            .unwrap_or_default();
+        self.problem
+            .contacts
+            .iter()
+            .map(|p| p.name.clone())
+            .zip(pairs)
+            .collect()
     }
 
     /// Newton iterations for one increment to time t; commits on success.
@@ -263,9 +305,13 @@ impl Solver {
         let (mut r0, mut du1, mut e1) = (0.0, 0.0, 0.0);
         let mut ratios: Vec<f64> = Vec::new();
         let mut last_du = vec![0.0; n];
+        let with_contact = !self.problem.contacts.is_empty();
+        let mut memory = self.state.contact.clone();
+        let mut flips = Flips::default();
+        let mut extra: Vec<(usize, usize, f64)> = Vec::new();
         for it in 0..=settings.max_iterations {
             history.copy_from_slice(&self.state.history);
-            let need_k = !(self.model.constant_tangent && self.factor_valid);
+            let need_k = with_contact || !(self.model.constant_tangent && self.factor_valid);
             let k = if need_k { Some(&mut self.k[..]) } else { None };
             let pred = if it == 0 {
                 Some((&dup[..], &mut kdu[..]))
@@ -285,6 +331,22 @@ impl Solver {
                     &mut self.ws,
                 )
                 .map_err(|e| e.to_string())?;
+            let contact = if with_contact {
+                let mut clog =
+                    |m: &str| log(LogCategory::Contact, &format!("t = {t:.6e} it {it}: {m}"));
+                Some(pairs::update(
+                    &self.problem,
+                    t,
+                    &u,
+                    &self.r,
+                    &self.model.eq,
+                    &mut memory,
+                    &mut flips,
+                    &mut clog,
+                )?)
+            } else {
+                None
+            };
             let mut rnorm2 = 0.0;
             let mut react2 = 0.0;
             for (dof, &q) in self.model.eq.iter().enumerate() {
@@ -297,8 +359,24 @@ impl Solver {
                         self.r[dof]
                     };
                     rhs[q as usize] = -v;
-                    rnorm2 += v * v;
                 }
+            }
+            if let Some(c) = &contact {
+                for &(d, f) in &c.force {
+                    let q = self.model.eq[d];
+                    if q != PRESCRIBED {
+                        rhs[q as usize] += f;
+                    }
+                }
+            }
+            // At a constrained node the multipliers take up the residual in
+            // the constrained directions: measure what they cannot.
+            let measured = match &contact {
+                Some(c) if c.neqc() > 0 => equilibrium_residual(c, &self.model.eq, &rhs),
+                _ => rhs.clone(),
+            };
+            for v in &measured {
+                rnorm2 += v * v;
             }
             let rnorm = rnorm2.sqrt();
             if !rnorm.is_finite() {
@@ -307,14 +385,17 @@ impl Solver {
             // Round-off floor: the residual sums element forces of size
             // force_scale; below ~1e-14 of that nothing is meaningful.
             let floor = 1e-14 * self.ws.force_scale.max(react2.sqrt()).max(r0);
+            let (neqc, changes, overlap) = contact
+                .as_ref()
+                .map_or((0, 0, 0.0), |c| (c.neqc(), c.changes, c.max_overlap));
             if it == 0 {
                 r0 = rnorm;
-                if rnorm == 0.0 && dup.iter().all(|v| *v == 0.0) {
+                if rnorm == 0.0 && dup.iter().all(|v| *v == 0.0) && neqc == 0 && changes == 0 {
                     log(
                         LogCategory::Newton,
                         &format!("t = {t:.6e}: nothing changed, in equilibrium"),
                     );
-                    self.commit(t, u, history);
+                    self.commit(t, u, history, memory, contact);
                     return Ok(Converged {
                         iterations: 0,
                         residual: 0.0,
@@ -333,10 +414,15 @@ impl Solver {
                         format!("  rate {:.2}", (c / b).ln() / (b / a).ln())
                     }
                 };
+                let contact_text = if with_contact {
+                    format!("  NEQC {neqc}  changed {changes}  overlap {overlap:.3e}")
+                } else {
+                    String::new()
+                };
                 log(
                     LogCategory::Newton,
                     &format!(
-                        "t = {t:.6e} it {it}: |r|/|r0| = {rho:.3e}  |du|/|du1| = {dnorm:.3e}  energy {energy:.3e}{rate}"
+                        "t = {t:.6e} it {it}: |r|/|r0| = {rho:.3e}  |du|/|du1| = {dnorm:.3e}  energy {energy:.3e}{rate}{contact_text}"
                     ),
                 );
                 let force_ok = rho <= settings.force_tolerance;
@@ -352,13 +438,19 @@ impl Solver {
                         ),
                     );
                 }
-                let converged = rnorm <= floor
-                    || stagnated
-                    || (force_ok
-                        && (energy <= settings.energy_tolerance
-                            || dnorm <= settings.displacement_tolerance));
+                // Contact: the node states must have settled and the
+                // constrained nodes sit on the target (to the displacement
+                // tolerance of the first correction).
+                let contact_ok =
+                    changes == 0 && overlap <= settings.displacement_tolerance * du1.max(1e-300);
+                let converged = contact_ok
+                    && (rnorm <= floor
+                        || stagnated
+                        || (force_ok
+                            && (energy <= settings.energy_tolerance
+                                || dnorm <= settings.displacement_tolerance)));
                 if converged {
-                    self.commit(t, u, history);
+                    self.commit(t, u, history, memory, contact);
                     return Ok(Converged {
                         iterations: it,
                         residual: rho,
@@ -371,14 +463,48 @@ impl Solver {
             if it == settings.max_iterations {
                 break;
             }
-            if need_k {
-                self.linear.factorize(&self.k).map_err(|e| e.to_string())?;
-                self.factor_valid = self.model.constant_tangent;
-            }
             if it == 0 {
                 last_du.copy_from_slice(&rhs);
             }
-            self.linear.solve(&mut rhs).map_err(|e| e.to_string())?;
+            match contact.as_ref().filter(|c| c.neqc() > 0 || !c.k.is_empty()) {
+                None => {
+                    if need_k {
+                        self.linear.factorize(&self.k).map_err(|e| e.to_string())?;
+                        self.factor_valid = self.model.constant_tangent;
+                    }
+                    self.linear.solve(&mut rhs).map_err(|e| e.to_string())?;
+                }
+                Some(c) => {
+                    // Eq. (18): [K + K_c, C^T; C, 0] [du; dlambda] = [r; overlap].
+                    let eq = &self.model.eq;
+                    extra.clear();
+                    for &(a, b, v) in &c.k {
+                        if eq[a] != PRESCRIBED && eq[b] != PRESCRIBED {
+                            extra.push((eq[a] as usize, eq[b] as usize, v));
+                        }
+                    }
+                    let mut full = rhs.clone();
+                    for (i, row) in c.rows.iter().enumerate() {
+                        let mut b = row.rhs;
+                        for &(d, v) in &row.dofs {
+                            if eq[d] == PRESCRIBED {
+                                if it == 0 {
+                                    b -= v * dup[d];
+                                }
+                            } else {
+                                extra.push((n + i, eq[d] as usize, v));
+                                extra.push((eq[d] as usize, n + i, v));
+                            }
+                        }
+                        full.push(b);
+                    }
+                    self.augmented
+                        .solve(&self.model.pattern, &self.k, &mut extra, &mut full)
+                        .map_err(|e| format!("contact system (NEQC {}): {e}", c.neqc()))?;
+                    rhs.copy_from_slice(&full[..n]);
+                    self.factor_valid = false;
+                }
+            }
             if it == 0 {
                 // Energy of the first correction, |du_1 . r_0| (last_du holds -r_0).
                 e1 = (0..n)
@@ -410,10 +536,19 @@ impl Solver {
         ))
     }
 
-    fn commit(&mut self, t: f64, u: Vec<f64>, history: Vec<f64>) {
+    fn commit(
+        &mut self,
+        t: f64,
+        u: Vec<f64>,
+        history: Vec<f64>,
+        memory: Vec<PairMemory>,
+        contact: Option<ContactSystem>,
+    ) {
         self.state.time = t;
         self.state.u = u;
         self.state.history = history;
+        self.state.contact = memory;
+        self.contact = contact;
     }
 
     /// Element-average Cauchy stress [xx, yy, zz, xy] of each element in the
@@ -437,4 +572,60 @@ impl Solver {
         );
         stress
     }
+}
+
+/// The residual left once each constrained node's multipliers take up its
+/// out-of-balance force in the constrained directions (least squares at the
+/// contactor node, the reactions spread to the target as the rows say).
+fn equilibrium_residual(c: &ContactSystem, eq: &[u32], rhs: &[f64]) -> Vec<f64> {
+    let mut out = rhs.to_vec();
+    let free = |d: usize| (eq[d] != PRESCRIBED).then(|| eq[d] as usize);
+    for (node, rows) in &c.groups {
+        let (dx, dy) = (2 * node, 2 * node + 1);
+        let (Some(qx), Some(qy)) = (free(dx), free(dy)) else {
+            continue;
+        };
+        let coeff = |row: &pairs::Row, d: usize| {
+            row.dofs
+                .iter()
+                .filter(|e| e.0 == d)
+                .map(|e| e.1)
+                .sum::<f64>()
+        };
+        let rk = nalgebra::Vector2::new(rhs[qx], rhs[qy]);
+        let rs = &c.rows[rows.clone()];
+        // C_k: rows x 2 block at the contactor node; mu = (C_k C_k^T)^-1 C_k r_k.
+        let mu: Vec<f64> = match rs.len() {
+            1 => {
+                let ck = nalgebra::Vector2::new(coeff(&rs[0], dx), coeff(&rs[0], dy));
+                let n2 = ck.norm_squared();
+                if n2 == 0.0 {
+                    continue;
+                }
+                vec![ck.dot(&rk) / n2]
+            }
+            2 => {
+                let ck = nalgebra::Matrix2::new(
+                    coeff(&rs[0], dx),
+                    coeff(&rs[0], dy),
+                    coeff(&rs[1], dx),
+                    coeff(&rs[1], dy),
+                );
+                let Some(inv) = (ck * ck.transpose()).try_inverse() else {
+                    continue;
+                };
+                let m = inv * ck * rk;
+                vec![m.x, m.y]
+            }
+            _ => continue,
+        };
+        for (row, m) in rs.iter().zip(mu) {
+            for &(d, v) in &row.dofs {
+                if let Some(q) = free(d) {
+                    out[q] -= v * m;
+                }
+            }
+        }
+    }
+    out
 }

@@ -199,6 +199,9 @@ pub struct ContactPair {
     /// Contactor surface nodes in order, the body on the left from one to
     /// the next (8-node sides contribute their mid-side nodes).
     pub contactor: Vec<usize>,
+    /// The contactor surface is a closed loop: a last segment joins the last
+    /// node back to the first (no node is listed twice).
+    pub closed: bool,
     pub target: Target,
     pub mu_s: f64,
     pub mu_d: f64,

@@ -1,7 +1,7 @@
 //! What one increment produced, in the names of the FMU and summary file
 //! (SPEC section 5). Plain data: the CLI serializes it, the FMU reads it.
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// Force that a driver exerts on the body to impose its motion.
 #[derive(Clone, Debug, Default, PartialEq, Serialize)]
@@ -16,13 +16,25 @@ pub struct DriverResult {
 }
 
 /// Contact state of a contactor node (the summary's and the FMU's codes).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
-#[serde(into = "i32")]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(into = "i32", try_from = "i32")]
 pub enum NodeState {
     #[default]
     Open,
     Stick,
     Slip,
+}
+
+impl TryFrom<i32> for NodeState {
+    type Error = String;
+    fn try_from(v: i32) -> Result<Self, String> {
+        match v {
+            0 => Ok(NodeState::Open),
+            1 => Ok(NodeState::Stick),
+            2 => Ok(NodeState::Slip),
+            _ => Err(format!("contact node state {v} is not 0, 1 or 2")),
+        }
+    }
 }
 
 impl From<NodeState> for i32 {

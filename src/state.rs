@@ -11,6 +11,9 @@ pub struct State {
     pub u: Vec<f64>,
     /// Material history per Gauss point (empty for history-free laws).
     pub history: Vec<f64>,
+    /// Contact memory per pair (node states, contact points, segment
+    /// states), in scene order.
+    pub contact: Vec<crate::contact::PairMemory>,
 }
 
 impl State {

@@ -3,7 +3,7 @@
 
 use contact2d::mesh::{Element, ElementKind, Mesh};
 use contact2d::output::{Summary, von_mises, write_pvd, write_vtu};
-use contact2d::results::{DriverResult, StepResult};
+use contact2d::results::{DriverResult, NodeState, PairNodes, PairResult, StepResult};
 use std::path::PathBuf;
 
 fn scratch(name: &str) -> PathBuf {
@@ -280,9 +280,14 @@ fn summary_records_a_failed_step_last() {
     let mut summary = Summary::new("s.toml", "S", 10);
     summary.steps.push(converged_step());
     let names = ["zeta", "alpha", "mid"].map(String::from);
-    summary
-        .steps
-        .push(Summary::failed_step(1.0, 31, 6, names.iter().cloned()));
+    summary.steps.push(Summary::failed_step(
+        1.0,
+        31,
+        6,
+        names.iter().cloned(),
+        ["die".to_string()],
+        ["upper".to_string(), "lower".to_string()],
+    ));
     let path = scratch("summary.json");
     summary.write(&path).unwrap();
     let v: serde_json::Value =
@@ -298,6 +303,147 @@ fn summary_records_a_failed_step_last() {
     // Unknown values are null, never a number that could be mistaken.
     assert!(f["residual"].is_null());
     assert!(f["drivers"]["zeta"]["Ry"].is_null());
-    assert_eq!(f["drivers"].as_object().unwrap().len(), 3);
-    assert_eq!(f["pairs"], serde_json::json!({}));
+    assert!(f["drivers"]["zeta"].get("Mz").is_none());
+    // Rigid targets follow the drivers, their moment unknown too.
+    assert_eq!(
+        f["drivers"]["die"],
+        serde_json::json!({ "Rx": null, "Ry": null, "Mz": null })
+    );
+    assert_eq!(f["drivers"].as_object().unwrap().len(), 4);
+    // Same keys as a solved pair: unknown numbers null, no nodes.
+    let unknown = serde_json::json!({
+        "Fx": null, "Fy": null, "Fn": null, "Ft": null,
+        "n_stick": null, "n_slip": null, "n_open": null,
+        "nodes": { "x": [], "y": [], "tn": [], "tt": [], "state": [] },
+    });
+    assert_eq!(
+        f["pairs"],
+        serde_json::json!({ "upper": unknown, "lower": unknown })
+    );
+    let text = std::fs::read_to_string(&path).unwrap();
+    let at = |k: &str| text.rfind(&format!("\"{k}\"")).unwrap();
+    assert!(at("mid") < at("die") && at("upper") < at("lower"));
+}
+
+/// A step with a rigid target (its moment) and one contact pair of two
+/// nodes, one sticking and one sliding: the whole file, byte for byte.
+#[test]
+fn summary_of_a_step_with_a_pair_and_a_rigid_target() {
+    let mut summary = Summary::new("scenes/punch.toml", "Punch", 42);
+    summary.wall_s = 0.5;
+    summary.build = "test".into();
+    summary.steps.push(StepResult {
+        time: 1.0,
+        converged: true,
+        iterations: 4,
+        substeps: 0,
+        residual: 2.5e-10,
+        neqc: 3,
+        drivers: vec![
+            (
+                "base".into(),
+                DriverResult {
+                    rx: 0.0,
+                    ry: 1200.0,
+                    mz: None,
+                },
+            ),
+            (
+                "punch".into(),
+                DriverResult {
+                    rx: 30.0,
+                    ry: -1200.0,
+                    mz: Some(-37.5),
+                },
+            ),
+        ],
+        pairs: vec![(
+            "punch_on_block".into(),
+            PairResult {
+                fx: -30.0,
+                fy: 1200.0,
+                fn_: 1200.0,
+                ft: 30.0,
+                n_stick: 1,
+                n_slip: 1,
+                n_open: 0,
+                nodes: PairNodes {
+                    x: vec![0.25, 1.5],
+                    y: vec![2.0, 1.9375],
+                    tn: vec![600.0, 0.125],
+                    tt: vec![-0.0, 1e-3],
+                    state: vec![NodeState::Stick, NodeState::Slip],
+                },
+            },
+        )],
+    });
+    let expected = r#"{
+  "scene": "scenes/punch.toml",
+  "dofs": 42,
+  "wall_s": 0.5,
+  "steps": [
+    {
+      "time": 1.0,
+      "converged": true,
+      "iterations": 4,
+      "substeps": 0,
+      "residual": 2.5e-10,
+      "neqc": 3,
+      "drivers": {
+        "base": {
+          "Rx": 0.0,
+          "Ry": 1200.0
+        },
+        "punch": {
+          "Rx": 30.0,
+          "Ry": -1200.0,
+          "Mz": -37.5
+        }
+      },
+      "pairs": {
+        "punch_on_block": {
+          "Fx": -30.0,
+          "Fy": 1200.0,
+          "Fn": 1200.0,
+          "Ft": 30.0,
+          "n_stick": 1,
+          "n_slip": 1,
+          "n_open": 0,
+          "nodes": {
+            "x": [
+              0.25,
+              1.5
+            ],
+            "y": [
+              2.0,
+              1.9375
+            ],
+            "tn": [
+              600.0,
+              0.125
+            ],
+            "tt": [
+              -0.0,
+              0.001
+            ],
+            "state": [
+              1,
+              2
+            ]
+          }
+        }
+      }
+    }
+  ],
+  "title": "Punch",
+  "build": "test"
+}"#;
+    assert_eq!(summary.to_json(), expected);
+    // The file is the same text with a final newline.
+    let path = scratch("pair.json");
+    summary.write(&path).unwrap();
+    assert_eq!(
+        std::fs::read_to_string(&path).unwrap(),
+        format!("{expected}\n")
+    );
 }

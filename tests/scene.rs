@@ -2,7 +2,9 @@
 //! of mistake is reported with file, line, key and value.
 
 use contact2d::mesh::{Edge, ElementKind, Mesh, generators};
-use contact2d::problem::{AnalysisKind, Kinematics, MaterialSpec, Scaled};
+use contact2d::problem::{
+    AnalysisKind, FrictionRule, Kinematics, MaterialSpec, Recovery, Scaled, Target,
+};
 use contact2d::scene::{self, SceneError, SceneErrorKind};
 use std::path::Path;
 
@@ -406,13 +408,13 @@ fn unknown_key_lists_the_allowed_keys() {
         "scenes/t.toml:20: body[1].mesh.size = [1.0, 1.0]: unknown key; \
          allowed keys: generator, center, radius, divisions, ratio, half",
     );
-    // Contact pairs come later: for now `[[contact]]` is unknown.
-    let e = bad("[steps]", "[[contact]]\npair = 1\n\n[steps]");
+    let e = bad("[steps]", "[[gap]]\nwidth = 1\n\n[steps]");
     assert_error(
         &e,
         SceneErrorKind::UnknownKey,
-        "scenes/t.toml:49: contact = [[contact]]: unknown key; allowed keys: title, analysis, material, body, \
-         node_set, function, driver, pressure, force, body_force, initial_stress, steps, solver",
+        "scenes/t.toml:49: gap = [[gap]]: unknown key; allowed keys: title, analysis, material, body, \
+         node_set, function, driver, rigid, contact, pressure, force, body_force, initial_stress, \
+         steps, solver",
     );
     let e = bad(
         "uy = { function = \"ramp\", scale = -0.1 }",
@@ -1073,4 +1075,577 @@ fn node_sets_by_location_and_nodal_forces() {
     let e = with("[[force]]\nset = \"block.top\"\n").unwrap_err();
     assert_eq!(e.kind, SceneErrorKind::MissingKey, "{e}");
     assert!(e.to_string().contains("force[0].fx"), "{e}");
+}
+
+/// Two bodies in contact and two rigids: a Q8 half disk ("wheel") on a Q4
+/// block, the block on a rigid floor, the wheel in a rigid cup (an arc).
+const CONTACT: &str = r#"
+[analysis]
+kind = "plane_strain"
+
+[[material]]
+name = "steel"
+model = "linear_elastic"
+E = 200000.0
+nu = 0.3
+
+[[body]]
+name = "block"
+material = "steel"
+mesh = { generator = "rectangle", origin = [0.0, 0.0], size = [2.0, 1.0], divisions = [2, 1] }
+
+[[body]]
+name = "wheel"
+material = "steel"
+element = "q8"
+mesh = { generator = "disk", center = [1.0, 3.0], radius = 2.0, divisions = 2, ratio = 1.0, half = true }
+
+[[function]]
+name = "ramp"
+points = [[0.0, 0.0], [1.0, 1.0]]
+
+[[driver]]
+name = "press"
+set = "wheel.top"
+uy = { function = "ramp", scale = -0.1 }
+
+[[rigid]]
+name = "floor"
+points = [[3.0, 0.0], [-1.0, 0.0]]
+
+[[rigid]]
+name = "cup"
+arc = { center = [1.0, 3.0], radius = 2.5, angles = [0.0, -180.0], segments = 4 }
+reference = [1.0, 0.5]
+ux = { function = "ramp", scale = 0.5 }
+uy = -0.25
+theta = 0.1
+
+[[contact]]
+name = "wheel_on_block"
+contactor = "wheel.arc"
+target = "block.top"
+mu_s = 0.3
+mu_d = 0.2
+rule = "always_mu_s"
+recovery = "lumped"
+
+[[contact]]
+name = "block_on_floor"
+contactor = "block.bottom"
+target = "floor"
+
+[[contact]]
+name = "block_under_wheel"
+contactor = "block.top"
+target = "wheel.arc"
+mu_s = 0.25
+
+[[contact]]
+name = "wheel_in_cup"
+contactor = "wheel.arc"
+target = "cup"
+
+[steps]
+times = [1.0]
+"#;
+
+fn cross(o: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
+    (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
+}
+
+fn assert_points_near(actual: &[[f64; 2]], expected: &[[f64; 2]]) {
+    assert_eq!(actual.len(), expected.len(), "{actual:?}");
+    for (a, e) in actual.iter().zip(expected) {
+        assert!(
+            (a[0] - e[0]).abs() <= 1e-12 && (a[1] - e[1]).abs() <= 1e-12,
+            "{actual:?} != {expected:?}"
+        );
+    }
+}
+
+#[test]
+fn contact_pairs_and_rigids_resolve() {
+    let p = scene::parse(CONTACT, Path::new("scenes/contact.toml")).unwrap();
+    let wheel = generators::disk(ElementKind::Q8, [1.0, 3.0], 2.0, 2, 1.0, true).unwrap();
+    let nb = 6; // block: 3 x 2 nodes
+    assert_eq!(p.bodies[1].nodes.start, nb);
+    let x = |n: usize| p.mesh.nodes[n];
+
+    // Rigids: a polyline as given, an arc from 0 to -180 degrees clockwise.
+    let [floor, cup] = &p.rigids[..] else {
+        panic!("two rigids")
+    };
+    assert_eq!(floor.name, "floor");
+    assert_eq!(floor.points, vec![[3.0, 0.0], [-1.0, 0.0]]);
+    assert_eq!(floor.reference, [3.0, 0.0]);
+    for c in [&floor.ux, &floor.uy, &floor.theta] {
+        assert_eq!(*c, Scaled::constant(0.0));
+    }
+    assert_eq!(cup.name, "cup");
+    let h = 2.5 * std::f64::consts::FRAC_1_SQRT_2;
+    assert_points_near(
+        &cup.points,
+        &[
+            [3.5, 3.0],
+            [1.0 + h, 3.0 - h],
+            [1.0, 0.5],
+            [1.0 - h, 3.0 - h],
+            [-1.5, 3.0],
+        ],
+    );
+    assert_eq!(cup.reference, [1.0, 0.5]);
+    assert_eq!(
+        cup.ux,
+        Scaled {
+            scale: 0.5,
+            function: Some(0)
+        }
+    );
+    assert_eq!(cup.uy, Scaled::constant(-0.25));
+    assert_eq!(cup.theta, Scaled::constant(0.1));
+
+    let [
+        wheel_on_block,
+        block_on_floor,
+        block_under_wheel,
+        wheel_in_cup,
+    ] = &p.contacts[..]
+    else {
+        panic!("four pairs")
+    };
+
+    // The Q8 arc walked with increasing x (the wheel above it, on the left),
+    // each side start, mid-side, end.
+    let arc = shifted(&wheel.edge_sets["arc"], nb, 2);
+    let c = &wheel_on_block.contactor;
+    assert_eq!(wheel_on_block.name, "wheel_on_block");
+    assert_eq!(wheel_on_block.body, 1);
+    assert!(!wheel_on_block.closed);
+    assert_eq!(c.len(), 2 * arc.len() + 1);
+    let mut sorted = c.clone();
+    sorted.sort_unstable();
+    assert_eq!(sorted, set(&wheel, "arc", nb));
+    assert_eq!((x(c[0]), x(c[c.len() - 1])), ([-1.0, 3.0], [3.0, 3.0]));
+    for w in c.windows(2) {
+        assert!(x(w[1])[0] > x(w[0])[0], "{:?} then {:?}", x(w[0]), x(w[1]));
+        assert!(
+            cross(x(w[0]), x(w[1]), [1.0, 3.0]) > 0.0,
+            "wheel not on the left"
+        );
+    }
+    for k in 0..arc.len() {
+        let side = [c[2 * k], c[2 * k + 2], c[2 * k + 1]];
+        assert!(arc.iter().any(|e| e.nodes == side), "side {k}: {side:?}");
+    }
+    assert_eq!(
+        wheel_on_block.target,
+        Target::Body {
+            body: 0,
+            segments: vec![[5, 4], [4, 3]]
+        }
+    );
+    assert_eq!((x(5), x(4), x(3)), ([2.0, 1.0], [1.0, 1.0], [0.0, 1.0]));
+    assert_eq!((wheel_on_block.mu_s, wheel_on_block.mu_d), (0.3, 0.2));
+    assert_eq!(wheel_on_block.rule, FrictionRule::AlwaysMuS);
+    assert_eq!(wheel_on_block.recovery, Recovery::Lumped);
+
+    // Defaults; the block's bottom in +x (the block above, on its left).
+    assert_eq!(block_on_floor.body, 0);
+    let bottom: Vec<[f64; 2]> = block_on_floor.contactor.iter().map(|&n| x(n)).collect();
+    assert_eq!(bottom, vec![[0.0, 0.0], [1.0, 0.0], [2.0, 0.0]]);
+    assert!(!block_on_floor.closed);
+    assert_eq!(block_on_floor.target, Target::Rigid(0));
+    assert_eq!((block_on_floor.mu_s, block_on_floor.mu_d), (0.0, 0.0));
+    assert_eq!(block_on_floor.rule, FrictionRule::MuDAfterSlip);
+    assert_eq!(block_on_floor.recovery, Recovery::Consistent);
+
+    // The block's top walked in -x; a Q8 target side gives two segments,
+    // start to mid-side and mid-side to end, the wheel on their left.
+    let top: Vec<[f64; 2]> = block_under_wheel.contactor.iter().map(|&n| x(n)).collect();
+    assert_eq!(top, vec![[2.0, 1.0], [1.0, 1.0], [0.0, 1.0]]);
+    assert_eq!(
+        (block_under_wheel.mu_s, block_under_wheel.mu_d),
+        (0.25, 0.25)
+    );
+    let Target::Body { body, segments } = &block_under_wheel.target else {
+        panic!("a body target")
+    };
+    assert_eq!(*body, 1);
+    let expected: Vec<[usize; 2]> = arc
+        .iter()
+        .flat_map(|e| [[e.nodes[0], e.nodes[2]], [e.nodes[2], e.nodes[1]]])
+        .collect();
+    assert_eq!(*segments, expected);
+    for s in segments {
+        assert!(cross(x(s[0]), x(s[1]), [1.0, 3.0]) > 0.0);
+    }
+    assert_eq!(wheel_in_cup.target, Target::Rigid(1));
+    assert_eq!(wheel_in_cup.contactor, *c);
+}
+
+#[test]
+fn closed_contactor_loop_lists_each_node_once() {
+    let ring = r#"mesh = { generator = "ring", center = [1.0, 3.0], r_inner = 1.0, r_outer = 2.0, angles = [0.0, 360.0], divisions = [1, 6] }"#;
+    let text = CONTACT
+        .replace(
+            r#"mesh = { generator = "disk", center = [1.0, 3.0], radius = 2.0, divisions = 2, ratio = 1.0, half = true }"#,
+            ring,
+        )
+        .replace("\"wheel.top\"", "\"wheel.inner\"")
+        .replace("\"wheel.arc\"", "\"wheel.outer\"");
+    let p = scene::parse(&text, Path::new("ring.toml")).unwrap();
+    let mesh = generators::ring(
+        ElementKind::Q8,
+        [1.0, 3.0],
+        1.0,
+        2.0,
+        [0.0, 360.0],
+        [1, 6],
+        1.0,
+    )
+    .unwrap();
+    let outer = shifted(&mesh.edge_sets["outer"], 6, 2);
+    let pair = &p.contacts[0];
+    assert!(pair.closed);
+    // Six Q8 sides: six corners and six mid-side nodes, none repeated,
+    // counter-clockwise (the ring inside, on the left), from the set's
+    // first side on.
+    let c = &pair.contactor;
+    assert_eq!(c.len(), 12);
+    let mut sorted = c.clone();
+    sorted.sort_unstable();
+    assert_eq!(sorted, set(&mesh, "outer", 6));
+    assert_eq!(
+        c[..3],
+        [outer[0].nodes[0], outer[0].nodes[2], outer[0].nodes[1]]
+    );
+    for k in 0..12 {
+        let (a, b) = (p.mesh.nodes[c[k]], p.mesh.nodes[c[(k + 1) % 12]]);
+        assert!(cross([1.0, 3.0], a, b) > 0.0, "{a:?} then {b:?}");
+    }
+    // An open chain is not closed.
+    assert!(!p.contacts[1].closed);
+}
+
+#[test]
+fn contact_reference_errors() {
+    let pair = |contactor: &str, target: &str| {
+        with(&format!(
+            "[[rigid]]\nname = \"floor\"\npoints = [[3.0, 0.0], [-1.0, 0.0]]\n\n\
+             [[contact]]\nname = \"c\"\ncontactor = \"{contactor}\"\ntarget = \"{target}\"\n"
+        ))
+        .unwrap_err()
+    };
+    let e = pair("block.lid", "floor");
+    assert_error(
+        &e,
+        SceneErrorKind::UnknownReference,
+        r#"scenes/t.toml:55: contact[0].contactor = "block.lid": body `block` has no edge set `lid`; available edge sets: bottom, left, right, top"#,
+    );
+    let e = pair("tyre.arc", "floor");
+    assert_error(
+        &e,
+        SceneErrorKind::UnknownReference,
+        r#"scenes/t.toml:55: contact[0].contactor = "tyre.arc": no body of that name; bodies: block, wheel"#,
+    );
+    let e = pair("arc", "floor");
+    assert_error(
+        &e,
+        SceneErrorKind::InvalidValue,
+        r#"scenes/t.toml:55: contact[0].contactor = "arc": a set is named <body>.<set>"#,
+    );
+    let e = pair("block.top_left", "floor");
+    assert_error(
+        &e,
+        SceneErrorKind::UnknownReference,
+        r#"scenes/t.toml:55: contact[0].contactor = "block.top_left": `top_left` is a node set; this needs an edge set; edge sets of `block`: bottom, left, right, top"#,
+    );
+    let e = pair("wheel.arc", "block.lid");
+    assert_error(
+        &e,
+        SceneErrorKind::UnknownReference,
+        r#"scenes/t.toml:56: contact[0].target = "block.lid": body `block` has no edge set `lid`; available edge sets: bottom, left, right, top"#,
+    );
+    let e = pair("wheel.arc", "brick.top");
+    assert_error(
+        &e,
+        SceneErrorKind::UnknownReference,
+        r#"scenes/t.toml:56: contact[0].target = "brick.top": no body of that name; bodies: block, wheel"#,
+    );
+    let e = pair("wheel.arc", "block.bottom_left");
+    assert_error(
+        &e,
+        SceneErrorKind::UnknownReference,
+        r#"scenes/t.toml:56: contact[0].target = "block.bottom_left": `bottom_left` is a node set; this needs an edge set; edge sets of `block`: bottom, left, right, top"#,
+    );
+    let e = pair("wheel.arc", "flor");
+    assert_error(
+        &e,
+        SceneErrorKind::UnknownReference,
+        r#"scenes/t.toml:56: contact[0].target = "flor": no rigid of that name (a body's edge set is written <body>.<set>); rigids: floor"#,
+    );
+    let e = pair("wheel.arc", "block");
+    assert_error(
+        &e,
+        SceneErrorKind::UnknownReference,
+        r#"scenes/t.toml:56: contact[0].target = "block": `block` is a body, not a rigid; a body target is one of its edge sets, `block.<set>` (edge sets: bottom, left, right, top); rigids: floor"#,
+    );
+    let e = pair("block.top", "block.bottom");
+    assert_error(
+        &e,
+        SceneErrorKind::InvalidValue,
+        r#"scenes/t.toml:56: contact[0].target = "block.bottom": the target must belong to another body than the contactor (`block`)"#,
+    );
+    // Without rigids.
+    let e = with("[[contact]]\nname = \"c\"\ncontactor = \"wheel.arc\"\ntarget = \"floor\"\n")
+        .unwrap_err();
+    assert_error(
+        &e,
+        SceneErrorKind::UnknownReference,
+        r#"scenes/t.toml:52: contact[0].target = "floor": no rigid of that name (a body's edge set is written <body>.<set>); rigids: (none)"#,
+    );
+}
+
+#[test]
+fn contactor_must_be_one_chain() {
+    // The plate's `axis` is two pieces, above and below the hole.
+    let e = with(
+        "[[body]]\nname = \"plate\"\nmaterial = \"steel\"\nmesh = { generator = \"plate_with_hole\", \
+         hole_radius = 1.0, width = 3.0, y_range = [-3.0, 3.0], divisions = [2, 4] }\n\n\
+         [[contact]]\nname = \"c\"\ncontactor = \"plate.axis\"\ntarget = \"block.top\"\n",
+    )
+    .unwrap_err();
+    assert_error(
+        &e,
+        SceneErrorKind::InvalidValue,
+        r#"scenes/t.toml:56: contact[0].contactor = "plate.axis": edge set `plate.axis` falls apart into 2 separate pieces: a chain from (0, 3) to (0, 1); a chain from (0, -1) to (0, -3); a contactor surface must be one chain or one closed loop"#,
+    );
+    // Two squares touching at a corner: their boundary branches there.
+    let e = scene::load(Path::new("tests/data/scenes/pinched.toml")).unwrap_err();
+    assert_error(
+        &e,
+        SceneErrorKind::InvalidValue,
+        r#"tests/data/scenes/pinched.toml:23: contact[0].contactor = "pair.rim": edge set `pair.rim` branches at (1, 1): two of its edges start there; a contactor surface must be one chain or one closed loop"#,
+    );
+}
+
+/// BASE with a floor and a pair `wheel.arc` on it, with `extra` lines in
+/// the pair.
+fn pair_with(extra: &str) -> Result<contact2d::problem::Problem, SceneError> {
+    with(&format!(
+        "[[rigid]]\nname = \"floor\"\npoints = [[3.0, 0.0], [-1.0, 0.0]]\n\n\
+         [[contact]]\nname = \"c\"\ncontactor = \"wheel.arc\"\ntarget = \"floor\"\n{extra}"
+    ))
+}
+
+#[test]
+fn friction_coefficients_and_words() {
+    let p = pair_with("mu_s = 0.5\nmu_d = 0.5\n").unwrap();
+    assert_eq!((p.contacts[0].mu_s, p.contacts[0].mu_d), (0.5, 0.5));
+    let p =
+        pair_with("mu_s = 1\nmu_d = 0\nrule = \"mu_d_after_slip\"\nrecovery = \"consistent\"\n")
+            .unwrap();
+    assert_eq!((p.contacts[0].mu_s, p.contacts[0].mu_d), (1.0, 0.0));
+    assert_eq!(p.contacts[0].rule, FrictionRule::MuDAfterSlip);
+    assert_eq!(p.contacts[0].recovery, Recovery::Consistent);
+
+    let e = pair_with("mu_s = -0.1\n").unwrap_err();
+    assert_error(
+        &e,
+        SceneErrorKind::InvalidValue,
+        "scenes/t.toml:57: contact[0].mu_s = -0.1: mu_s must not be negative",
+    );
+    let e = pair_with("mu_s = 0.2\nmu_d = -0.1\n").unwrap_err();
+    assert_error(
+        &e,
+        SceneErrorKind::InvalidValue,
+        "scenes/t.toml:58: contact[0].mu_d = -0.1: mu_d must not be negative",
+    );
+    let e = pair_with("mu_s = 0.2\nmu_d = 0.3\n").unwrap_err();
+    assert_error(
+        &e,
+        SceneErrorKind::InvalidValue,
+        "scenes/t.toml:58: contact[0].mu_d = 0.3: mu_d must not exceed mu_s = 0.2",
+    );
+    let e = pair_with("mu_d = 0.1\n").unwrap_err();
+    assert_error(
+        &e,
+        SceneErrorKind::InvalidValue,
+        "scenes/t.toml:57: contact[0].mu_d = 0.1: mu_d must not exceed mu_s = 0.0 (mu_s defaults to 0)",
+    );
+    let e = pair_with("mu_s = nan\n").unwrap_err();
+    assert_error(
+        &e,
+        SceneErrorKind::InvalidValue,
+        "scenes/t.toml:57: contact[0].mu_s = nan: numbers must be finite",
+    );
+    let e = pair_with("rule = \"coulomb\"\n").unwrap_err();
+    assert_error(
+        &e,
+        SceneErrorKind::InvalidValue,
+        r#"scenes/t.toml:57: contact[0].rule = "coulomb": must be one of: mu_d_after_slip, always_mu_s"#,
+    );
+    let e = pair_with("recovery = \"exact\"\n").unwrap_err();
+    assert_error(
+        &e,
+        SceneErrorKind::InvalidValue,
+        r#"scenes/t.toml:57: contact[0].recovery = "exact": must be one of: consistent, lumped"#,
+    );
+    let e = pair_with("friction = 0.3\n").unwrap_err();
+    assert_error(
+        &e,
+        SceneErrorKind::UnknownKey,
+        "scenes/t.toml:57: contact[0].friction = 0.3: unknown key; \
+         allowed keys: name, contactor, target, mu_s, mu_d, rule, recovery",
+    );
+    let e = with("[[contact]]\nname = \"c\"\ncontactor = \"wheel.arc\"\n").unwrap_err();
+    assert_error(
+        &e,
+        SceneErrorKind::MissingKey,
+        "scenes/t.toml:49: contact[0].target = (missing): required key is missing",
+    );
+}
+
+#[test]
+fn duplicate_contact_and_rigid_names() {
+    let e =
+        pair_with("\n[[contact]]\nname = \"c\"\ncontactor = \"block.top\"\ntarget = \"floor\"\n")
+            .unwrap_err();
+    assert_error(
+        &e,
+        SceneErrorKind::Duplicate,
+        r#"scenes/t.toml:59: contact[1].name = "c": duplicate contact name"#,
+    );
+    let e =
+        with("[[contact]]\nname = \"c.1\"\ncontactor = \"wheel.arc\"\ntarget = \"block.top\"\n")
+            .unwrap_err();
+    assert_error(
+        &e,
+        SceneErrorKind::InvalidValue,
+        r#"scenes/t.toml:50: contact[0].name = "c.1": a contact name must not contain '.'"#,
+    );
+    let e = with("[[rigid]]\nname = \"press\"\npoints = [[0.0, 0.0], [1.0, 0.0]]\n").unwrap_err();
+    assert_error(
+        &e,
+        SceneErrorKind::Duplicate,
+        r#"scenes/t.toml:50: rigid[0].name = "press": driver[1] has that name; rigids and drivers need distinct names (both report their reactions by name)"#,
+    );
+    let e = with(
+        "[[rigid]]\nname = \"floor\"\npoints = [[0.0, 0.0], [1.0, 0.0]]\n\n\
+         [[rigid]]\nname = \"floor\"\npoints = [[0.0, 1.0], [1.0, 1.0]]\n",
+    )
+    .unwrap_err();
+    assert_error(
+        &e,
+        SceneErrorKind::Duplicate,
+        r#"scenes/t.toml:54: rigid[1].name = "floor": duplicate rigid name"#,
+    );
+    let e =
+        with("[[rigid]]\nname = \"big.floor\"\npoints = [[0.0, 0.0], [1.0, 0.0]]\n").unwrap_err();
+    assert_error(
+        &e,
+        SceneErrorKind::InvalidValue,
+        r#"scenes/t.toml:50: rigid[0].name = "big.floor": a rigid name must not contain '.' (a contact target with '.' is a body's edge set)"#,
+    );
+}
+
+/// BASE with one rigid named "floor" made of `lines`.
+fn rigid(lines: &str) -> SceneError {
+    with(&format!("[[rigid]]\nname = \"floor\"\n{lines}\n")).unwrap_err()
+}
+
+#[test]
+fn rigid_shape_errors() {
+    let e = rigid("points = [[0.0, 0.0]]");
+    assert_error(
+        &e,
+        SceneErrorKind::InvalidValue,
+        "scenes/t.toml:51: rigid[0].points = [[0.0, 0.0]]: a rigid polyline needs at least 2 points",
+    );
+    let e = rigid("points = [[0.0, 0.0], [1.0, 0.0], [1, 0]]");
+    assert_error(
+        &e,
+        SceneErrorKind::InvalidValue,
+        "scenes/t.toml:51: rigid[0].points[2] = [1, 0]: repeats the point before it; consecutive points must differ",
+    );
+    let e = rigid("points = [[0.0, 0.0], [inf, 0.0]]");
+    assert_error(
+        &e,
+        SceneErrorKind::InvalidValue,
+        "scenes/t.toml:51: rigid[0].points[1][0] = inf: numbers must be finite",
+    );
+    let e = rigid(
+        "points = [[0.0, 0.0], [1.0, 0.0]]\n\
+         arc = { center = [0.0, 0.0], radius = 1.0, angles = [0.0, 90.0], segments = 2 }",
+    );
+    assert_error(
+        &e,
+        SceneErrorKind::InvalidValue,
+        "scenes/t.toml:52: rigid[0].arc = { center = [0.0, 0.0], radius = 1.0, angles = [0.0, 90.0], s ...: \
+         give either `points` or `arc`, not both",
+    );
+    let e = rigid("ux = 1.0");
+    assert_error(
+        &e,
+        SceneErrorKind::MissingKey,
+        "scenes/t.toml:49: rigid[0].points = (missing): a rigid gives exactly one of \
+         `points = [[x, y], ...]` or `arc = { center, radius, angles, segments }`",
+    );
+    let arc = |radius: &str, angles: &str, segments: &str| {
+        rigid(&format!(
+            "arc = {{ center = [0.0, 0.0], radius = {radius}, angles = {angles}, segments = {segments} }}"
+        ))
+    };
+    let e = arc("0.0", "[0.0, 90.0]", "2");
+    assert_error(
+        &e,
+        SceneErrorKind::InvalidValue,
+        "scenes/t.toml:51: rigid[0].arc.radius = 0.0: radius must be positive",
+    );
+    let e = arc("1.0", "[90, 90.0]", "2");
+    assert_error(
+        &e,
+        SceneErrorKind::InvalidValue,
+        "scenes/t.toml:51: rigid[0].arc.angles = [90, 90.0]: \
+         the two angles must differ (the arc runs from the first to the second)",
+    );
+    let e = arc("1.0", "[0.0, -400.0]", "2");
+    assert_error(
+        &e,
+        SceneErrorKind::InvalidValue,
+        "scenes/t.toml:51: rigid[0].arc.angles = [0.0, -400.0]: an arc spans at most 360 degrees",
+    );
+    let e = arc("1.0", "[0.0, 90.0]", "0");
+    assert_error(
+        &e,
+        SceneErrorKind::InvalidValue,
+        "scenes/t.toml:51: rigid[0].arc.segments = 0: segments must be at least 1",
+    );
+    let e = arc("1.0", "[0.0, 360.0]", "1");
+    assert_error(
+        &e,
+        SceneErrorKind::InvalidValue,
+        "scenes/t.toml:51: rigid[0].arc.segments = 1: a full circle needs at least 2 segments",
+    );
+    let e = arc("1.0", "[0.0, 90.0]", "2, sweep = 1.0");
+    assert_error(
+        &e,
+        SceneErrorKind::UnknownKey,
+        "scenes/t.toml:51: rigid[0].arc.sweep = 1.0: unknown key; \
+         allowed keys: center, radius, angles, segments",
+    );
+    let e = rigid("points = [[0.0, 0.0], [1.0, 0.0]]\ncenter = [0.0, 0.0]");
+    assert_error(
+        &e,
+        SceneErrorKind::UnknownKey,
+        "scenes/t.toml:52: rigid[0].center = [0.0, 0.0]: unknown key; \
+         allowed keys: name, points, arc, reference, ux, uy, theta",
+    );
+    let e = rigid("points = [[0.0, 0.0], [1.0, 0.0]]\ntheta = { function = \"spin\" }");
+    assert_error(
+        &e,
+        SceneErrorKind::UnknownReference,
+        r#"scenes/t.toml:52: rigid[0].theta.function = "spin": no function of that name; functions: ramp"#,
+    );
 }

@@ -6,7 +6,9 @@
 use clap::{Parser, Subcommand};
 use contact2d::newton::Solver;
 use contact2d::output::{Summary, write_pvd, write_vtu};
-use contact2d::problem::{AnalysisKind, Kinematics, MaterialSpec, Problem, Scaled};
+use contact2d::problem::{
+    AnalysisKind, FrictionRule, Kinematics, MaterialSpec, Problem, Recovery, Scaled, Target,
+};
 use contact2d::results::{LogCategory, StepResult};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::collections::BTreeMap;
@@ -95,6 +97,8 @@ fn run(scene: &Path, summary_path: Option<&Path>, vtk_dir: Option<&Path>) -> Exi
     };
     let times = problem.times.clone();
     let driver_names: Vec<String> = problem.drivers.iter().map(|d| d.name.clone()).collect();
+    let rigid_names: Vec<String> = problem.rigids.iter().map(|r| r.name.clone()).collect();
+    let pair_names: Vec<String> = problem.contacts.iter().map(|c| c.name.clone()).collect();
     let max_bisections = problem.solver.max_bisections;
     let title = problem.name.clone();
     let (n_nodes, n_elements) = (problem.mesh.nodes.len(), problem.mesh.elements.len());
@@ -162,6 +166,8 @@ fn run(scene: &Path, summary_path: Option<&Path>, vtk_dir: Option<&Path>) -> Exi
                     newton_lines,
                     max_bisections,
                     driver_names.iter().cloned(),
+                    rigid_names.iter().cloned(),
+                    pair_names.iter().cloned(),
                 ));
                 failed = Some(e.to_string());
                 break;
@@ -234,7 +240,9 @@ fn write_outputs(
     result
 }
 
-/// One line per increment: time, work, residual, NEQC, driver reactions.
+/// One line per increment: time, work, residual, NEQC, driver reactions
+/// (and a rigid target's moment), then per contact pair its resultants and
+/// node counts by state.
 fn step_line(i: usize, n: usize, s: &StepResult) -> String {
     use std::fmt::Write;
     let mut line = format!(
@@ -243,6 +251,16 @@ fn step_line(i: usize, n: usize, s: &StepResult) -> String {
     );
     for (name, r) in &s.drivers {
         let _ = write!(line, "  {name}: Rx = {:.6e} Ry = {:.6e}", r.rx, r.ry);
+        if let Some(mz) = r.mz {
+            let _ = write!(line, " Mz = {mz:.6e}");
+        }
+    }
+    for (name, p) in &s.pairs {
+        let _ = write!(
+            line,
+            "  {name}: Fn = {:.6e} Ft = {:.6e} stick/slip/open = {}/{}/{}",
+            p.fn_, p.ft, p.n_stick, p.n_slip, p.n_open
+        );
     }
     line
 }
@@ -367,12 +385,81 @@ fn describe(scene: &Path, p: &Problem) -> String {
         );
     }
 
+    if !p.rigids.is_empty() {
+        let _ = writeln!(o, "rigid targets:");
+    }
+    for r in &p.rigids {
+        let [x, y] = r.reference;
+        let motion = [("ux", &r.ux), ("uy", &r.uy), ("theta", &r.theta)];
+        let driven: Vec<String> = (motion.iter())
+            .filter(|(_, s)| s.function.is_some() || s.scale != 0.0)
+            .map(|(c, s)| format!("{c} = {}", scaled(s, p)))
+            .collect();
+        let held: Vec<&str> = (motion.iter())
+            .filter(|(_, s)| s.function.is_none() && s.scale == 0.0)
+            .map(|(c, _)| *c)
+            .collect();
+        let mut line = format!(
+            "  {}: {} points, {} segments, reference ({x}, {y}); driven: {}",
+            r.name,
+            r.points.len(),
+            r.points.len().saturating_sub(1),
+            if driven.is_empty() {
+                "none".to_string()
+            } else {
+                driven.join(", ")
+            }
+        );
+        if !held.is_empty() {
+            line += &format!("; held at 0: {}", held.join(", "));
+        }
+        let _ = writeln!(o, "{line}");
+    }
+
+    if !p.contacts.is_empty() {
+        let _ = writeln!(o, "contact pairs:");
+    }
+    let body_name = |i: usize| p.bodies.get(i).map_or("?", |b| b.name.as_str());
+    for c in &p.contacts {
+        let target = match &c.target {
+            Target::Body { body, segments } => {
+                format!("body {} ({} segments)", body_name(*body), segments.len())
+            }
+            Target::Rigid(r) => match p.rigids.get(*r) {
+                Some(r) => format!(
+                    "rigid {} ({} segments)",
+                    r.name,
+                    r.points.len().saturating_sub(1)
+                ),
+                None => "rigid ?".into(),
+            },
+        };
+        let rule = match c.rule {
+            FrictionRule::MuDAfterSlip => "mu_d after first slip",
+            FrictionRule::AlwaysMuS => "mu_s throughout",
+        };
+        let recovery = match c.recovery {
+            Recovery::Consistent => "consistent",
+            Recovery::Lumped => "lumped",
+        };
+        let _ = writeln!(
+            o,
+            "  {}: contactor {} ({} nodes, {}) against {target}, mu_s = {}, mu_d = {}, \
+             rule: {rule}, recovery: {recovery}",
+            c.name,
+            body_name(c.body),
+            c.contactor.len(),
+            if c.closed { "closed" } else { "open" },
+            c.mu_s,
+            c.mu_d
+        );
+    }
+
     let _ = writeln!(o, "loads:");
     let loads = p.pressures.len() + p.forces.len() + p.body_forces.len() + p.initial_stresses.len();
     if loads == 0 {
         let _ = writeln!(o, "  (none)");
     }
-    let body_name = |i: usize| p.bodies.get(i).map_or("?", |b| b.name.as_str());
     for l in &p.pressures {
         let _ = writeln!(
             o,
@@ -433,4 +520,51 @@ fn describe(scene: &Path, p: &Problem) -> String {
         s.max_bisections
     );
     o
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use contact2d::results::{DriverResult, PairResult};
+
+    #[test]
+    fn step_line_has_moments_and_pairs() {
+        let step = StepResult {
+            time: 0.5,
+            converged: true,
+            iterations: 3,
+            substeps: 0,
+            residual: 1e-9,
+            neqc: 4,
+            drivers: vec![
+                ("base".into(), DriverResult::default()),
+                (
+                    "die".into(),
+                    DriverResult {
+                        rx: 1.0,
+                        ry: -2.0,
+                        mz: Some(0.25),
+                    },
+                ),
+            ],
+            pairs: vec![(
+                "die_on_block".into(),
+                PairResult {
+                    fn_: 2.0,
+                    ft: -0.5,
+                    n_stick: 1,
+                    n_slip: 2,
+                    n_open: 3,
+                    ..PairResult::default()
+                },
+            )],
+        };
+        assert_eq!(
+            step_line(1, 2, &step),
+            "step 1/2  t = 0.5  iterations 3  substeps 0  |r|/|r0| = 1.000e-9  NEQC 4  \
+             base: Rx = 0.000000e0 Ry = 0.000000e0  \
+             die: Rx = 1.000000e0 Ry = -2.000000e0 Mz = 2.500000e-1  \
+             die_on_block: Fn = 2.000000e0 Ft = -5.000000e-1 stick/slip/open = 1/2/3"
+        );
+    }
 }

@@ -2,8 +2,11 @@
 //! enforced by Lagrange multipliers in Eq. (18). `segment` is the pure kernel (geometry
 //! and one node's contributions); the derivation is in docs/contact.md.
 
+pub mod pairs;
 pub mod segment;
+pub mod traction;
 
+pub use pairs::PairMemory;
 pub use segment::{ContactPoint, NodeMat, NodeVec, Segment, Sliding, Sticking};
 
 /// Errors of the contact kernel, carrying the offending values.

@@ -1,9 +1,10 @@
 //! The summary file of a run (SPEC section 5): one JSON object with the
 //! scene, the number of unknowns, the wall time and one entry per increment,
-//! in the FMU's names. Drivers keep their scene order (a JSON object written
-//! in that order); a failed increment is the last entry, `converged: false`.
+//! in the FMU's names. Drivers and contact pairs keep their scene order (JSON
+//! objects written in that order); a failed increment is the last entry,
+//! `converged: false`. A value that is not known is written as `null`.
 
-use crate::results::{DriverResult, StepResult};
+use crate::results::{DriverResult, PairResult, StepResult};
 use serde::Serialize;
 use serde::ser::{SerializeMap, SerializeStruct, Serializer};
 use std::io::{self, BufWriter, Write};
@@ -37,14 +38,47 @@ impl Summary {
         }
     }
 
-    /// The entry of an increment that did not converge. What it does not
-    /// know (final residual, reactions) is NaN, written as `null`.
+    /// The entry of an increment that did not converge, with the same keys
+    /// as a converged one so that a reader need not tell them apart to index
+    /// them. What it does not know is written as `null`: the final residual,
+    /// every driver's Rx and Ry, every rigid target's Rx, Ry and Mz (rigid
+    /// targets follow the drivers, as in a converged step), and every pair's
+    /// Fx, Fy, Fn, Ft, n_stick, n_slip and n_open. A pair's `nodes` holds
+    /// five empty arrays: the node count is not known here, and a reader
+    /// that loops over the nodes of every step needs no special case.
     pub fn failed_step(
         time: f64,
         iterations: usize,
         substeps: usize,
         driver_names: impl IntoIterator<Item = String>,
+        rigid_names: impl IntoIterator<Item = String>,
+        pair_names: impl IntoIterator<Item = String>,
     ) -> StepResult {
+        let unknown = |mz| DriverResult {
+            rx: f64::NAN,
+            ry: f64::NAN,
+            mz,
+        };
+        let drivers = (driver_names.into_iter().map(|n| (n, unknown(None))))
+            .chain(
+                rigid_names
+                    .into_iter()
+                    .map(|n| (n, unknown(Some(f64::NAN)))),
+            )
+            .collect();
+        let pairs = pair_names
+            .into_iter()
+            .map(|n| {
+                let pair = PairResult {
+                    fx: f64::NAN,
+                    fy: f64::NAN,
+                    fn_: f64::NAN,
+                    ft: f64::NAN,
+                    ..PairResult::default()
+                };
+                (n, pair)
+            })
+            .collect();
         StepResult {
             time,
             converged: false,
@@ -52,20 +86,8 @@ impl Summary {
             substeps,
             residual: f64::NAN,
             neqc: 0,
-            drivers: driver_names
-                .into_iter()
-                .map(|n| {
-                    (
-                        n,
-                        DriverResult {
-                            rx: f64::NAN,
-                            ry: f64::NAN,
-                            mz: None,
-                        },
-                    )
-                })
-                .collect(),
-            pairs: Vec::new(),
+            drivers,
+            pairs,
         }
     }
 
@@ -99,29 +121,45 @@ impl Serialize for StepJson<'_> {
         st.serialize_field("substeps", &r.substeps)?;
         st.serialize_field("residual", &r.residual)?;
         st.serialize_field("neqc", &r.neqc)?;
-        st.serialize_field("drivers", &Drivers(&r.drivers))?;
-        // Contact pairs arrive with the contact algorithm.
-        st.serialize_field("pairs", &EmptyObject)?;
+        st.serialize_field("drivers", &Named(&r.drivers, |d| d))?;
+        st.serialize_field("pairs", &Named(&r.pairs, PairJson))?;
         st.end()
     }
 }
 
-struct Drivers<'a>(&'a [(String, DriverResult)]);
+/// Named entries as one JSON object whose keys keep the slice's order, each
+/// value serialized in the shape the function gives it.
+struct Named<'a, T, W>(&'a [(String, T)], fn(&'a T) -> W);
 
-impl Serialize for Drivers<'_> {
+impl<'a, T, W: Serialize> Serialize for Named<'a, T, W> {
     fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
         let mut m = s.serialize_map(Some(self.0.len()))?;
-        for (name, r) in self.0 {
-            m.serialize_entry(name, r)?;
+        for (name, v) in self.0 {
+            m.serialize_entry(name, &(self.1)(v))?;
         }
         m.end()
     }
 }
 
-struct EmptyObject;
+/// A pair in the summary's shape. Its node counts are `null` when nothing is
+/// known about its nodes (no node arrays: the entry of a failed increment);
+/// a pair always has contactor nodes, so a solved one never looks like that.
+struct PairJson<'a>(&'a PairResult);
 
-impl Serialize for EmptyObject {
+impl Serialize for PairJson<'_> {
     fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
-        s.serialize_map(Some(0))?.end()
+        let p = self.0;
+        let known = !p.nodes.state.is_empty();
+        let count = |n: usize| known.then_some(n);
+        let mut st = s.serialize_struct("Pair", 8)?;
+        st.serialize_field("Fx", &p.fx)?;
+        st.serialize_field("Fy", &p.fy)?;
+        st.serialize_field("Fn", &p.fn_)?;
+        st.serialize_field("Ft", &p.ft)?;
+        st.serialize_field("n_stick", &count(p.n_stick))?;
+        st.serialize_field("n_slip", &count(p.n_slip))?;
+        st.serialize_field("n_open", &count(p.n_open))?;
+        st.serialize_field("nodes", &p.nodes)?;
+        st.end()
     }
 }

@@ -2,6 +2,7 @@
 //! (materials, bodies, sets, functions) into the solver's `Problem`. Every
 //! error names the file, line, key and value it is about.
 
+mod contact;
 mod locate;
 mod mesh;
 mod raw;
@@ -117,6 +118,8 @@ impl<'a> Resolver<'a> {
         self.bodies(&scene.body)?;
         self.node_sets(&scene.node_set)?;
         let drivers = self.drivers(&scene.driver)?;
+        let rigids = self.rigids(&scene.rigid, &drivers)?;
+        let contacts = self.contacts(&scene.contact, &rigids)?;
         let pressures = self.pressures(&scene.pressure)?;
         let forces = self.forces(&scene.force)?;
         let body_forces = self.body_forces(&scene.body_force)?;
@@ -141,8 +144,8 @@ impl<'a> Resolver<'a> {
             bodies: self.bodies,
             functions: self.functions,
             drivers,
-            rigids: Vec::new(),
-            contacts: Vec::new(),
+            rigids,
+            contacts,
             pressures,
             forces,
             body_forces,

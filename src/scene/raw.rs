@@ -25,6 +25,10 @@ pub(super) struct Scene {
     #[serde(default)]
     pub driver: Vec<Spanned<Driver>>,
     #[serde(default)]
+    pub rigid: Vec<Spanned<Rigid>>,
+    #[serde(default)]
+    pub contact: Vec<Contact>,
+    #[serde(default)]
     pub pressure: Vec<Pressure>,
     #[serde(default)]
     pub force: Vec<Spanned<Force>>,
@@ -182,6 +186,55 @@ pub(super) struct Driver {
     pub set: Spanned<String>,
     pub ux: Option<ValueSpec>,
     pub uy: Option<ValueSpec>,
+}
+
+/// A rigid target: a polyline given by its points, or an arc.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct Rigid {
+    pub name: Spanned<String>,
+    pub points: Option<Spanned<Vec<Spanned<Pair<f64>>>>>,
+    pub arc: Option<Spanned<Arc>>,
+    pub reference: Option<Pair<f64>>,
+    pub ux: Option<ValueSpec>,
+    pub uy: Option<ValueSpec>,
+    pub theta: Option<ValueSpec>,
+}
+
+/// A rigid arc: `segments` chords from `angles[0]` to `angles[1]` (degrees).
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct Arc {
+    pub center: Pair<f64>,
+    pub radius: Spanned<f64>,
+    pub angles: Spanned<Pair<f64>>,
+    pub segments: Spanned<usize>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct Contact {
+    pub name: Spanned<String>,
+    pub contactor: Spanned<String>,
+    pub target: Spanned<String>,
+    pub mu_s: Option<Spanned<f64>>,
+    pub mu_d: Option<Spanned<f64>>,
+    pub rule: Option<RuleName>,
+    pub recovery: Option<RecoveryName>,
+}
+
+#[derive(Deserialize, Clone, Copy)]
+#[serde(rename_all = "snake_case")]
+pub(super) enum RuleName {
+    MuDAfterSlip,
+    AlwaysMuS,
+}
+
+#[derive(Deserialize, Clone, Copy)]
+#[serde(rename_all = "snake_case")]
+pub(super) enum RecoveryName {
+    Consistent,
+    Lumped,
 }
 
 #[derive(Deserialize)]

@@ -212,5 +212,6 @@ def test_failed_increment_is_in_the_summary(tmp_path, run_cli):
     assert len(steps) == 1
     assert steps[0]["time"] == 0.5 and steps[0]["converged"] is False
     assert list(steps[0]["drivers"]) == ["base", "pin", "pull"]
+    assert steps[0]["pairs"] == {}
     pvd = ET.parse(tmp_path / "vtk" / "stretch.pvd").getroot()
     assert pvd.findall("./Collection/DataSet") == []

@@ -1,0 +1,665 @@
+//! Contact pairs inside a Newton iteration (Sections 2-3 of the paper): the
+//! contact forces from the out-of-balance forces (traction recovery and the
+//! segment decisions of `traction`), the node states, the contact search
+//! (bounding boxes, projection, segment switching, release and re-contact),
+//! and the rows of Eq. (18) each constrained node adds (`segment`).
+//!
+//! One call of [`update`] per iteration turns the state after iteration
+//! (i-1) into the contact part of the system for iteration (i).
+
+use super::segment::{ContactPoint, Segment};
+use super::traction::{self, Geometry, SegmentState};
+use crate::assembly::PRESCRIBED;
+use crate::problem::{AnalysisKind, ContactPair, Problem, Target};
+use crate::results::{NodeState, PairNodes, PairResult};
+use nalgebra::Vector2;
+use serde::{Deserialize, Serialize};
+
+/// A sliding segment returns to sticking only when its tangential force
+/// falls this fraction below the capacity: at a converged sliding state the
+/// two are equal to round-off and must not flip back and forth.
+const SLIDE_HYSTERESIS: f64 = 1e-6;
+/// Contact points this far (in beta) outside a segment still count as on it,
+/// so round-off at a target node does not lose the contact.
+const BETA_TOLERANCE: f64 = 1e-6;
+/// Times a node may change between open and closed within one increment
+/// before the increment is declared oscillating.
+const MAX_FLIPS: usize = 6;
+
+/// A contactor node's memory: state, target segment and contact point.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct NodeMemory {
+    pub state: NodeState,
+    pub segment: usize,
+    pub beta: f64,
+}
+
+/// A contactor segment's memory (segment j joins contactor nodes j, j+1).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct SegmentMemory {
+    /// Open, Stick or Slip (Slip meaning the segment slides).
+    pub state: NodeState,
+    pub ever_slid: bool,
+}
+
+/// What a pair carries from one iteration, and one increment, to the next.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct PairMemory {
+    pub nodes: Vec<NodeMemory>,
+    pub segments: Vec<SegmentMemory>,
+}
+
+impl PairMemory {
+    pub fn new(pair: &ContactPair) -> Self {
+        let m = pair.contactor.len();
+        let segments = if pair.closed { m } else { m.saturating_sub(1) };
+        PairMemory {
+            nodes: vec![NodeMemory::default(); m],
+            segments: vec![SegmentMemory::default(); segments],
+        }
+    }
+}
+
+/// One row of the constraint block of Eq. (18): `sum c_q du_q = rhs`, with
+/// the prescribed dofs kept as dofs (the caller moves known increments to
+/// the right-hand side).
+#[derive(Clone, Debug)]
+pub struct Row {
+    pub dofs: Vec<(usize, f64)>,
+    pub rhs: f64,
+}
+
+/// The contact part of the system for one iteration.
+#[derive(Clone, Debug, Default)]
+pub struct ContactSystem {
+    /// `G^T lambda` per dof: the contact forces, added to the external load.
+    pub force: Vec<(usize, f64)>,
+    /// Sliding gradient matrix entries (dof, dof, value), added to K.
+    pub k: Vec<(usize, usize, f64)>,
+    pub rows: Vec<Row>,
+    /// Per constrained node: its mesh node and the range of its rows.
+    pub groups: Vec<(usize, std::ops::Range<usize>)>,
+    /// Nodes whose state changed in this update.
+    pub changes: usize,
+    /// Largest overlap (penetration or tangential drift) of a closed node.
+    pub max_overlap: f64,
+    pub pairs: Vec<PairResult>,
+    /// Per rigid target: force on it [Rx, Ry] and moment Mz about its moved
+    /// reference point.
+    pub rigid: Vec<[f64; 3]>,
+}
+
+impl ContactSystem {
+    pub fn neqc(&self) -> usize {
+        self.rows.len()
+    }
+}
+
+/// Per-increment counters (flip detection).
+#[derive(Clone, Debug, Default)]
+pub struct Flips {
+    counts: Vec<Vec<usize>>,
+}
+
+/// A target segment at the current time: end points and node numbers
+/// (None for a rigid target).
+struct TargetSegment {
+    seg: Segment,
+    nodes: Option<[usize; 2]>,
+    lo: [f64; 2],
+    hi: [f64; 2],
+}
+
+fn position(problem: &Problem, u: &[f64], n: usize) -> Vector2<f64> {
+    let x = problem.mesh.nodes[n];
+    Vector2::new(x[0] + u[2 * n], x[1] + u[2 * n + 1])
+}
+
+/// Points of a rigid target at time t: rotated by theta about the reference
+/// and translated by (ux, uy). Also returns the moved reference point.
+pub fn rigid_points(problem: &Problem, r: usize, t: f64) -> (Vec<[f64; 2]>, [f64; 2]) {
+    let rigid = &problem.rigids[r];
+    let f = &problem.functions;
+    let (ux, uy, th) = (rigid.ux.at(t, f), rigid.uy.at(t, f), rigid.theta.at(t, f));
+    let (s, c) = th.sin_cos();
+    let [cx, cy] = rigid.reference;
+    let points = rigid
+        .points
+        .iter()
+        .map(|p| {
+            let (dx, dy) = (p[0] - cx, p[1] - cy);
+            [cx + c * dx - s * dy + ux, cy + s * dx + c * dy + uy]
+        })
+        .collect();
+    (points, [cx + ux, cy + uy])
+}
+
+fn target_segments(
+    problem: &Problem,
+    pair: &ContactPair,
+    u: &[f64],
+    t: f64,
+) -> Result<Vec<TargetSegment>, String> {
+    let make = |xa: Vector2<f64>, xb: Vector2<f64>, nodes| {
+        let seg = Segment::new(xa, xb).map_err(|e| format!("pair '{}': {e}", pair.name))?;
+        Ok(TargetSegment {
+            seg,
+            nodes,
+            lo: [xa.x.min(xb.x), xa.y.min(xb.y)],
+            hi: [xa.x.max(xb.x), xa.y.max(xb.y)],
+        })
+    };
+    match &pair.target {
+        Target::Body { segments, .. } => segments
+            .iter()
+            .map(|&[a, b]| {
+                make(
+                    position(problem, u, a),
+                    position(problem, u, b),
+                    Some([a, b]),
+                )
+            })
+            .collect(),
+        Target::Rigid(r) => {
+            let (points, _) = rigid_points(problem, *r, t);
+            points
+                .windows(2)
+                .map(|w| {
+                    let v = |p: [f64; 2]| Vector2::new(p[0], p[1]);
+                    make(v(w[0]), v(w[1]), None)
+                })
+                .collect()
+        }
+    }
+}
+
+/// The segment a free node at `x` has penetrated, with its projection: the
+/// candidate (bounding box within `reach`) whose projection falls on the
+/// segment with a positive overlap smaller than `reach`, nearest first.
+fn search(
+    segments: &[TargetSegment],
+    x: Vector2<f64>,
+    reach: f64,
+) -> Option<(usize, ContactPoint)> {
+    let mut best: Option<(usize, ContactPoint)> = None;
+    for (j, s) in segments.iter().enumerate() {
+        if x.x < s.lo[0] - reach
+            || x.x > s.hi[0] + reach
+            || x.y < s.lo[1] - reach
+            || x.y > s.hi[1] + reach
+        {
+            continue;
+        }
+        let cp = s.seg.project(x);
+        let d = cp.normal_overlap();
+        if !cp.is_within(BETA_TOLERANCE) || d <= 0.0 || d > reach {
+            continue;
+        }
+        if best.as_ref().is_none_or(|(_, b)| d < b.normal_overlap()) {
+            best = Some((j, cp));
+        }
+    }
+    best
+}
+
+/// A sliding node's new contact point: the projection on its segment, or on
+/// the segment it has slid onto (any segment whose projection contains it,
+/// nearest in |overlap|). None when it has slid off the target.
+fn follow(
+    segments: &[TargetSegment],
+    j: usize,
+    x: Vector2<f64>,
+    reach: f64,
+) -> Option<(usize, ContactPoint)> {
+    let cp = segments[j].seg.project(x);
+    if cp.is_within(BETA_TOLERANCE) {
+        return Some((j, cp));
+    }
+    let mut best: Option<(usize, ContactPoint)> = None;
+    for (i, s) in segments.iter().enumerate() {
+        if x.x < s.lo[0] - reach
+            || x.x > s.hi[0] + reach
+            || x.y < s.lo[1] - reach
+            || x.y > s.hi[1] + reach
+        {
+            continue;
+        }
+        let c = s.seg.project(x);
+        if !c.is_within(BETA_TOLERANCE) || c.normal_overlap().abs() > reach {
+            continue;
+        }
+        if best
+            .as_ref()
+            .is_none_or(|(_, b)| c.normal_overlap().abs() < b.normal_overlap().abs())
+        {
+            best = Some((i, c));
+        }
+    }
+    best
+}
+
+fn geometry(problem: &Problem) -> Geometry {
+    match problem.analysis {
+        AnalysisKind::PlaneStrain { thickness } | AnalysisKind::PlaneStress { thickness } => {
+            Geometry::Planar { thickness }
+        }
+        AnalysisKind::Axisymmetric => Geometry::Axisymmetric,
+    }
+}
+
+fn to_segment_state(s: NodeState) -> SegmentState {
+    match s {
+        NodeState::Open => SegmentState::Open,
+        NodeState::Stick => SegmentState::Stick,
+        NodeState::Slip => SegmentState::Slide,
+    }
+}
+
+fn from_segment_state(s: SegmentState) -> NodeState {
+    match s {
+        SegmentState::Open => NodeState::Open,
+        SegmentState::Stick => NodeState::Stick,
+        SegmentState::Slide => NodeState::Slip,
+    }
+}
+
+/// The contact part of the system at displacements `u` and time `t`, from
+/// the out-of-balance forces `r` (F_int - R_ext, contact excluded) and the
+/// memory after the previous iteration, which it updates. `eq` maps dofs to
+/// equations (PRESCRIBED for prescribed dofs).
+pub fn update(
+    problem: &Problem,
+    t: f64,
+    u: &[f64],
+    r: &[f64],
+    eq: &[u32],
+    memory: &mut [PairMemory],
+    flips: &mut Flips,
+    log: &mut dyn FnMut(&str),
+) -> Result<ContactSystem, String> {
+    let mut out = ContactSystem {
+        rigid: vec![[0.0; 3]; problem.rigids.len()],
+        ..Default::default()
+    };
+    if flips.counts.len() != memory.len() {
+        flips.counts = memory.iter().map(|m| vec![0; m.nodes.len()]).collect();
+    }
+    let geometry = geometry(problem);
+    for (p, pair) in problem.contacts.iter().enumerate() {
+        let mem = &mut memory[p];
+        let m = pair.contactor.len();
+        let segments = target_segments(problem, pair, u, t)?;
+        let x: Vec<Vector2<f64>> = pair
+            .contactor
+            .iter()
+            .map(|&n| position(problem, u, n))
+            .collect();
+        // Reach of the search: a few contactor segment lengths, so a node is
+        // not caught by the far side of a thin target.
+        let mut reach: f64 = 0.0;
+        for w in x.windows(2) {
+            reach = reach.max((w[1] - w[0]).norm());
+        }
+        let reach = if reach > 0.0 {
+            2.0 * reach
+        } else {
+            f64::INFINITY
+        };
+
+        // Contact forces from the out-of-balance forces (Section 3).
+        let active: Vec<bool> = mem
+            .nodes
+            .iter()
+            .map(|n| n.state != NodeState::Open)
+            .collect();
+        // At a prescribed dof the out-of-balance force is the driver's
+        // reaction, not contact: taken as zero (a symmetry plane).
+        let component = |d: usize| if eq[d] == PRESCRIBED { 0.0 } else { r[d] };
+        let force: Vec<[f64; 2]> = pair
+            .contactor
+            .iter()
+            .map(|&n| [component(2 * n), component(2 * n + 1)])
+            .collect();
+        let xs: Vec<[f64; 2]> = x.iter().map(|v| [v.x, v.y]).collect();
+        let prev: Vec<SegmentState> = mem
+            .segments
+            .iter()
+            .map(|s| to_segment_state(s.state))
+            .collect();
+        let ever: Vec<bool> = mem.segments.iter().map(|s| s.ever_slid).collect();
+        let ev = traction::evaluate(
+            geometry,
+            pair.recovery,
+            pair.mu_s,
+            pair.mu_d,
+            pair.rule,
+            pair.closed,
+            &xs,
+            &active,
+            &force,
+            &prev,
+            &ever,
+            SLIDE_HYSTERESIS,
+        )
+        .map_err(|e| format!("pair '{}': {e}", pair.name))?;
+        for (s, seg) in mem.segments.iter_mut().enumerate() {
+            seg.state = from_segment_state(ev.segments[s].state);
+            seg.ever_slid = ev.segments[s].ever_slid;
+        }
+        let frictionless = pair.mu_s == 0.0 && pair.mu_d == 0.0;
+        let new_contact = if frictionless {
+            NodeState::Slip
+        } else {
+            NodeState::Stick
+        };
+
+        let mut result = PairResult {
+            fx: 0.0,
+            fy: 0.0,
+            fn_: 0.0,
+            ft: 0.0,
+            nodes: PairNodes::default(),
+            ..Default::default()
+        };
+        // The force a node in contact reports: its out-of-balance force, which
+        // at convergence is the contact force in every direction (the
+        // multipliers take up what the recovered forces leave).
+        let reported = |k: usize| {
+            if active[k] {
+                Vector2::new(force[k][0], force[k][1])
+            } else {
+                Vector2::zeros()
+            }
+        };
+        for k in 0..m {
+            let old = mem.nodes[k];
+            let mut lambda = Vector2::zeros();
+            let mut state = if active[k] {
+                ev.node_states[k]
+            } else {
+                NodeState::Open
+            };
+            if active[k] && state != NodeState::Open {
+                lambda = Vector2::new(ev.forces[k][0], ev.forces[k][1]);
+            }
+            // Where the node meets the target now.
+            let mut point: Option<(usize, ContactPoint)> = None;
+            match state {
+                NodeState::Stick if old.state == NodeState::Stick => {
+                    point = Some((
+                        old.segment,
+                        segments[old.segment].seg.contact_at(x[k], old.beta),
+                    ));
+                }
+                NodeState::Stick | NodeState::Slip => {
+                    point = follow(&segments, old.segment, x[k], reach);
+                    if point.is_none() {
+                        log(&format!(
+                            "pair '{}' node {k}: slid off the target, released",
+                            pair.name
+                        ));
+                        state = NodeState::Open;
+                        lambda = Vector2::zeros();
+                    }
+                }
+                NodeState::Open => {
+                    if let Some(found) = search(&segments, x[k], reach) {
+                        point = Some(found);
+                        state = new_contact;
+                    }
+                }
+            }
+            if (state == NodeState::Open) != (old.state == NodeState::Open) {
+                flips.counts[p][k] += 1;
+                if flips.counts[p][k] > MAX_FLIPS {
+                    return Err(format!(
+                        "pair '{}' node {k} (mesh node {}) alternates between open and contact \
+                         ({} changes in this increment)",
+                        pair.name, pair.contactor[k], flips.counts[p][k]
+                    ));
+                }
+            }
+            if state != old.state {
+                out.changes += 1;
+            }
+            let n = pair.contactor[k];
+            let mut node = NodeMemory { state, ..old };
+            if let Some((j, cp)) = point.filter(|_| state != NodeState::Open) {
+                node.segment = j;
+                node.beta = cp.beta();
+                let target = segments[j].nodes;
+                let dofs: [Option<usize>; 6] = {
+                    let mut d = [Some(2 * n), Some(2 * n + 1), None, None, None, None];
+                    if let Some([a, b]) = target {
+                        d[2] = Some(2 * a);
+                        d[3] = Some(2 * a + 1);
+                        d[4] = Some(2 * b);
+                        d[5] = Some(2 * b + 1);
+                    }
+                    d
+                };
+                let overlap = cp.overlap();
+                let first_row = out.rows.len();
+                if state == NodeState::Stick {
+                    let c = cp.sticking(lambda);
+                    for l in 0..6 {
+                        if let Some(d) = dofs[l] {
+                            out.force.push((d, c.r_c[l]));
+                        }
+                    }
+                    for row in 0..2 {
+                        let cols = (0..6)
+                            .filter_map(|l| dofs[l].map(|d| (d, c.k_ul[(l, row)])))
+                            .collect();
+                        out.rows.push(Row {
+                            dofs: cols,
+                            rhs: c.delta_c[row],
+                        });
+                    }
+                    out.max_overlap = out.max_overlap.max(overlap.norm());
+                } else {
+                    let c = cp.sliding(lambda);
+                    for l in 0..6 {
+                        if let Some(d) = dofs[l] {
+                            out.force.push((d, c.r_c[l]));
+                        }
+                    }
+                    if target.is_some() {
+                        for a in 0..6 {
+                            for b in 0..6 {
+                                if let (Some(da), Some(db)) = (dofs[a], dofs[b])
+                                    && c.k_uu[(a, b)] != 0.0
+                                {
+                                    out.k.push((da, db, c.k_uu[(a, b)]));
+                                }
+                            }
+                        }
+                    }
+                    let cols = (0..6)
+                        .filter_map(|l| dofs[l].map(|d| (d, c.k_ul[l])))
+                        .collect();
+                    out.rows.push(Row {
+                        dofs: cols,
+                        rhs: c.delta_c,
+                    });
+                    out.max_overlap = out.max_overlap.max(c.delta_c.abs());
+                }
+                out.groups.push((n, first_row..out.rows.len()));
+                // Normal (compression positive) and tangential (along the
+                // contactor, from node k toward k + 1, i.e. against the
+                // target's A -> B) parts of the force on the contactor.
+                let f = reported(k);
+                result.fn_ -= f.dot(&cp.segment().normal());
+                result.ft -= f.dot(&cp.segment().tangent());
+                if let Target::Rigid(ri) = pair.target {
+                    let (_, reference) = rigid_points(problem, ri, t);
+                    let xc = cp.point();
+                    let f = -reported(k);
+                    let rr = &mut out.rigid[ri];
+                    rr[0] += f.x;
+                    rr[1] += f.y;
+                    rr[2] += (xc.x - reference[0]) * f.y - (xc.y - reference[1]) * f.x;
+                }
+            }
+            mem.nodes[k] = node;
+            if state != NodeState::Open {
+                let f = reported(k);
+                result.fx += f.x;
+                result.fy += f.y;
+            }
+            match state {
+                NodeState::Open => result.n_open += 1,
+                NodeState::Stick => result.n_stick += 1,
+                NodeState::Slip => result.n_slip += 1,
+            }
+            result.nodes.x.push(x[k].x);
+            result.nodes.y.push(x[k].y);
+            result.nodes.tn.push(if state == NodeState::Open {
+                0.0
+            } else {
+                ev.node_tn[k]
+            });
+            result.nodes.tt.push(if state == NodeState::Open {
+                0.0
+            } else {
+                ev.node_tt[k]
+            });
+            result.nodes.state.push(state);
+        }
+        // Reported tractions on 8-node sides: recovered with the sides' own
+        // quadratic shape functions from the forces of the nodes in contact
+        // (the paper's linear recovery, used for the decisions above, makes
+        // corner and mid-side values alternate on 8-node sides).
+        let q8 = problem.bodies[pair.body]
+            .elements
+            .clone()
+            .next()
+            .is_some_and(|e| problem.mesh.elements[e].kind == crate::mesh::ElementKind::Q8);
+        if q8 && m % 2 == (if pair.closed { 0 } else { 1 }) {
+            let closed_now: Vec<bool> = (0..m)
+                .map(|k| result.nodes.state[k] != NodeState::Open)
+                .collect();
+            let f: Vec<Vector2<f64>> = (0..m)
+                .map(|k| {
+                    if closed_now[k] && active[k] {
+                        reported(k)
+                    } else {
+                        Vector2::zeros()
+                    }
+                })
+                .collect();
+            if let Some(t) = quadratic_tractions(geometry, pair.closed, &x, &closed_now, &f) {
+                for k in 0..m {
+                    if !closed_now[k] {
+                        continue;
+                    }
+                    let (tau, nu) = node_frame(&x, pair.closed, k);
+                    result.nodes.tn[k] = t[k].dot(&nu);
+                    result.nodes.tt[k] = t[k].dot(&tau);
+                }
+            }
+        }
+        out.pairs.push(result);
+    }
+    Ok(out)
+}
+
+/// Unit tangent (toward the next node) and inward normal of a contactor
+/// chain at node k: the average of its segments' directions.
+fn node_frame(x: &[Vector2<f64>], closed: bool, k: usize) -> (Vector2<f64>, Vector2<f64>) {
+    let m = x.len();
+    let mut tau = Vector2::zeros();
+    if k + 1 < m || closed {
+        tau += (x[(k + 1) % m] - x[k]).normalize();
+    }
+    if k > 0 || closed {
+        tau += (x[k] - x[(k + m - 1) % m]).normalize();
+    }
+    let tau = tau.normalize();
+    (tau, Vector2::new(-tau.y, tau.x))
+}
+
+/// Nodal tractions on a chain of 8-node sides (corner, mid-side, corner,
+/// ...) from nodal forces: the consistent system of the quadratic side
+/// interpolation, over the nodes in contact (the others carry zero). Weights
+/// by 3-point Gauss integration, exact for the quadratic-times-quadratic
+/// (times linear radius) integrands of straight sides. None if singular or
+/// too large for the dense solve (then the linear recovery stays).
+fn quadratic_tractions(
+    geometry: Geometry,
+    closed: bool,
+    x: &[Vector2<f64>],
+    on: &[bool],
+    f: &[Vector2<f64>],
+) -> Option<Vec<Vector2<f64>>> {
+    let m = x.len();
+    let index: Vec<Option<usize>> = {
+        let mut next = 0;
+        on.iter()
+            .map(|&a| {
+                a.then(|| {
+                    next += 1;
+                    next - 1
+                })
+            })
+            .collect()
+    };
+    let n = on.iter().filter(|&&a| a).count();
+    if n == 0 || n > 600 {
+        return None;
+    }
+    let mut a = nalgebra::DMatrix::<f64>::zeros(n, n);
+    let sides = if closed { m / 2 } else { (m - 1) / 2 };
+    let gauss = [
+        (-(0.6f64).sqrt(), 5.0 / 9.0),
+        (0.0, 8.0 / 9.0),
+        ((0.6f64).sqrt(), 5.0 / 9.0),
+    ];
+    for s in 0..sides {
+        let nodes = [2 * s, 2 * s + 1, (2 * s + 2) % m];
+        for &(xi, w) in &gauss {
+            let nshape = [0.5 * xi * (xi - 1.0), 1.0 - xi * xi, 0.5 * xi * (xi + 1.0)];
+            let dshape = [xi - 0.5, -2.0 * xi, xi + 0.5];
+            let mut dx = Vector2::zeros();
+            let mut pos = Vector2::zeros();
+            for i in 0..3 {
+                dx += dshape[i] * x[nodes[i]];
+                pos += nshape[i] * x[nodes[i]];
+            }
+            let weight = w
+                * dx.norm()
+                * match geometry {
+                    Geometry::Planar { thickness } => thickness,
+                    Geometry::Axisymmetric => 2.0 * std::f64::consts::PI * pos.x,
+                };
+            for i in 0..3 {
+                let Some(r) = index[nodes[i]] else { continue };
+                for j in 0..3 {
+                    if let Some(c) = index[nodes[j]] {
+                        a[(r, c)] += weight * nshape[i] * nshape[j];
+                    }
+                }
+            }
+        }
+    }
+    let lu = a.lu();
+    let mut t = vec![Vector2::zeros(); m];
+    for comp in 0..2 {
+        let b = nalgebra::DVector::from_iterator(n, (0..m).filter(|&k| on[k]).map(|k| f[k][comp]));
+        let sol = lu.solve(&b)?;
+        for k in 0..m {
+            if let Some(r) = index[k] {
+                t[k][comp] = sol[r];
+            }
+        }
+    }
+    t.iter()
+        .all(|v| v.x.is_finite() && v.y.is_finite())
+        .then_some(t)
+}
+
+/// Whether any dof of `rows` is prescribed in `eq`.
+pub fn touches_prescribed(rows: &[Row], eq: &[u32]) -> bool {
+    rows.iter()
+        .any(|r| r.dofs.iter().any(|&(d, _)| eq[d] == PRESCRIBED))
+}
