@@ -16,9 +16,14 @@ use nalgebra::Vector2;
 use serde::{Deserialize, Serialize};
 
 /// A sliding segment returns to sticking only when its tangential force
-/// falls this fraction below the capacity: at a converged sliding state the
-/// two are equal to round-off and must not flip back and forth.
-const SLIDE_HYSTERESIS: f64 = 1e-6;
+/// falls this fraction below the capacity. At a converged sliding state the
+/// recovered T_t of a segment differs from its T_f by the mismatch between
+/// the piecewise-uniform friction tractions (Fig. 5) and the linear field the
+/// recovery of Eq. (26) fits to their nodal loads: a few percent where T_n
+/// varies along the surface. A band of 1e-6 made the dragged block of
+/// scenes/verification/sliding_block.toml flip most segments back to
+/// sticking every iteration; 5 % lets it slide (measured, see the notes).
+const SLIDE_HYSTERESIS: f64 = 0.05;
 /// Contact points this far (in beta) outside a segment still count as on it,
 /// so round-off at a target node does not lose the contact.
 const BETA_TOLERANCE: f64 = 1e-6;
