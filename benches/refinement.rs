@@ -66,6 +66,37 @@ fn lame_error(s: &Solver) -> f64 {
         .fold(0.0, f64::max)
 }
 
+/// Segment-mean normal traction against Hertz over the contact zone.
+fn hertz_error(s: &Solver) -> String {
+    use contact2d::results::NodeState;
+    let r = s.last_pairs();
+    let pr = &r[0].1;
+    let load = 2.0 * pr.fy;
+    let e_star = 200000.0 / (1.0 - 0.09);
+    let a = (4.0 * load * 10.0 / (std::f64::consts::PI * e_star)).sqrt();
+    let p0 = 2.0 * load / (std::f64::consts::PI * a);
+    let integral = |x: f64| {
+        let x = x.min(a);
+        p0 * (x * (1.0 - x * x / (a * a)).sqrt() + a * (x / a).asin()) / 2.0
+    };
+    let n = &pr.nodes;
+    let mut sum = 0.0;
+    let mut count = 0;
+    for k in 0..n.x.len() - 1 {
+        if n.x[k] >= a || n.state[k] == NodeState::Open {
+            break;
+        }
+        let mean = 0.5 * (n.tn[k] + n.tn[k + 1]);
+        let exact = (integral(n.x[k + 1]) - integral(n.x[k])) / (n.x[k + 1] - n.x[k]);
+        sum += (mean - exact).powi(2);
+        count += 1;
+    }
+    format!(
+        "P {load:.1}  a {a:.4}  segments {count}  rms(segment-mean tn - Hertz)/p0 {:.3e}",
+        (sum / count.max(1) as f64).sqrt() / p0
+    )
+}
+
 fn main() {
     for element in ["q4", "q8"] {
         for n in [4, 8, 16, 32, 64] {
@@ -101,6 +132,20 @@ fn main() {
             -ux / 10.0 / 0.05643 - 1.0
         );
         print("cantilever", &format!("q8 {nx}x{ny}"), &r, &error);
+    }
+    // Hertz, plane strain: RMS error of the segment-mean normal traction
+    // over the contact zone against Hertz (with P from the computed load),
+    // as a fraction of p0 (the paper plotted segment means).
+    for n in [10, 20, 30, 40] {
+        let r = run(
+            "hertz_plane_strain.toml",
+            &[(
+                "divisions = 20, ratio = 20.0",
+                format!("divisions = {n}, ratio = {n}.0"),
+            )],
+        );
+        let step_pairs = hertz_error(&r.solver);
+        print("hertz", &format!("q8 disk {n}"), &r, &step_pairs);
     }
     // Throughput: a large axisymmetric Q8 mesh, one linear increment.
     for (nx, ny) in [(100, 25), (200, 50), (400, 100)] {

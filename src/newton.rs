@@ -266,6 +266,11 @@ impl Solver {
         out
     }
 
+    /// Contact pair results of the last converged increment.
+    pub fn last_pairs(&self) -> Vec<(String, crate::results::PairResult)> {
+        self.pair_results()
+    }
+
     fn pair_results(&self) -> Vec<(String, crate::results::PairResult)> {
         let pairs = self
             .contact
