@@ -312,6 +312,7 @@ impl Solver {
         let mut last_du = vec![0.0; n];
         let with_contact = !self.problem.contacts.is_empty();
         let mut memory = self.state.contact.clone();
+        pairs::begin_increment(&mut memory);
         let mut flips = Flips::default();
         let mut extra: Vec<(usize, usize, f64)> = Vec::new();
         for it in 0..=settings.max_iterations {
@@ -406,6 +407,15 @@ impl Solver {
                         residual: 0.0,
                     });
                 }
+                // A start in equilibrium (or with every free dof held by a
+                // contact row) has no residual to normalise by: use the
+                // reactions, then the element force scale.
+                if r0 <= floor {
+                    let contact_force = contact.as_ref().map_or(0.0, |c| {
+                        c.force.iter().map(|f| f.1 * f.1).sum::<f64>().sqrt()
+                    });
+                    r0 = react2.sqrt().max(contact_force).max(self.ws.force_scale);
+                }
                 r0 = r0.max(f64::MIN_POSITIVE);
             } else {
                 let rho = rnorm / r0;
@@ -435,14 +445,6 @@ impl Solver {
                 // cannot improve the solution further (round-off stagnation).
                 let unorm = u.iter().map(|v| v * v).sum::<f64>().sqrt();
                 let stagnated = dnorm * du1 <= 1e-14 * unorm;
-                if stagnated && !force_ok {
-                    log(
-                        LogCategory::Warning,
-                        &format!(
-                            "t = {t:.6e}: residual stagnated at round-off, |r|/|r0| = {rho:.3e}"
-                        ),
-                    );
-                }
                 // Contact: the node states must have settled and the
                 // constrained nodes sit on the target (to the displacement
                 // tolerance of the first correction).
@@ -454,6 +456,14 @@ impl Solver {
                         || (force_ok
                             && (energy <= settings.energy_tolerance
                                 || dnorm <= settings.displacement_tolerance)));
+                if converged && stagnated && !force_ok && rnorm > floor {
+                    log(
+                        LogCategory::Warning,
+                        &format!(
+                            "t = {t:.6e}: residual stagnated at round-off, |r|/|r0| = {rho:.3e}"
+                        ),
+                    );
+                }
                 if converged {
                     self.commit(t, u, history, memory, contact);
                     return Ok(Converged {
