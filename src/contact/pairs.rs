@@ -520,6 +520,14 @@ pub fn update(
                     }
                     out.max_overlap = out.max_overlap.max(overlap.norm());
                 } else {
+                    if frictionless && active[k] {
+                        // No friction: the force is along the target normal.
+                        // (The recovery's contactor-frame normals would leave
+                        // a component along the target that no row carries:
+                        // a phantom friction, and a linear Newton rate.)
+                        let n = cp.segment().normal();
+                        lambda = n * n.dot(&Vector2::new(force[k][0], force[k][1]));
+                    }
                     let c = cp.sliding(lambda);
                     for l in 0..6 {
                         if let Some(d) = dofs[l] {
