@@ -27,6 +27,9 @@ use serde::{Deserialize, Serialize};
 /// back to sticking every iteration; with 0.3 the block slides with every
 /// node slipping and Ft = mu_d Fn to round-off, in 1-2 iterations.
 const SLIDE_HYSTERESIS: f64 = 0.3;
+/// A node's contact force counts as tension above this fraction of the
+/// largest contact force of its pair (round-off at a node just touching).
+const TENSION_TOLERANCE: f64 = 1e-8;
 /// Contact points this far (in beta) outside a segment still count as on it,
 /// so round-off at a target node does not lose the contact.
 const BETA_TOLERANCE: f64 = 1e-6;
@@ -392,6 +395,11 @@ pub fn update(
                 Vector2::zeros()
             }
         };
+        // Scale of the contact forces of this pair, for the tension test.
+        let force_scale = (0..m)
+            .filter(|&k| active[k])
+            .map(|k| force[k][0].hypot(force[k][1]))
+            .fold(0.0, f64::max);
         for k in 0..m {
             let old = mem.nodes[k];
             let mut lambda = Vector2::zeros();
@@ -415,9 +423,25 @@ pub fn update(
                 }
                 NodeState::Stick | NodeState::Slip => {
                     point = follow(&segments, old.segment, x[k], reach);
+                    // Beyond the segment release of Section 3.2: a node
+                    // whose own contact force pulls it into the target
+                    // (tension) is released.
+                    if let Some((j, _)) = point.as_ref() {
+                        let pull = segments[*j]
+                            .seg
+                            .normal()
+                            .dot(&Vector2::new(force[k][0], force[k][1]));
+                        if pull > TENSION_TOLERANCE * force_scale {
+                            log(&format!(
+                                "pair '{}' node {k}: contact force in tension ({pull:.3e}), released",
+                                pair.name
+                            ));
+                            point = None;
+                        }
+                    }
                     if point.is_none() {
                         log(&format!(
-                            "pair '{}' node {k}: slid off the target, released",
+                            "pair '{}' node {k}: no longer in contact, released",
                             pair.name
                         ));
                         state = NodeState::Open;
