@@ -485,12 +485,15 @@ pub fn update(
                         }
                     }
                 }
-                NodeState::Open => {
+                // A node released in this iteration still sits on the target
+                // to round-off: it is not searched again until it has moved.
+                NodeState::Open if old.state == NodeState::Open => {
                     if let Some(found) = search(&segments, x[k], reach) {
                         point = Some(found);
                         state = new_contact;
                     }
                 }
+                NodeState::Open => {}
             }
             if (state == NodeState::Open) != (old.state == NodeState::Open) {
                 flips.counts[p][k] += 1;
