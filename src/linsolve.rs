@@ -1,13 +1,22 @@
 //! Sparse linear solves with faer: the symbolic analysis is done once per
 //! pattern and reused; Cholesky (LLT) for symmetric positive definite
 //! tangents, LU when the tangent is unsymmetric or LLT meets a non-positive
-//! pivot (a tangent past a limit point).
+//! pivot (a tangent past a limit point). The bordered contact system of
+//! Eq. (18) ([`Augmented`]) is factored by LDLT with the multipliers ordered
+//! last when it is symmetric, by LU otherwise.
 
 use crate::assembly::Pattern;
+use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
+use faer::linalg::cholesky::ldlt::factor::LdltRegularization;
 use faer::linalg::solvers::Solve;
+use faer::perm::PermRef;
+use faer::sparse::linalg::amd;
+use faer::sparse::linalg::cholesky::{
+    CholeskySymbolicParams, SymbolicCholesky, SymmetricOrdering, factorize_symbolic_cholesky,
+};
 use faer::sparse::linalg::solvers::{Llt, Lu, SymbolicLlt, SymbolicLu};
-use faer::sparse::{SparseColMatRef, SymbolicSparseColMat};
-use faer::{MatMut, Side};
+use faer::sparse::{FaerError, SparseColMatRef, SymbolicSparseColMat, SymbolicSparseColMatRef};
+use faer::{Conj, MatMut, Par, Side};
 
 #[derive(Debug, thiserror::Error)]
 pub enum LinearError {
@@ -21,6 +30,8 @@ pub enum LinearError {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Method {
     Llt,
+    /// Sparse LDLT without pivoting (the symmetric bordered system).
+    Ldlt,
     Lu,
 }
 
@@ -108,21 +119,64 @@ impl LinearSolver {
     }
 }
 
+/// Symbolic data of one pattern of the bordered matrix, kept while it holds.
+struct Analysis {
+    mat: SymbolicSparseColMat<usize>,
+    /// Order of the displacement block (the multipliers follow it).
+    n_disp: usize,
+    /// LDLT analysis (AMD of the displacement block, multipliers last) and
+    /// its workspace; made on the first symmetric system of the pattern.
+    ldlt: Option<(SymbolicCholesky<usize>, MemBuffer)>,
+    /// LDLT failed on this pattern: LU until the pattern changes.
+    ldlt_failed: bool,
+    lu: Option<SymbolicLu<usize>>,
+}
+
 /// The saddle-point system of Eq. (18): the free-dof tangent bordered by the
 /// contact rows, `[K + K_c, C^T; C, 0]`. Its pattern changes with the contact
-/// set; the symbolic LU analysis is kept while the pattern holds.
+/// set; the symbolic analyses are kept while the pattern holds.
+///
+/// A numerically symmetric system (`|a_ij - a_ji| <= 1e-12 max|a|` over the
+/// stored entries) is factored by sparse LDLT without pivoting, ordered by AMD
+/// on the displacement block with the multipliers last (their Schur
+/// complement `-C K^-1 C^T` is negative definite when K is positive
+/// definite). An unsymmetric system, or one whose LDLT meets a zero pivot,
+/// gives non-finite values or a backward error above `1e-8`, is solved by
+/// sparse LU; after such an LDLT failure the pattern stays on LU.
 #[derive(Default)]
 pub struct Augmented {
     col_ptr: Vec<usize>,
     row_idx: Vec<usize>,
     values: Vec<f64>,
-    symbolic: Option<(SymbolicSparseColMat<usize>, SymbolicLu<usize>)>,
+    analysis: Option<Analysis>,
+    /// Values of the LDLT factor.
+    l_values: Vec<f64>,
+    /// Solution of the LDLT path before it is accepted.
+    x: Vec<f64>,
+    last: Option<Method>,
+    /// Solve every system by LU (comparisons); LDLT is tried only when false.
+    pub force_lu: bool,
+    /// Numeric factorizations done (LDLT attempts that failed included).
     pub factorizations: usize,
-    /// Symbolic analyses done (one per distinct pattern in a row).
+    /// Symbolic analyses done (LDLT or LU; at most one of each per distinct
+    /// pattern in a row).
     pub analyses: usize,
+    /// Solves done by LDLT.
+    pub ldlt: usize,
+    /// Solves done by LU.
+    pub lu: usize,
 }
 
+/// Largest normwise backward error `|b - A x|_inf / (|A|_inf |x|_inf +
+/// |b|_inf)` accepted from the unpivoted LDLT before falling back to LU.
+const LDLT_BACKWARD_ERROR: f64 = 1e-8;
+
 impl Augmented {
+    /// The factorization the last successful solve used.
+    pub fn method(&self) -> Option<Method> {
+        self.last
+    }
+
     /// Solve `A x = rhs` in place, A of order `rhs.len()` given as the CSC
     /// tangent `k` over `pattern` (the first `pattern.n` unknowns) plus the
     /// entries `extra` (row, col, value; duplicates are summed).
@@ -169,23 +223,197 @@ impl Augmented {
             }
             col_ptr.push(row_idx.len());
         }
-        let same = self.symbolic.is_some() && old_ptr == *col_ptr && old_idx == *row_idx;
+        let n_disp = pattern.n.min(n);
+        let same = self.analysis.as_ref().is_some_and(|a| a.n_disp == n_disp)
+            && old_ptr == *col_ptr
+            && old_idx == *row_idx;
         if !same {
-            let s = SymbolicSparseColMat::new_checked(n, n, col_ptr.clone(), None, row_idx.clone());
-            let lu = SymbolicLu::try_new(s.as_ref())
-                .map_err(|e| LinearError::Factorization(format!("{e:?}")))?;
-            self.symbolic = Some((s, lu));
-            self.analyses += 1;
+            let mat =
+                SymbolicSparseColMat::new_checked(n, n, col_ptr.clone(), None, row_idx.clone());
+            self.analysis = Some(Analysis {
+                mat,
+                n_disp,
+                ldlt: None,
+                ldlt_failed: false,
+                lu: None,
+            });
         }
-        let (s, lu) = self.symbolic.as_ref().expect("set above");
-        let mat = SparseColMatRef::new(s.as_ref(), &self.values);
+        let analysis = self.analysis.as_mut().expect("set above");
+
+        if !self.force_lu
+            && !analysis.ldlt_failed
+            && is_symmetric(&self.col_ptr, &self.row_idx, &self.values)
+        {
+            if analysis.ldlt.is_none() {
+                self.analyses += 1;
+                match analyse_ldlt(analysis.mat.as_ref(), n_disp) {
+                    Ok(s) => analysis.ldlt = Some(s),
+                    Err(_) => analysis.ldlt_failed = true,
+                }
+            }
+            if let Some((symbolic, mem)) = analysis.ldlt.as_mut() {
+                self.factorizations += 1;
+                let mat = SparseColMatRef::new(analysis.mat.as_ref(), &self.values);
+                if solve_ldlt(symbolic, mem, &mut self.l_values, mat, rhs, &mut self.x) {
+                    rhs.copy_from_slice(&self.x);
+                    self.ldlt += 1;
+                    self.last = Some(Method::Ldlt);
+                    return Ok(());
+                }
+                analysis.ldlt_failed = true;
+            }
+        }
+
+        if analysis.lu.is_none() {
+            self.analyses += 1;
+            let lu = SymbolicLu::try_new(analysis.mat.as_ref())
+                .map_err(|e| LinearError::Factorization(format!("{e:?}")))?;
+            analysis.lu = Some(lu);
+        }
+        let lu = analysis.lu.clone().expect("set above");
+        let mat = SparseColMatRef::new(analysis.mat.as_ref(), &self.values);
         self.factorizations += 1;
-        let f = Lu::try_new_with_symbolic(lu.clone(), mat)
+        let f = Lu::try_new_with_symbolic(lu, mat)
             .map_err(|e| LinearError::Factorization(format!("{e:?}")))?;
         f.solve_in_place(MatMut::from_column_major_slice_mut(rhs, n, 1));
         if rhs.iter().any(|v| !v.is_finite()) {
             return Err(LinearError::NonFinite);
         }
+        self.lu += 1;
+        self.last = Some(Method::Lu);
         Ok(())
     }
 }
+
+/// `|a_ij - a_ji| <= 1e-12 max|a|` for every stored entry (an entry whose
+/// transpose is not stored is compared with zero); columns sorted by row.
+fn is_symmetric(col_ptr: &[usize], row_idx: &[usize], values: &[f64]) -> bool {
+    let max = values.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    if !max.is_finite() {
+        return false;
+    }
+    let tol = 1e-12 * max;
+    let n = col_ptr.len().saturating_sub(1);
+    for j in 0..n {
+        for p in col_ptr[j]..col_ptr[j + 1] {
+            let i = row_idx[p];
+            if i == j {
+                continue;
+            }
+            let col_i = &row_idx[col_ptr[i]..col_ptr[i + 1]];
+            let transpose = match col_i.binary_search(&j) {
+                Ok(q) => values[col_ptr[i] + q],
+                Err(_) => 0.0,
+            };
+            if (values[p] - transpose).abs() > tol {
+                return false;
+            }
+        }
+    }
+    true
+}
+
+/// Symbolic LDLT of `a` (lower triangle) in the order AMD of the leading
+/// `n_disp` block, then the remaining unknowns in their order; with the
+/// workspace of the numeric factorization and the solve.
+fn analyse_ldlt(
+    a: SymbolicSparseColMatRef<'_, usize>,
+    n_disp: usize,
+) -> Result<(SymbolicCholesky<usize>, MemBuffer), FaerError> {
+    let n = a.nrows();
+    // The displacement block (columns sorted, so the rows < n_disp lead).
+    let mut ptr = Vec::with_capacity(n_disp + 1);
+    let mut idx = Vec::new();
+    ptr.push(0);
+    for j in 0..n_disp {
+        let rows = a.row_idx_of_col_raw(j);
+        let m = rows.partition_point(|&r| r < n_disp);
+        idx.extend_from_slice(&rows[..m]);
+        ptr.push(idx.len());
+    }
+    let block = SymbolicSparseColMatRef::new_checked(n_disp, n_disp, &ptr, None, &idx);
+    let mut fwd = vec![0usize; n];
+    let mut inv = vec![0usize; n];
+    {
+        let mut mem = MemBuffer::try_new(amd::order_scratch::<usize>(n_disp, idx.len()))
+            .map_err(|_| FaerError::OutOfMemory)?;
+        amd::order(
+            &mut fwd[..n_disp],
+            &mut inv[..n_disp],
+            block,
+            amd::Control::default(),
+            MemStack::new(&mut mem),
+        )?;
+    }
+    for i in n_disp..n {
+        fwd[i] = i;
+        inv[i] = i;
+    }
+    let perm = PermRef::new_checked(&fwd, &inv, n);
+    let symbolic = factorize_symbolic_cholesky(
+        a,
+        Side::Lower,
+        SymmetricOrdering::Custom(perm),
+        CholeskySymbolicParams::default(),
+    )?;
+    let req = StackReq::any_of(&[
+        symbolic.factorize_numeric_ldlt_scratch::<f64>(Par::Seq, Default::default()),
+        symbolic.solve_in_place_scratch::<f64>(1, Par::Seq),
+    ]);
+    let mem = MemBuffer::try_new(req).map_err(|_| FaerError::OutOfMemory)?;
+    Ok((symbolic, mem))
+}
+
+/// Numeric LDLT of `a` (lower triangle, no regularization) and the solve of
+/// `a x = b` into `x`. False when a pivot is zero, a value is not finite or
+/// the backward error exceeds [`LDLT_BACKWARD_ERROR`].
+fn solve_ldlt(
+    symbolic: &SymbolicCholesky<usize>,
+    mem: &mut MemBuffer,
+    l_values: &mut Vec<f64>,
+    a: SparseColMatRef<'_, usize, f64>,
+    b: &[f64],
+    x: &mut Vec<f64>,
+) -> bool {
+    let n = b.len();
+    l_values.clear();
+    l_values.resize(symbolic.len_val(), 0.0);
+    let stack = MemStack::new(mem);
+    let Ok(ldlt) = symbolic.factorize_numeric_ldlt(
+        l_values,
+        a,
+        Side::Lower,
+        LdltRegularization::default(),
+        Par::Seq,
+        stack,
+        Default::default(),
+    ) else {
+        return false;
+    };
+    x.clear();
+    x.extend_from_slice(b);
+    ldlt.solve_in_place_with_conj(
+        Conj::No,
+        MatMut::from_column_major_slice_mut(x, n, 1),
+        Par::Seq,
+        stack,
+    );
+    if x.iter().any(|v| !v.is_finite()) {
+        return false;
+    }
+    // Backward error with the stored matrix: r = b - A x, |A|_inf.
+    let mut r = b.to_vec();
+    let mut row_abs = vec![0.0f64; n];
+    for j in 0..n {
+        for (&i, &v) in a.row_idx_of_col_raw(j).iter().zip(a.val_of_col(j)) {
+            r[i] -= v * x[j];
+            row_abs[i] += v.abs();
+        }
+    }
+    let inf = |v: &[f64]| v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    let denom = inf(&row_abs) * inf(x) + inf(b);
+    inf(&r) <= LDLT_BACKWARD_ERROR * denom
+}
+
+#[cfg(test)]
+mod tests;

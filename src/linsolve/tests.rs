@@ -1,0 +1,494 @@
+//! The bordered contact system: LDLT against LU and a dense solve, the choice
+//! of method, the reuse of the symbolic analyses; an ignored timing of LDLT
+//! against LU on Q4-like matrices.
+
+use super::*;
+use nalgebra::{DMatrix, DVector};
+use std::time::Instant;
+
+/// A pseudo-random number in [-1, 1) (xorshift, deterministic).
+struct Rng(u64);
+
+impl Rng {
+    fn next(&mut self) -> f64 {
+        self.0 ^= self.0 << 13;
+        self.0 ^= self.0 >> 7;
+        self.0 ^= self.0 << 17;
+        (self.0 >> 11) as f64 / (1u64 << 52) as f64 - 1.0
+    }
+}
+
+/// CSC pattern and values (both triangles) from triplets, duplicates summed.
+fn csc(n: usize, mut t: Vec<(usize, usize, f64)>) -> (Pattern, Vec<f64>) {
+    t.sort_unstable_by_key(|&(r, c, _)| (c, r));
+    let mut col_ptr = vec![0; n + 1];
+    let mut row_idx: Vec<usize> = Vec::with_capacity(t.len());
+    let mut values: Vec<f64> = Vec::with_capacity(t.len());
+    let mut last = (usize::MAX, usize::MAX);
+    for (r, c, v) in t {
+        if (r, c) == last {
+            *values.last_mut().unwrap() += v;
+        } else {
+            row_idx.push(r);
+            values.push(v);
+            col_ptr[c + 1] = row_idx.len();
+            last = (r, c);
+        }
+    }
+    for c in 0..n {
+        col_ptr[c + 1] = col_ptr[c + 1].max(col_ptr[c]);
+    }
+    (
+        Pattern {
+            n,
+            col_ptr,
+            row_idx,
+        },
+        values,
+    )
+}
+
+/// 1D chain of springs, `n` dofs, held at both ends: SPD tridiagonal.
+fn chain(n: usize) -> (Pattern, Vec<f64>) {
+    let mut t = Vec::new();
+    for i in 0..n {
+        t.push((i, i, 2.0));
+        if i + 1 < n {
+            t.push((i, i + 1, -1.0));
+            t.push((i + 1, i, -1.0));
+        }
+    }
+    csc(n, t)
+}
+
+/// Q4 Laplacian on `nx` x `ny` free nodes, two dofs per node coupled by
+/// `[1, 0.3; 0.3, 1]` (the pattern of Q4 plane elasticity). With `fixed`
+/// the node row below the grid is held (SPD), else the grid floats (two
+/// zero-energy modes, the constants of each dof).
+fn q4(nx: usize, ny: usize, fixed: bool) -> (Pattern, Vec<f64>) {
+    let ke = [
+        [4.0, -1.0, -2.0, -1.0],
+        [-1.0, 4.0, -1.0, -2.0],
+        [-2.0, -1.0, 4.0, -1.0],
+        [-1.0, -2.0, -1.0, 4.0],
+    ];
+    let d = [[1.0, 0.3], [0.3, 1.0]];
+    let rows = if fixed { ny + 1 } else { ny };
+    let mut t = Vec::with_capacity((nx - 1) * rows * 64);
+    // Node (i, j) of the element rows; with `fixed`, row 0 is held.
+    let dof = |i: usize, j: usize| -> Option<usize> {
+        let j = if fixed { j.checked_sub(1)? } else { j };
+        Some(2 * (j * nx + i))
+    };
+    for j in 0..rows - 1 {
+        for i in 0..nx - 1 {
+            let nodes = [dof(i, j), dof(i + 1, j), dof(i + 1, j + 1), dof(i, j + 1)];
+            for a in 0..4 {
+                for b in 0..4 {
+                    if let (Some(da), Some(db)) = (nodes[a], nodes[b]) {
+                        for p in 0..2 {
+                            for q in 0..2 {
+                                t.push((da + p, db + q, ke[a][b] * d[p][q] / 6.0));
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
+    csc(2 * nx * ny, t)
+}
+
+/// `m` node-to-segment-like rows on the top and the bottom node rows of a
+/// `nx` x `ny` grid: by turns 1 dof (a rigid target, normal y), 2 dofs (a
+/// slave node and its normal) and 6 dofs (slave and two master nodes).
+fn contact_rows(nx: usize, ny: usize, m: usize, rng: &mut Rng) -> Rows {
+    let per_line = m.div_ceil(2);
+    assert!(nx >= 3 * per_line.min(nx / 3).max(1));
+    (0..m)
+        .map(|r| {
+            let j = if r % 2 == 0 { ny - 1 } else { 0 };
+            let i = (r / 2) * (nx - 3) / per_line.max(1);
+            let node = |i: usize| 2 * (j * nx + i);
+            let theta = 0.3 * rng.next();
+            let (nx_, ny_) = (theta.sin(), theta.cos());
+            match r % 3 {
+                0 => vec![(node(i) + 1, 1.0)],
+                1 => vec![(node(i), nx_), (node(i) + 1, ny_)],
+                _ => {
+                    let xi = 0.5 + 0.4 * rng.next();
+                    vec![
+                        (node(i), nx_),
+                        (node(i) + 1, ny_),
+                        (node(i + 1), -(1.0 - xi) * nx_),
+                        (node(i + 1) + 1, -(1.0 - xi) * ny_),
+                        (node(i + 2), -xi * nx_),
+                        (node(i + 2) + 1, -xi * ny_),
+                    ]
+                }
+            }
+        })
+        .collect()
+}
+
+/// Contact rows: the (dof, coefficient) pairs of each row of C.
+type Rows = Vec<Vec<(usize, f64)>>;
+
+/// The entries `(n + i, d, c)` and `(d, n + i, c)` of the rows, as Newton
+/// passes them.
+fn border(n: usize, rows: &[Vec<(usize, f64)>]) -> Vec<(usize, usize, f64)> {
+    let mut extra = Vec::new();
+    for (i, row) in rows.iter().enumerate() {
+        for &(d, c) in row {
+            extra.push((n + i, d, c));
+            extra.push((d, n + i, c));
+        }
+    }
+    extra
+}
+
+fn dense(p: &Pattern, k: &[f64], extra: &[(usize, usize, f64)], n: usize) -> DMatrix<f64> {
+    let mut a = DMatrix::zeros(n, n);
+    for c in 0..p.n {
+        for q in p.col_ptr[c]..p.col_ptr[c + 1] {
+            a[(p.row_idx[q], c)] += k[q];
+        }
+    }
+    for &(r, c, v) in extra {
+        a[(r, c)] += v;
+    }
+    a
+}
+
+fn residual(a: &DMatrix<f64>, x: &[f64], b: &[f64]) -> f64 {
+    let x = DVector::from_column_slice(x);
+    let b = DVector::from_column_slice(b);
+    (a * x - &b).norm() / b.norm()
+}
+
+fn rhs(n: usize, rng: &mut Rng) -> Vec<f64> {
+    (0..n).map(|_| rng.next()).collect()
+}
+
+/// Solve with a fresh `Augmented` (LDLT allowed or not); the solution and
+/// the solver.
+fn solve(
+    p: &Pattern,
+    k: &[f64],
+    extra: &[(usize, usize, f64)],
+    b: &[f64],
+    force_lu: bool,
+) -> (Vec<f64>, Augmented) {
+    let mut aug = Augmented {
+        force_lu,
+        ..Default::default()
+    };
+    let mut x = b.to_vec();
+    aug.solve(p, k, &mut extra.to_vec(), &mut x).unwrap();
+    (x, aug)
+}
+
+#[test]
+fn ldlt_matches_lu_and_dense() {
+    let mut rng = Rng(0x9e37_79b9_7f4a_7c15);
+    let cases: Vec<(&str, Pattern, Vec<f64>, Rows)> = vec![
+        {
+            let (p, k) = chain(50);
+            let rows = vec![
+                vec![(49, 1.0)],
+                vec![(10, 0.6), (11, -0.8)],
+                vec![(20, 1.0), (21, -0.5), (22, -0.5)],
+                vec![
+                    (30, 0.3),
+                    (31, 0.2),
+                    (32, -0.1),
+                    (33, 0.4),
+                    (34, -0.7),
+                    (35, 0.2),
+                ],
+            ];
+            ("chain 50", p, k, rows)
+        },
+        {
+            let (p, k) = q4(12, 12, true);
+            let rows = contact_rows(12, 12, 6, &mut rng);
+            ("q4 12x12", p, k, rows)
+        },
+        {
+            let (p, k) = q4(16, 15, true);
+            let rows = contact_rows(16, 15, 10, &mut rng);
+            ("q4 16x15", p, k, rows)
+        },
+    ];
+    for (name, p, k, rows) in cases {
+        let n = p.n + rows.len();
+        let mut extra = border(p.n, &rows);
+        // A symmetric contact stiffness block on a few dofs (summed into K).
+        extra.push((3, 3, 0.5));
+        extra.push((3, 5, 0.25));
+        extra.push((5, 3, 0.25));
+        let b = rhs(n, &mut rng);
+        let a = dense(&p, &k, &extra, n);
+        let (x_ldlt, aug) = solve(&p, &k, &extra, &b, false);
+        assert_eq!(aug.method(), Some(Method::Ldlt), "{name}");
+        assert_eq!((aug.ldlt, aug.lu, aug.factorizations), (1, 0, 1), "{name}");
+        let (x_lu, aug) = solve(&p, &k, &extra, &b, true);
+        assert_eq!(aug.method(), Some(Method::Lu), "{name}");
+        assert_eq!((aug.ldlt, aug.lu, aug.factorizations), (0, 1, 1), "{name}");
+        let x_dense = a
+            .clone()
+            .lu()
+            .solve(&DVector::from_column_slice(&b))
+            .unwrap();
+        let r_ldlt = residual(&a, &x_ldlt, &b);
+        let r_lu = residual(&a, &x_lu, &b);
+        assert!(r_ldlt < 1e-10, "{name}: LDLT residual {r_ldlt:e}");
+        assert!(r_lu < 1e-10, "{name}: LU residual {r_lu:e}");
+        let scale = x_dense.amax();
+        for i in 0..n {
+            assert!((x_ldlt[i] - x_dense[i]).abs() <= 1e-8 * scale, "{name} {i}");
+            assert!((x_lu[i] - x_dense[i]).abs() <= 1e-8 * scale, "{name} {i}");
+        }
+    }
+}
+
+#[test]
+fn unsymmetric_system_takes_lu() {
+    let mut rng = Rng(7);
+    let (p, k) = q4(10, 10, true);
+    let rows = contact_rows(10, 10, 4, &mut rng);
+    let n = p.n + rows.len();
+    let mut extra = border(p.n, &rows);
+    // A sliding-like unsymmetric contact stiffness: (0, 1) without (1, 0).
+    extra.push((0, 1, 0.25));
+    let b = rhs(n, &mut rng);
+    let (x, aug) = solve(&p, &k, &extra, &b, false);
+    assert_eq!(aug.method(), Some(Method::Lu));
+    assert_eq!(
+        (aug.ldlt, aug.lu, aug.factorizations, aug.analyses),
+        (0, 1, 1, 1)
+    );
+    assert!(residual(&dense(&p, &k, &extra, n), &x, &b) < 1e-10);
+    // Below the tolerance (1e-12 of the largest entry) it counts as symmetric.
+    let mut extra = border(p.n, &rows);
+    extra.push((0, 1, 1e-14));
+    let (x, aug) = solve(&p, &k, &extra, &b, false);
+    assert_eq!(aug.method(), Some(Method::Ldlt));
+    assert!(residual(&dense(&p, &k, &extra, n), &x, &b) < 1e-10);
+}
+
+#[test]
+fn symbolic_analysis_reused_while_the_pattern_holds() {
+    let mut rng = Rng(11);
+    let (p, k) = q4(9, 8, true);
+    let rows = contact_rows(9, 8, 5, &mut rng);
+    let n = p.n + rows.len();
+    let mut aug = Augmented::default();
+    let check = |aug: &mut Augmented, k: &[f64], rows: &[Vec<(usize, f64)>], extra_k: &[_]| {
+        let n = p.n + rows.len();
+        let mut extra = border(p.n, rows);
+        extra.extend_from_slice(extra_k);
+        let b = rhs(n, &mut Rng(n as u64 + 3));
+        let a = dense(&p, k, &extra, n);
+        let mut x = b.clone();
+        aug.solve(&p, k, &mut extra, &mut x).unwrap();
+        let r = residual(&a, &x, &b);
+        assert!(r < 1e-10, "residual {r:e}");
+    };
+    check(&mut aug, &k, &rows, &[]);
+    assert_eq!(
+        (aug.analyses, aug.factorizations, aug.ldlt, aug.lu),
+        (1, 1, 1, 0)
+    );
+    // Same pattern, other values: the analysis is reused.
+    let k2: Vec<f64> = k.iter().map(|v| 2.5 * v).collect();
+    let rows2: Rows = rows
+        .iter()
+        .map(|r| r.iter().map(|&(d, c)| (d, 1.5 * c + 0.1)).collect())
+        .collect();
+    check(&mut aug, &k2, &rows2, &[]);
+    assert_eq!(
+        (aug.analyses, aug.factorizations, aug.ldlt, aug.lu),
+        (1, 2, 2, 0)
+    );
+    // Unsymmetric on the same pattern ((1, 0) and (0, 1) are stored in K):
+    // one LU analysis more, then reused; LDLT again on a symmetric system.
+    check(&mut aug, &k2, &rows2, &[(1, 0, 0.3)]);
+    assert_eq!(
+        (aug.analyses, aug.factorizations, aug.ldlt, aug.lu),
+        (2, 3, 2, 1)
+    );
+    check(&mut aug, &k, &rows2, &[(1, 0, -0.3)]);
+    assert_eq!(
+        (aug.analyses, aug.factorizations, aug.ldlt, aug.lu),
+        (2, 4, 2, 2)
+    );
+    check(&mut aug, &k, &rows, &[]);
+    assert_eq!(
+        (aug.analyses, aug.factorizations, aug.ldlt, aug.lu),
+        (2, 5, 3, 2)
+    );
+    assert_eq!(aug.method(), Some(Method::Ldlt));
+    // The pattern changes (a row less, then a row with other dofs): redone.
+    check(&mut aug, &k, &rows[..4], &[]);
+    assert_eq!(
+        (aug.analyses, aug.factorizations, aug.ldlt, aug.lu),
+        (3, 6, 4, 2)
+    );
+    let mut rows3 = rows.clone();
+    rows3[4] = vec![(p.n - 1, 1.0), (p.n - 3, -1.0)];
+    check(&mut aug, &k, &rows3, &[]);
+    assert_eq!(
+        (aug.analyses, aug.factorizations, aug.ldlt, aug.lu),
+        (4, 7, 5, 2)
+    );
+    check(&mut aug, &k2, &rows3, &[]);
+    assert_eq!(
+        (aug.analyses, aug.factorizations, aug.ldlt, aug.lu),
+        (4, 8, 6, 2)
+    );
+    // Back to the first pattern: only the last pattern is kept.
+    check(&mut aug, &k, &rows, &[]);
+    assert_eq!((aug.analyses, aug.ldlt), (5, 7));
+    assert_eq!(n, p.n + 5);
+}
+
+#[test]
+fn no_multipliers_is_plain_ldlt() {
+    let (p, k) = q4(8, 8, true);
+    let b = rhs(p.n, &mut Rng(5));
+    let (x, aug) = solve(&p, &k, &[], &b, false);
+    assert_eq!(aug.method(), Some(Method::Ldlt));
+    assert!(residual(&dense(&p, &k, &[], p.n), &x, &b) < 1e-10);
+}
+
+/// A body held only by the contact rows: K is singular (two zero-energy
+/// modes), the bordered system is not. The unpivoted LDLT with the
+/// multipliers last meets a (round-off) zero pivot; the solve must still be
+/// right (LU).
+#[test]
+fn floating_body_held_by_contact_rows() {
+    let (p, k) = q4(10, 10, false);
+    let rows = vec![vec![(0, 1.0)], vec![(1, 1.0)], vec![(20, 0.5), (21, 0.5)]];
+    let n = p.n + rows.len();
+    let extra = border(p.n, &rows);
+    let b = rhs(n, &mut Rng(13));
+    let (x, aug) = solve(&p, &k, &extra, &b, false);
+    let r = residual(&dense(&p, &k, &extra, n), &x, &b);
+    assert!(r < 1e-10, "{:?}: residual {r:e}", aug.method());
+    assert_eq!(aug.method(), Some(Method::Lu));
+    assert_eq!((aug.ldlt, aug.lu, aug.factorizations), (0, 1, 2));
+}
+
+/// Numeric LDLT against numeric LU (symbolic analyses cached) on Q4-like
+/// matrices of about 1e4 and 1e5 unknowns with 100 contact rows:
+/// `cargo test --release --lib linsolve::tests::timing -- --ignored --nocapture`.
+#[test]
+#[ignore]
+fn timing_ldlt_against_lu() {
+    let best = |reps: usize, f: &mut dyn FnMut()| {
+        (0..reps)
+            .map(|_| {
+                let t = Instant::now();
+                f();
+                t.elapsed().as_secs_f64()
+            })
+            .fold(f64::INFINITY, f64::min)
+    };
+    for (side, reps) in [(71, 5), (224, 3)] {
+        let mut rng = Rng(17);
+        let (p, k) = q4(side, side, true);
+        let rows = contact_rows(side, side, 100, &mut rng);
+        let n = p.n + rows.len();
+        let extra = border(p.n, &rows);
+        let b = rhs(n, &mut rng);
+
+        let t = Instant::now();
+        let (x_ldlt, mut ldlt) = solve(&p, &k, &extra, &b, false);
+        let first_ldlt = t.elapsed().as_secs_f64();
+        assert_eq!(ldlt.method(), Some(Method::Ldlt));
+        let t = Instant::now();
+        let (x_lu, mut lu) = solve(&p, &k, &extra, &b, true);
+        let first_lu = t.elapsed().as_secs_f64();
+        let diff = x_ldlt
+            .iter()
+            .zip(&x_lu)
+            .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+        let xmax = x_lu.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+
+        // Full solve() with the analysis cached.
+        let solve_ldlt = best(reps, &mut || {
+            let mut x = b.clone();
+            ldlt.solve(&p, &k, &mut extra.clone(), &mut x).unwrap();
+        });
+        let solve_lu = best(reps, &mut || {
+            let mut x = b.clone();
+            lu.solve(&p, &k, &mut extra.clone(), &mut x).unwrap();
+        });
+        assert_eq!((ldlt.lu, lu.ldlt), (0, 0));
+
+        // Numeric factorizations alone.
+        let a = ldlt.analysis.as_mut().unwrap();
+        let (symbolic, mem) = a.ldlt.as_mut().unwrap();
+        let mat = SparseColMatRef::new(a.mat.as_ref(), &ldlt.values);
+        let mut l_values = vec![0.0; symbolic.len_val()];
+        let supernodal = matches!(
+            symbolic.raw(),
+            faer::sparse::linalg::cholesky::SymbolicCholeskyRaw::Supernodal(_)
+        );
+        let num_ldlt = best(reps, &mut || {
+            symbolic
+                .factorize_numeric_ldlt(
+                    &mut l_values,
+                    mat,
+                    Side::Lower,
+                    LdltRegularization::default(),
+                    Par::Seq,
+                    MemStack::new(mem),
+                    Default::default(),
+                )
+                .unwrap();
+        });
+        let a_lu = lu.analysis.as_ref().unwrap();
+        let sym_lu = a_lu.lu.clone().unwrap();
+        let mat_lu = SparseColMatRef::new(a_lu.mat.as_ref(), &lu.values);
+        let num_lu = best(reps, &mut || {
+            Lu::try_new_with_symbolic(sym_lu.clone(), mat_lu).unwrap();
+        });
+        // Reference: LLT of K alone (the notes' table).
+        let ks =
+            SymbolicSparseColMat::new_checked(p.n, p.n, p.col_ptr.clone(), None, p.row_idx.clone());
+        let t = Instant::now();
+        let sym_llt = SymbolicLlt::try_new(ks.as_ref(), Side::Lower).unwrap();
+        let symbolic_llt = t.elapsed().as_secs_f64();
+        let kmat = SparseColMatRef::new(ks.as_ref(), &k);
+        let num_llt = best(reps, &mut || {
+            Llt::try_new_with_symbolic(sym_llt.clone(), kmat, Side::Lower).unwrap();
+        });
+        println!(
+            "n = {n} ({} + {} rows), nnz(A) = {}: LDLT ({}, nnz(L) = {}) numeric {:.4} s, \
+             first solve {:.4} s, cached solve {:.4} s | LU numeric {:.4} s, first solve \
+             {:.4} s, cached solve {:.4} s | LLT of K: symbolic {:.4} s, numeric {:.4} s | \
+             max |x_ldlt - x_lu| = {:.1e} of max |x| {:.1e}",
+            p.n,
+            rows.len(),
+            ldlt.values.len(),
+            if supernodal {
+                "supernodal"
+            } else {
+                "simplicial"
+            },
+            symbolic.len_val(),
+            num_ldlt,
+            first_ldlt,
+            solve_ldlt,
+            num_lu,
+            first_lu,
+            solve_lu,
+            symbolic_llt,
+            num_llt,
+            diff,
+            xmax,
+        );
+    }
+}
