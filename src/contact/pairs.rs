@@ -707,6 +707,10 @@ fn quadratic_tractions(
     }
     let mut a = nalgebra::DMatrix::<f64>::zeros(n, n);
     let sides = if closed { m / 2 } else { (m - 1) / 2 };
+    // Per node: the integral of its shape function over its sides (the
+    // lumped tributary), and whether one of its sides is partly open.
+    let mut tributary = vec![0.0; m];
+    let mut edge = vec![false; m];
     let gauss = [
         (-(0.6f64).sqrt(), 5.0 / 9.0),
         (0.0, 8.0 / 9.0),
@@ -714,6 +718,11 @@ fn quadratic_tractions(
     ];
     for s in 0..sides {
         let nodes = [2 * s, 2 * s + 1, (2 * s + 2) % m];
+        if nodes.iter().any(|&k| !on[k]) {
+            for &k in &nodes {
+                edge[k] = true;
+            }
+        }
         for &(xi, w) in &gauss {
             let nshape = [0.5 * xi * (xi - 1.0), 1.0 - xi * xi, 0.5 * xi * (xi + 1.0)];
             let dshape = [xi - 0.5, -2.0 * xi, xi + 0.5];
@@ -730,6 +739,7 @@ fn quadratic_tractions(
                     Geometry::Axisymmetric => 2.0 * std::f64::consts::PI * pos.x,
                 };
             for i in 0..3 {
+                tributary[nodes[i]] += weight * nshape[i];
                 let Some(r) = index[nodes[i]] else { continue };
                 for j in 0..3 {
                     if let Some(c) = index[nodes[j]] {
@@ -748,6 +758,15 @@ fn quadratic_tractions(
             if let Some(r) = index[k] {
                 t[k][comp] = sol[r];
             }
+        }
+    }
+    // On a side partly open the traction is not quadratic (it falls to
+    // zero like a square root at the contact edge): its closed nodes report
+    // their force over their tributary instead of the quadratic fit, which
+    // overshoots there.
+    for k in 0..m {
+        if on[k] && edge[k] && tributary[k] > 0.0 {
+            t[k] = f[k] / tributary[k];
         }
     }
     t.iter()
