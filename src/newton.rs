@@ -377,11 +377,11 @@ impl Solver {
             }
             // At a constrained node the multipliers take up the residual in
             // the constrained directions: measure what they cannot.
-            let measured = match &contact {
-                Some(c) if c.neqc() > 0 => equilibrium_residual(c, &self.model.eq, &rhs),
-                _ => rhs.clone(),
+            let adjusted = match &contact {
+                Some(c) if c.neqc() > 0 => Some(equilibrium_residual(c, &self.model.eq, &rhs)),
+                _ => None,
             };
-            for v in &measured {
+            for v in adjusted.as_deref().unwrap_or(&rhs) {
                 rnorm2 += v * v;
             }
             let rnorm = rnorm2.sqrt();
