@@ -8,9 +8,10 @@
 //! published value. Nothing is asserted here; tests/scenes.rs asserts the
 //! accuracy on the shipped meshes.
 
+#[path = "../tests/common/mod.rs"]
+mod common;
+
 use contact2d::newton::Solver;
-use contact2d::scene;
-use std::path::PathBuf;
 use std::time::Instant;
 
 struct Run {
@@ -20,15 +21,8 @@ struct Run {
 }
 
 fn run(name: &str, edits: &[(&str, String)]) -> Run {
-    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("scenes")
-        .join(name);
-    let mut text = std::fs::read_to_string(&path).unwrap();
-    for (old, new) in edits {
-        assert!(text.contains(old), "{name} has no {old:?}");
-        text = text.replacen(old, new, 1);
-    }
-    let problem = scene::parse(&text, &path).unwrap_or_else(|e| panic!("{e}"));
+    let edits: Vec<(&str, &str)> = edits.iter().map(|(o, n)| (*o, n.as_str())).collect();
+    let problem = common::shipped_scene(name, &edits);
     let times = problem.times.clone();
     let start = Instant::now();
     let mut solver = Solver::new(problem).unwrap();

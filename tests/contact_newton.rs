@@ -3,10 +3,10 @@
 //! the residual ratios |r|/|r0| of the `LogCategory::Newton` lines must fall
 //! quadratically to round-off.
 
+mod common;
+
 use contact2d::newton::Solver;
 use contact2d::results::LogCategory;
-use contact2d::scene;
-use std::path::PathBuf;
 
 /// Quadratic convergence: `r_{k+1} <= C r_k^2` (ratios to the increment's
 /// first residual). For a Newton iteration with a consistent tangent, C is
@@ -151,8 +151,7 @@ fn the_convergence_criterion_tells_quadratic_from_linear() {
 
 #[test]
 fn hertz_newton_converges_quadratically_once_the_contact_set_settles() {
-    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("scenes/hertz_plane_strain.toml");
-    let problem = scene::load(&path).unwrap_or_else(|e| panic!("{e}"));
+    let problem = common::shipped_scene("hertz_plane_strain.toml", &[]);
     let times = problem.times.clone();
     let mut solver = Solver::new(problem).unwrap();
     let mut log = Vec::new();

@@ -1,16 +1,13 @@
 //! The shipped contact scenes, solved, against closed forms and invariants.
 
+mod common;
+
 use contact2d::newton::Solver;
 use contact2d::results::{LogCategory, NodeState, StepResult};
-use contact2d::scene;
-use std::path::PathBuf;
 
 /// Every increment of the scene `name`, with its Newton log.
 fn solve(name: &str) -> (Solver, Vec<StepResult>, Vec<String>) {
-    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("scenes")
-        .join(name);
-    let problem = scene::load(&path).unwrap_or_else(|e| panic!("{e}"));
+    let problem = common::shipped_scene(name, &[]);
     let times = problem.times.clone();
     let mut solver = Solver::new(problem).unwrap();
     let mut log = Vec::new();
@@ -92,14 +89,7 @@ fn hertz_plane_strain_equilibrium_contact_width_and_states() {
 
 /// The sliding block scene, with each `(old, new)` replaced once.
 fn sliding_block(edits: &[(&str, &str)]) -> Vec<StepResult> {
-    let path =
-        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("scenes/verification/sliding_block.toml");
-    let mut text = std::fs::read_to_string(&path).unwrap();
-    for (old, new) in edits {
-        assert!(text.contains(old), "no {old:?}");
-        text = text.replacen(old, new, 1);
-    }
-    let problem = scene::parse(&text, &path).unwrap_or_else(|e| panic!("{e}"));
+    let problem = common::shipped_scene("verification/sliding_block.toml", edits);
     let times = problem.times.clone();
     let mut solver = Solver::new(problem).unwrap();
     times

@@ -7,25 +7,17 @@
 //! Run with `cargo test --release --test contact_scenes_friction -- --nocapture`
 //! to see the measured numbers.
 
+mod common;
+
 use contact2d::newton::Solver;
 use contact2d::problem::{Problem, Target};
 use contact2d::results::{LogCategory, NodeState, PairResult, StepResult};
-use contact2d::scene;
 use std::collections::BTreeSet;
-use std::path::PathBuf;
 
 /// The scene `name` under scenes/, with text replacements applied (each
 /// must occur).
 fn load(name: &str, edits: &[(&str, &str)]) -> Problem {
-    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("scenes")
-        .join(name);
-    let mut text = std::fs::read_to_string(&path).unwrap();
-    for (old, new) in edits {
-        assert!(text.contains(old), "{name} has no {old:?}");
-        text = text.replacen(old, new, 1);
-    }
-    scene::parse(&text, &path).unwrap_or_else(|e| panic!("{e}"))
+    common::shipped_scene(name, edits)
 }
 
 /// What a run of a scene's load history gave.

@@ -1,24 +1,16 @@
 //! More shipped contact scenes, solved, against closed forms and invariants:
 //! Hertz's sphere (axisymmetric) and a contact made, released and made again.
 
+mod common;
+
 use contact2d::newton::Solver;
 use contact2d::results::{NodeState, PairResult, StepResult};
-use contact2d::scene;
 use std::f64::consts::PI;
-use std::path::PathBuf;
 
 /// Every increment of the scene `name` with each `(old, new)` replaced once
 /// (a refined mesh, another coefficient); each increment must converge.
 fn solve(name: &str, edits: &[(&str, &str)]) -> (Solver, Vec<StepResult>) {
-    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("scenes")
-        .join(name);
-    let mut text = std::fs::read_to_string(&path).unwrap();
-    for (old, new) in edits {
-        assert!(text.contains(old), "{name} has no {old:?}");
-        text = text.replacen(old, new, 1);
-    }
-    let problem = scene::parse(&text, &path).unwrap_or_else(|e| panic!("{e}"));
+    let problem = common::shipped_scene(name, edits);
     let times = problem.times.clone();
     let mut solver = Solver::new(problem).unwrap();
     let mut steps = Vec::new();

@@ -1,27 +1,15 @@
 //! The shipped verification scenes, run through the scene reader and the
 //! solver, against their closed-form or published values.
 
+mod common;
+
 use contact2d::newton::Solver;
 use contact2d::results::LogCategory;
-use contact2d::scene;
-use std::path::PathBuf;
-
-fn scene_path(name: &str) -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("scenes")
-        .join(name)
-}
 
 /// The scene `name` with each `(old, new)` replaced once (a refined mesh),
 /// solved through its load history; the Newton log lines are returned.
 fn solve(name: &str, edits: &[(&str, &str)]) -> (Solver, Vec<String>) {
-    let path = scene_path(name);
-    let mut text = std::fs::read_to_string(&path).unwrap();
-    for (old, new) in edits {
-        assert!(text.contains(old), "{name} has no {old:?}");
-        text = text.replacen(old, new, 1);
-    }
-    let problem = scene::parse(&text, &path).unwrap_or_else(|e| panic!("{e}"));
+    let problem = common::shipped_scene(name, edits);
     let times = problem.times.clone();
     let mut solver = Solver::new(problem).unwrap();
     let mut lines = Vec::new();

@@ -1,9 +1,25 @@
-//! Problems built in code for the solver tests (no scene file).
+//! Problems for the solver tests: built in code, or read from the shipped
+//! scenes with text edits (a refined mesh, another coefficient).
 #![allow(dead_code)]
 
 use contact2d::mesh::{Edge, Element, ElementKind, Mesh};
 use contact2d::problem::*;
 use std::collections::BTreeMap;
+use std::path::PathBuf;
+
+/// The shipped scene `name` (a path under scenes/) with each `(old, new)`
+/// replaced once; each `old` must occur.
+pub fn shipped_scene(name: &str, edits: &[(&str, &str)]) -> Problem {
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("scenes")
+        .join(name);
+    let mut text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{name}: {e}"));
+    for (old, new) in edits {
+        assert!(text.contains(old), "{name} has no {old:?}");
+        text = text.replacen(old, new, 1);
+    }
+    contact2d::scene::parse(&text, &path).unwrap_or_else(|e| panic!("{e}"))
+}
 
 /// A problem of one body with one linear elastic material.
 pub fn problem(
