@@ -8,9 +8,9 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 # ---------------------------------------------------------------------------
-# Debian packages. >>> FMU issue: add libclang-dev here (bindgen for the FMI
-# headers) <<<
-DEB_PACKAGES=""
+# Debian packages: libclang-dev for bindgen, which fmi-sys runs on the FMI
+# headers at build time.
+DEB_PACKAGES="libclang-dev"
 # ---------------------------------------------------------------------------
 
 PYTHON="${PYTHON:-python3}"

@@ -5,6 +5,7 @@
 pub mod assembly;
 pub mod contact;
 pub mod element;
+pub mod fmi;
 pub mod kinematics;
 pub mod linsolve;
 pub mod material;

@@ -40,6 +40,8 @@ pub struct Solver {
     /// Input overrides of driver components (the FMU's inputs): the value
     /// to reach at the end of the next `advance`.
     inputs: Vec<[Option<f64>; 2]>,
+    /// The same for rigid targets: [ux, uy, theta].
+    rigid_inputs: Vec<[Option<f64>; 3]>,
     state: State,
     ws: Workspace,
     r: Vec<f64>,
@@ -97,14 +99,17 @@ impl Solver {
             u: vec![0.0; ndof],
             history: vec![0.0; model.history_len],
             contact: problem.contacts.iter().map(PairMemory::new).collect(),
+            rigid: pairs::scene_poses(&problem, 0.0),
         };
         let inputs = vec![[None, None]; problem.drivers.len()];
+        let rigid_inputs = vec![[None; 3]; problem.rigids.len()];
         Ok(Solver {
             problem,
             model,
             linear,
             prescribed,
             inputs,
+            rigid_inputs,
             state,
             ws: Workspace::new(),
             r: vec![0.0; ndof],
@@ -149,6 +154,31 @@ impl Solver {
         self.inputs[driver][component] = value;
     }
 
+    /// Override a rigid target's pose component (0 ux, 1 uy, 2 theta) the
+    /// same way.
+    pub fn set_rigid_input(&mut self, rigid: usize, component: usize, value: Option<f64>) {
+        self.rigid_inputs[rigid][component] = value;
+    }
+
+    /// Poses of the rigid targets at time t within the step t0 -> t1: an
+    /// overridden component runs linearly from its converged value.
+    fn rigid_poses(&self, t: f64, t0: f64, t1: f64, rigid0: &[[f64; 3]]) -> Vec<[f64; 3]> {
+        let scene = pairs::scene_poses(&self.problem, t);
+        (0..self.problem.rigids.len())
+            .map(|r| {
+                let (scene, start) = (scene[r], rigid0[r]);
+                let mut pose = [0.0; 3];
+                for c in 0..3 {
+                    pose[c] = match self.rigid_inputs[r][c] {
+                        Some(v) => start[c] + (v - start[c]) * (t - t0) / (t1 - t0),
+                        None => scene[c],
+                    };
+                }
+                pose
+            })
+            .collect()
+    }
+
     /// Value of a prescribed dof at time t within the step t0 -> t1.
     fn prescribed_value(&self, p: &Prescribed, t: f64, t0: f64, t1: f64, u0: &[f64]) -> f64 {
         match self.inputs[p.driver][p.component] {
@@ -186,7 +216,7 @@ impl Solver {
         let mut iterations = 0;
         let mut residual = 0.0;
         while let Some(&t) = targets.last() {
-            match self.increment(t, t0, t_end, &u0, log) {
+            match self.increment(t, t0, t_end, &u0, &start.rigid, log) {
                 Ok(c) => {
                     iterations += c.iterations;
                     residual = c.residual;
@@ -295,9 +325,11 @@ impl Solver {
         t0: f64,
         t1: f64,
         u0: &[f64],
+        rigid0: &[[f64; 3]],
         log: &mut dyn FnMut(LogCategory, &str),
     ) -> Result<Converged, String> {
         let settings = self.problem.solver.clone();
+        let poses = self.rigid_poses(t, t0, t1, rigid0);
         let mut u = self.state.u.clone();
         let mut dup = vec![0.0; u.len()];
         for p in &self.prescribed {
@@ -342,7 +374,7 @@ impl Solver {
                     |m: &str| log(LogCategory::Contact, &format!("t = {t:.6e} it {it}: {m}"));
                 Some(pairs::update(
                     &self.problem,
-                    t,
+                    &poses,
                     &u,
                     &self.r,
                     &self.model.eq,
@@ -401,7 +433,7 @@ impl Solver {
                         LogCategory::Newton,
                         &format!("t = {t:.6e}: nothing changed, in equilibrium"),
                     );
-                    self.commit(t, u, history, memory, contact);
+                    self.commit(t, u, history, memory, poses.clone(), contact);
                     return Ok(Converged {
                         iterations: 0,
                         residual: 0.0,
@@ -465,7 +497,7 @@ impl Solver {
                     );
                 }
                 if converged {
-                    self.commit(t, u, history, memory, contact);
+                    self.commit(t, u, history, memory, poses.clone(), contact);
                     return Ok(Converged {
                         iterations: it,
                         residual: rho,
@@ -557,12 +589,14 @@ impl Solver {
         u: Vec<f64>,
         history: Vec<f64>,
         memory: Vec<PairMemory>,
+        poses: Vec<[f64; 3]>,
         contact: Option<ContactSystem>,
     ) {
         self.state.time = t;
         self.state.u = u;
         self.state.history = history;
         self.state.contact = memory;
+        self.state.rigid = poses;
         self.contact = contact;
     }
 

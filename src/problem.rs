@@ -254,4 +254,133 @@ pub struct Problem {
     /// End times of the increments of the scene's own load history.
     pub times: Vec<f64>,
     pub solver: SolverSettings,
+    pub units: Units,
+}
+
+/// Length unit of a scene's coordinates and displacements.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Deserialize)]
+pub enum LengthUnit {
+    #[default]
+    #[serde(rename = "m")]
+    Metre,
+    #[serde(rename = "mm")]
+    Millimetre,
+}
+
+/// Force unit of a scene's loads and results.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Deserialize)]
+pub enum ForceUnit {
+    #[default]
+    #[serde(rename = "N")]
+    Newton,
+    #[serde(rename = "kN")]
+    Kilonewton,
+}
+
+/// The units a scene is written in: stresses are force / length^2. The
+/// solver does not use them; the FMU declares them.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Units {
+    pub length: LengthUnit,
+    pub force: ForceUnit,
+}
+
+/// Young's modulus must be positive.
+pub fn check_modulus(e: f64) -> Result<(), String> {
+    if e > 0.0 && e.is_finite() {
+        Ok(())
+    } else {
+        Err(format!(
+            "E = {e:?}: Young's modulus must be positive and finite"
+        ))
+    }
+}
+
+/// Poisson's ratio; 0.5 (incompressible) only where the thickness is free to
+/// change (plane stress).
+pub fn check_poisson(kind: AnalysisKind, nu: f64) -> Result<(), String> {
+    let (ok, rule) = match kind {
+        AnalysisKind::PlaneStress { .. } => {
+            (nu > -1.0 && nu <= 0.5, "-1 < nu <= 0.5 in plane stress")
+        }
+        AnalysisKind::PlaneStrain { .. } => {
+            (nu > -1.0 && nu < 0.5, "-1 < nu < 0.5 in plane strain")
+        }
+        AnalysisKind::Axisymmetric => (
+            nu > -1.0 && nu < 0.5,
+            "-1 < nu < 0.5 in axisymmetric analysis",
+        ),
+    };
+    if ok {
+        Ok(())
+    } else {
+        Err(format!("Poisson's ratio must satisfy {rule}"))
+    }
+}
+
+/// A friction coefficient must be finite and not negative.
+pub fn check_coefficient(mu: f64) -> Result<(), String> {
+    if mu >= 0.0 && mu.is_finite() {
+        Ok(())
+    } else {
+        Err("a friction coefficient must be finite and not negative".into())
+    }
+}
+
+impl Material {
+    /// The model's constants by name, in the scene's order.
+    pub fn constants(&self) -> Vec<(&'static str, f64)> {
+        match self.spec {
+            MaterialSpec::LinearElastic { e, nu } => vec![("E", e), ("nu", nu)],
+        }
+    }
+
+    /// Replace a constant (checked later, with the others, by
+    /// `Problem::check_parameters`).
+    pub fn set_constant(&mut self, name: &str, value: f64) -> Result<(), String> {
+        match (&mut self.spec, name) {
+            (MaterialSpec::LinearElastic { e, .. }, "E") => *e = value,
+            (MaterialSpec::LinearElastic { nu, .. }, "nu") => *nu = value,
+            _ => return Err(format!("material '{}' has no constant '{name}'", self.name)),
+        }
+        Ok(())
+    }
+}
+
+impl Problem {
+    /// Range checks of the values an FMU may override: material constants,
+    /// friction coefficients, Newton control. The error names the value.
+    pub fn check_parameters(&self) -> Result<(), String> {
+        for m in &self.materials {
+            match m.spec {
+                MaterialSpec::LinearElastic { e, nu } => {
+                    check_modulus(e).map_err(|msg| format!("{}.E = {e:?}: {msg}", m.name))?;
+                    check_poisson(self.analysis, nu)
+                        .map_err(|msg| format!("{}.nu = {nu:?}: {msg}", m.name))?;
+                }
+            }
+        }
+        for c in &self.contacts {
+            for (key, mu) in [("mu_s", c.mu_s), ("mu_d", c.mu_d)] {
+                check_coefficient(mu).map_err(|msg| format!("{}.{key} = {mu:?}: {msg}", c.name))?;
+            }
+            if c.mu_d > c.mu_s {
+                return Err(format!(
+                    "{}.mu_d = {:?}: mu_d must not exceed mu_s = {:?}",
+                    c.name, c.mu_d, c.mu_s
+                ));
+            }
+        }
+        let s = &self.solver;
+        if !(s.force_tolerance > 0.0 && s.force_tolerance < 1.0) {
+            return Err(format!(
+                "solver.tolerance = {:?}: must lie in (0, 1)",
+                s.force_tolerance
+            ));
+        }
+        if s.max_iterations == 0 {
+            return Err("solver.max_iterations = 0: at least one iteration is needed".into());
+        }
+        Ok(())
+    }
 }

@@ -4,14 +4,14 @@
 use serde::{Deserialize, Serialize};
 
 /// Force that a driver exerts on the body to impose its motion.
-#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct DriverResult {
     #[serde(rename = "Rx")]
     pub rx: f64,
     #[serde(rename = "Ry")]
     pub ry: f64,
     /// Moment about the reference point (rigid targets only).
-    #[serde(rename = "Mz", skip_serializing_if = "Option::is_none")]
+    #[serde(rename = "Mz", default, skip_serializing_if = "Option::is_none")]
     pub mz: Option<f64>,
 }
 
@@ -51,7 +51,7 @@ impl From<NodeState> for i32 {
 /// Per contactor node, in contactor order: current position, the normal
 /// traction (positive in compression) and the tangential traction (positive
 /// from a node toward the next), and the state.
-#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct PairNodes {
     pub x: Vec<f64>,
     pub y: Vec<f64>,
@@ -63,7 +63,7 @@ pub struct PairNodes {
 /// Resultants of one contact pair: the force the target exerts on the
 /// contactor (global Fx, Fy; Fn, Ft its normal and tangential parts summed
 /// over the contactor segments), node counts by state, and the nodes.
-#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct PairResult {
     #[serde(rename = "Fx")]
     pub fx: f64,
@@ -80,7 +80,7 @@ pub struct PairResult {
 }
 
 /// One converged (or failed) increment.
-#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct StepResult {
     pub time: f64,
     pub converged: bool,
@@ -115,6 +115,53 @@ impl LogCategory {
             LogCategory::Warning => "logStatusWarning",
             LogCategory::Newton => "logNewton",
             LogCategory::Contact => "logContact",
+        }
+    }
+}
+
+impl StepResult {
+    /// The outputs of a problem at rest (before its first increment): zero
+    /// forces, every contactor node open at its position in `u`.
+    pub fn at_rest(problem: &crate::problem::Problem, time: f64, u: &[f64]) -> StepResult {
+        let drivers = problem
+            .drivers
+            .iter()
+            .map(|d| (d.name.clone(), DriverResult::default()))
+            .chain(problem.rigids.iter().map(|r| {
+                let rest = DriverResult {
+                    mz: Some(0.0),
+                    ..Default::default()
+                };
+                (r.name.clone(), rest)
+            }))
+            .collect();
+        let pairs = problem
+            .contacts
+            .iter()
+            .map(|c| {
+                let m = c.contactor.len();
+                let at = |n: usize, i: usize| problem.mesh.nodes[n][i] + u[2 * n + i];
+                let nodes = PairNodes {
+                    x: c.contactor.iter().map(|&n| at(n, 0)).collect(),
+                    y: c.contactor.iter().map(|&n| at(n, 1)).collect(),
+                    tn: vec![0.0; m],
+                    tt: vec![0.0; m],
+                    state: vec![NodeState::Open; m],
+                };
+                let result = PairResult {
+                    n_open: m,
+                    nodes,
+                    ..Default::default()
+                };
+                (c.name.clone(), result)
+            })
+            .collect();
+        StepResult {
+            time,
+            converged: true,
+            drivers,
+            pairs,
+            ..Default::default()
         }
     }
 }

@@ -14,6 +14,8 @@ pub struct State {
     /// Contact memory per pair (node states, contact points, segment
     /// states), in scene order.
     pub contact: Vec<crate::contact::PairMemory>,
+    /// Pose [ux, uy, theta] of each rigid target at `time`, in scene order.
+    pub rigid: Vec<[f64; 3]>,
 }
 
 impl State {

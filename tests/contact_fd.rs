@@ -491,7 +491,7 @@ fn check(kind: ElementKind, rigid: bool, wanted: &[NodeState], r_nodes: &[V2], s
     let mut log = Vec::new();
     let sys = pairs::update(
         &p.problem,
-        1.0,
+        &pairs::scene_poses(&p.problem, 1.0),
         &p.u,
         &r,
         &eq,

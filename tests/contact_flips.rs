@@ -57,9 +57,16 @@ fn a_node_flipping_open_and_closed_is_reported() {
     let mut log = Vec::new();
     let mut states = Vec::new();
     let error = loop {
-        match pairs::update(&p, 0.0, &u, &r, &eq, &mut memory, &mut flips, &mut |m| {
-            log.push(m.to_string())
-        }) {
+        match pairs::update(
+            &p,
+            &pairs::scene_poses(&p, 0.0),
+            &u,
+            &r,
+            &eq,
+            &mut memory,
+            &mut flips,
+            &mut |m| log.push(m.to_string()),
+        ) {
             Ok(_) => states.push(memory[0].nodes[0].state),
             Err(e) => break e,
         }

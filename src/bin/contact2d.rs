@@ -48,6 +48,18 @@ enum Command {
         #[arg(long, value_name = "DIR")]
         vtk: Option<PathBuf>,
     },
+    /// Build the FMU (FMI 2.0 co-simulation) of a scene.
+    Export {
+        /// The scene file (TOML).
+        scene: PathBuf,
+        /// The FMU to write.
+        #[arg(short, long, value_name = "NAME.fmu")]
+        output: PathBuf,
+        /// The shared library to ship (default: libcontact2d.so beside this
+        /// executable, as `cargo build --release` leaves it).
+        #[arg(long, value_name = "FILE")]
+        library: Option<PathBuf>,
+    },
     /// Validate a scene and print what it contains.
     Check {
         /// The scene file (TOML).
@@ -64,6 +76,40 @@ fn main() -> ExitCode {
             vtk,
         } => run(&scene, summary.as_deref(), vtk.as_deref()),
         Command::Check { scene } => check(&scene),
+        Command::Export {
+            scene,
+            output,
+            library,
+        } => export(&scene, &output, library),
+    }
+}
+
+fn export(scene: &Path, output: &Path, library: Option<PathBuf>) -> ExitCode {
+    let library = library.or_else(|| {
+        std::env::current_exe()
+            .ok()
+            .and_then(|exe| contact2d::fmi::export::find_library(&exe))
+    });
+    let Some(library) = library else {
+        return failure(
+            "libcontact2d.so not found beside this executable: build it with `cargo build --release`, or pass --library",
+        );
+    };
+    match contact2d::fmi::export::export(scene, output, &library) {
+        Ok(done) => {
+            say(
+                &None,
+                &format!(
+                    "{}: {} variables, {} bytes (library {})",
+                    output.display(),
+                    done.variables,
+                    done.bytes,
+                    library.display()
+                ),
+            );
+            ExitCode::SUCCESS
+        }
+        Err(e) => scene_failure(e),
     }
 }
 

@@ -139,12 +139,23 @@ fn position(problem: &Problem, u: &[f64], n: usize) -> Vector2<f64> {
     Vector2::new(x[0] + u[2 * n], x[1] + u[2 * n + 1])
 }
 
-/// Points of a rigid target at time t: rotated by theta about the reference
-/// and translated by (ux, uy). Also returns the moved reference point.
-pub fn rigid_points(problem: &Problem, r: usize, t: f64) -> (Vec<[f64; 2]>, [f64; 2]) {
-    let rigid = &problem.rigids[r];
+/// Poses [ux, uy, theta] of the rigid targets at time t, from the scene's
+/// functions.
+pub fn scene_poses(problem: &Problem, t: f64) -> Vec<[f64; 3]> {
     let f = &problem.functions;
-    let (ux, uy, th) = (rigid.ux.at(t, f), rigid.uy.at(t, f), rigid.theta.at(t, f));
+    problem
+        .rigids
+        .iter()
+        .map(|r| [r.ux.at(t, f), r.uy.at(t, f), r.theta.at(t, f)])
+        .collect()
+}
+
+/// Points of rigid target `r` at pose [ux, uy, theta]: rotated by theta
+/// about the reference and translated by (ux, uy). Also returns the moved
+/// reference point.
+pub fn rigid_points(problem: &Problem, r: usize, pose: [f64; 3]) -> (Vec<[f64; 2]>, [f64; 2]) {
+    let rigid = &problem.rigids[r];
+    let [ux, uy, th] = pose;
     let (s, c) = th.sin_cos();
     let [cx, cy] = rigid.reference;
     let points = rigid
@@ -162,7 +173,7 @@ fn target_segments(
     problem: &Problem,
     pair: &ContactPair,
     u: &[f64],
-    t: f64,
+    poses: &[[f64; 3]],
 ) -> Result<Vec<TargetSegment>, String> {
     let make = |xa: Vector2<f64>, xb: Vector2<f64>, nodes| {
         let seg = Segment::new(xa, xb).map_err(|e| format!("pair '{}': {e}", pair.name))?;
@@ -185,7 +196,7 @@ fn target_segments(
             })
             .collect(),
         Target::Rigid(r) => {
-            let (points, _) = rigid_points(problem, *r, t);
+            let (points, _) = rigid_points(problem, *r, poses[*r]);
             points
                 .windows(2)
                 .map(|w| {
@@ -287,13 +298,14 @@ fn from_segment_state(s: SegmentState) -> NodeState {
     }
 }
 
-/// The contact part of the system at displacements `u` and time `t`, from
+/// The contact part of the system at displacements `u` and rigid target
+/// poses `poses` ([ux, uy, theta] per rigid target), from
 /// the out-of-balance forces `r` (F_int - R_ext, contact excluded) and the
 /// memory after the previous iteration, which it updates. `eq` maps dofs to
 /// equations (PRESCRIBED for prescribed dofs).
 pub fn update(
     problem: &Problem,
-    t: f64,
+    poses: &[[f64; 3]],
     u: &[f64],
     r: &[f64],
     eq: &[u32],
@@ -312,7 +324,7 @@ pub fn update(
     for (p, pair) in problem.contacts.iter().enumerate() {
         let mem = &mut memory[p];
         let m = pair.contactor.len();
-        let segments = target_segments(problem, pair, u, t)?;
+        let segments = target_segments(problem, pair, u, poses)?;
         let x: Vec<Vector2<f64>> = pair
             .contactor
             .iter()
@@ -589,7 +601,7 @@ pub fn update(
                 result.fn_ -= f.dot(&cp.segment().normal());
                 result.ft -= f.dot(&cp.segment().tangent());
                 if let Target::Rigid(ri) = pair.target {
-                    let (_, reference) = rigid_points(problem, ri, t);
+                    let (_, reference) = rigid_points(problem, ri, poses[ri]);
                     let xc = cp.point();
                     let f = -reported(k);
                     let rr = &mut out.rigid[ri];

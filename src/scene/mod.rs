@@ -10,7 +10,7 @@ mod raw;
 use crate::mesh::{Edge, Mesh};
 use crate::problem::{
     AnalysisKind, Body, BodyForce, Driver, InitialStress, Kinematics, Material, MaterialSpec,
-    NodalForce, Pressure, Problem, Scaled, SolverSettings, TimeFunction,
+    NodalForce, Pressure, Problem, Scaled, SolverSettings, TimeFunction, Units,
 };
 use locate::Source;
 use raw::{AnalysisName, KinematicsName, ModelName, ValueSpec};
@@ -59,15 +59,18 @@ pub struct SceneError {
 
 /// Reads and resolves the scene file at `path`.
 pub fn load(path: &Path) -> Result<Problem, SceneError> {
-    let text = std::fs::read_to_string(path).map_err(|e| SceneError {
+    parse(&read(path)?, path)
+}
+
+fn read(path: &Path) -> Result<String, SceneError> {
+    std::fs::read_to_string(path).map_err(|e| SceneError {
         kind: SceneErrorKind::Io,
         file: path.to_path_buf(),
         line: 1,
         key: "(file)".into(),
         value: path.display().to_string(),
         message: format!("cannot read the scene file: {e}"),
-    })?;
-    parse(&text, path)
+    })
 }
 
 /// Resolves scene `text`; `path` names it in errors and is where relative
@@ -152,6 +155,10 @@ impl<'a> Resolver<'a> {
             initial_stresses,
             times,
             solver,
+            units: scene.units.as_ref().map_or_else(Units::default, |u| Units {
+                length: u.length.unwrap_or_default(),
+                force: u.force.unwrap_or_default(),
+            }),
         })
     }
 
@@ -292,27 +299,9 @@ impl<'a> Resolver<'a> {
     /// to change.
     fn poisson(&self, nu: &Spanned<f64>, key: String) -> Result<f64, SceneError> {
         let v = *nu.get_ref();
-        let (ok, message) = match self.analysis {
-            AnalysisKind::PlaneStress { .. } => {
-                (v > -1.0 && v <= 0.5, "-1 < nu <= 0.5 in plane stress")
-            }
-            AnalysisKind::PlaneStrain { .. } => {
-                (v > -1.0 && v < 0.5, "-1 < nu < 0.5 in plane strain")
-            }
-            AnalysisKind::Axisymmetric => (
-                v > -1.0 && v < 0.5,
-                "-1 < nu < 0.5 in axisymmetric analysis",
-            ),
-        };
-        if ok {
-            Ok(v)
-        } else {
-            Err(self.invalid(
-                nu.span(),
-                key,
-                format!("Poisson's ratio must satisfy {message}"),
-            ))
-        }
+        crate::problem::check_poisson(self.analysis, v)
+            .map(|()| v)
+            .map_err(|message| self.invalid(nu.span(), key, message))
     }
 
     fn functions(&mut self, list: &[Spanned<raw::Function>]) -> Result<(), SceneError> {
@@ -833,4 +822,19 @@ impl<'a> Resolver<'a> {
         }
         Ok(settings)
     }
+}
+
+/// The mesh files a scene reads (`body.mesh.file`), as written in it:
+/// relative to the scene's folder.
+pub fn mesh_files(path: &Path) -> Result<Vec<std::path::PathBuf>, SceneError> {
+    let text = read(path)?;
+    // A scene that loads parses; this reads only the file names.
+    let doc: toml::Table = toml::from_str(&text).unwrap_or_default();
+    let bodies = doc.get("body").and_then(|b| b.as_array());
+    Ok(bodies
+        .into_iter()
+        .flatten()
+        .filter_map(|b| b.get("mesh")?.get("file")?.as_str())
+        .map(std::path::PathBuf::from)
+        .collect())
 }

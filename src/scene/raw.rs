@@ -38,6 +38,15 @@ pub(super) struct Scene {
     pub initial_stress: Vec<InitialStress>,
     pub steps: Spanned<Steps>,
     pub solver: Option<Solver>,
+    pub units: Option<Units>,
+}
+
+/// The units the scene's numbers are in (declared in the FMU).
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct Units {
+    pub length: Option<crate::problem::LengthUnit>,
+    pub force: Option<crate::problem::ForceUnit>,
 }
 
 #[derive(Deserialize)]

@@ -60,6 +60,7 @@ pub fn problem(
         initial_stresses: vec![],
         times: vec![1.0],
         solver: SolverSettings::default(),
+        units: Default::default(),
     }
 }
 

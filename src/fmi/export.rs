@@ -1,0 +1,92 @@
+//! `contact2d export`: the FMU of a scene, a zip with
+//! `modelDescription.xml`, `binaries/linux64/contact2d.so` and `resources/`
+//! (the scene as `scene.toml`, and the mesh files it reads, at the same
+//! relative paths).
+
+use super::SCENE_FILE;
+use super::description::{MODEL_IDENTIFIER, model_description};
+use std::io::Write;
+use std::path::{Component, Path, PathBuf};
+
+/// What was written.
+#[derive(Debug)]
+pub struct Exported {
+    pub variables: usize,
+    pub bytes: u64,
+}
+
+/// The shared library next to a binary of this crate (`cargo build` puts it
+/// beside the executable, `cargo test` under `deps/`): the newer of the two.
+pub fn find_library(exe: &Path) -> Option<PathBuf> {
+    let dir = exe.parent()?;
+    let name = format!("lib{MODEL_IDENTIFIER}.so");
+    [dir.join(&name), dir.join("deps").join(&name)]
+        .into_iter()
+        .filter_map(|p| {
+            let t = std::fs::metadata(&p).and_then(|m| m.modified()).ok()?;
+            Some((t, p))
+        })
+        .max()
+        .map(|(_, p)| p)
+}
+
+/// Writes the FMU of `scene` to `out`, with the shared library `library`.
+pub fn export(scene: &Path, out: &Path, library: &Path) -> Result<Exported, String> {
+    let problem = crate::scene::load(scene).map_err(|e| e.to_string())?;
+    let xml = model_description(&problem);
+    let scene_text = std::fs::read(scene).map_err(|e| format!("{}: {e}", scene.display()))?;
+    let lib = std::fs::read(library).map_err(|e| {
+        format!(
+            "cannot read the shared library {}: {e} (build it with `cargo build --release`, or pass --library)",
+            library.display()
+        )
+    })?;
+    let dir = scene.parent().unwrap_or(Path::new(""));
+    let mut files = vec![(format!("resources/{SCENE_FILE}"), scene_text)];
+    for rel in crate::scene::mesh_files(scene).map_err(|e| e.to_string())? {
+        let inside = rel
+            .components()
+            .all(|c| matches!(c, Component::Normal(_) | Component::CurDir));
+        if !inside {
+            return Err(format!(
+                "{}: the mesh file {} is not below the scene's folder; the FMU keeps the scene's relative paths, so move the mesh beside the scene",
+                scene.display(),
+                rel.display()
+            ));
+        }
+        let bytes = std::fs::read(dir.join(&rel))
+            .map_err(|e| format!("{}: {e}", dir.join(&rel).display()))?;
+        let name = rel
+            .components()
+            .filter_map(|c| match c {
+                Component::Normal(s) => Some(s.to_string_lossy().into_owned()),
+                _ => None,
+            })
+            .collect::<Vec<_>>()
+            .join("/");
+        files.push((format!("resources/{name}"), bytes));
+    }
+    files.push(("modelDescription.xml".into(), xml.into_bytes()));
+    files.push((format!("binaries/linux64/{MODEL_IDENTIFIER}.so"), lib));
+
+    if let Some(parent) = out.parent().filter(|p| !p.as_os_str().is_empty()) {
+        std::fs::create_dir_all(parent).map_err(|e| format!("{}: {e}", parent.display()))?;
+    }
+    let file = std::fs::File::create(out).map_err(|e| format!("{}: {e}", out.display()))?;
+    let mut zip = zip::ZipWriter::new(file);
+    let options = zip::write::SimpleFileOptions::default()
+        .compression_method(zip::CompressionMethod::Deflated)
+        .unix_permissions(0o644);
+    let fail = |e: &dyn std::fmt::Display| format!("{}: {e}", out.display());
+    for (name, bytes) in &files {
+        zip.start_file(name.as_str(), options)
+            .map_err(|e| fail(&e))?;
+        zip.write_all(bytes).map_err(|e| fail(&e))?;
+    }
+    zip.finish().map_err(|e| fail(&e))?;
+    let bytes = std::fs::metadata(out).map_err(|e| fail(&e))?.len();
+    Ok(Exported {
+        variables: super::variables::variables(&problem).len(),
+        bytes,
+    })
+}

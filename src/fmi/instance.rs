@@ -1,0 +1,668 @@
+//! One FMU instance: the FMI 2.0 co-simulation state machine over a solver,
+//! in plain Rust (`ffi` maps the C calls onto it). It holds no physics: it
+//! maps variables onto the problem, the solver's inputs and the last step's
+//! results, and calls the solver.
+
+use super::description::{LOG_CATEGORIES, guid};
+use super::variables::{Binding, Causality, Start, Type, Variable, output, variables};
+use crate::newton::{SolveError, Solver};
+use crate::problem::{Problem, check_coefficient, check_modulus, check_poisson};
+use crate::results::{LogCategory, StepResult};
+use crate::state::State;
+use serde::{Deserialize, Serialize};
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+
+/// The FMI status an instance call ends with.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Status {
+    Ok,
+    Warning,
+    Discard,
+    Error,
+}
+
+/// Where the instance is in the FMI 2.0 co-simulation state machine.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub enum Mode {
+    Instantiated,
+    Initialization,
+    StepComplete,
+    Terminated,
+    /// An internal failure (a caught panic): only reset, a saved state,
+    /// getters and free are accepted.
+    Error,
+}
+
+/// The logger: (status, category, message).
+pub type LogFn = Box<dyn FnMut(Status, &str, &str) + Send>;
+
+/// A saved FMU state: everything a step depends on, so that a restored
+/// state continues bit for bit as the original did.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Snapshot {
+    guid: String,
+    /// Values of every variable that is not an output, by variable index
+    /// (parameters, to check against the instance's; inputs, to restore).
+    reals: Vec<f64>,
+    ints: Vec<i32>,
+    output_dir: String,
+    state: State,
+    last: StepResult,
+    steps: usize,
+}
+
+const SNAPSHOT_MAGIC: &[u8] = b"contact2d FMU state 1\n";
+
+pub struct Instance {
+    name: String,
+    guid: String,
+    /// The problem as the scene gives it (reset returns to it).
+    base: Problem,
+    vars: Vec<Variable>,
+    by_vr: HashMap<u32, usize>,
+    /// Current value of each Real / Integer variable that is not an output,
+    /// by variable index (unused entries stay 0).
+    reals: Vec<f64>,
+    ints: Vec<i32>,
+    output_dir: String,
+    start_time: f64,
+    solver: Option<Solver>,
+    /// Outputs of the last converged step (at rest before the first).
+    last: StepResult,
+    /// Steps taken (names the VTK files).
+    steps: usize,
+    mode: Mode,
+    logging_on: bool,
+    /// Enabled categories, in `LOG_CATEGORIES` order.
+    categories: [bool; 4],
+    log: LogFn,
+}
+
+impl Instance {
+    /// Reads the scene and checks the GUID the master expects against the
+    /// one this scene's interface has.
+    pub fn new(
+        name: &str,
+        scene: &Path,
+        expected_guid: &str,
+        logging_on: bool,
+        log: LogFn,
+    ) -> Result<Instance, String> {
+        let problem = crate::scene::load(scene).map_err(|e| e.to_string())?;
+        let guid = guid(&problem);
+        if guid != expected_guid {
+            return Err(format!(
+                "GUID {expected_guid} does not match the scene's interface {guid} ({}): the FMU's resources and modelDescription.xml disagree",
+                scene.display()
+            ));
+        }
+        let vars = variables(&problem);
+        let by_vr = vars.iter().enumerate().map(|(i, v)| (v.vr, i)).collect();
+        let n = vars.len();
+        let last = StepResult::at_rest(&problem, 0.0, &vec![0.0; 2 * problem.mesh.nodes.len()]);
+        let mut instance = Instance {
+            name: name.to_string(),
+            guid,
+            base: problem,
+            vars,
+            by_vr,
+            reals: vec![0.0; n],
+            ints: vec![0; n],
+            output_dir: String::new(),
+            start_time: 0.0,
+            solver: None,
+            last,
+            steps: 0,
+            mode: Mode::Instantiated,
+            logging_on,
+            categories: [true; 4],
+            log,
+        };
+        instance.load_starts();
+        Ok(instance)
+    }
+
+    /// Start values of the parameters and inputs.
+    fn load_starts(&mut self) {
+        for (i, v) in self.vars.iter().enumerate() {
+            match &v.start {
+                Some(Start::Real(x)) => self.reals[i] = *x,
+                Some(Start::Integer(x)) => self.ints[i] = *x,
+                Some(Start::String(s)) => self.output_dir = s.clone(),
+                None => {}
+            }
+        }
+    }
+
+    pub fn mode(&self) -> Mode {
+        self.mode
+    }
+
+    pub fn guid(&self) -> &str {
+        &self.guid
+    }
+
+    /// Logs a message; errors and warnings always reach the logger, Newton
+    /// and contact lines only when logging is on for their category.
+    pub fn log(&mut self, category: LogCategory, msg: &str) {
+        emit(
+            &mut self.log,
+            self.logging_on,
+            &self.categories,
+            category,
+            msg,
+        );
+    }
+
+    fn error(&mut self, msg: impl AsRef<str>) -> Status {
+        self.log(LogCategory::Error, msg.as_ref());
+        Status::Error
+    }
+
+    /// Refuses a call made in a mode that does not allow it.
+    fn require(&mut self, call: &str, allowed: &[Mode]) -> Result<(), Status> {
+        if allowed.contains(&self.mode) {
+            Ok(())
+        } else {
+            Err(self.error(format!(
+                "{call} is not allowed in mode {:?} (allowed: {allowed:?})",
+                self.mode
+            )))
+        }
+    }
+
+    pub fn set_debug_logging(&mut self, on: bool, categories: &[String]) -> Status {
+        if categories.is_empty() {
+            self.categories = [on; 4];
+        } else {
+            for c in categories {
+                match LOG_CATEGORIES.iter().position(|(n, _)| n == c) {
+                    Some(i) => self.categories[i] = on,
+                    None => {
+                        return self.error(format!(
+                            "fmi2SetDebugLogging: unknown log category '{c}' (known: logStatusError, logStatusWarning, logNewton, logContact)"
+                        ));
+                    }
+                }
+            }
+        }
+        self.logging_on = on || self.categories.iter().any(|&c| c);
+        Status::Ok
+    }
+
+    pub fn setup_experiment(&mut self, start_time: f64) -> Status {
+        if let Err(s) = self.require("fmi2SetupExperiment", &[Mode::Instantiated]) {
+            return s;
+        }
+        if !start_time.is_finite() {
+            return self.error(format!(
+                "fmi2SetupExperiment: startTime = {start_time} is not finite"
+            ));
+        }
+        self.start_time = start_time;
+        Status::Ok
+    }
+
+    pub fn enter_initialization(&mut self) -> Status {
+        if let Err(s) = self.require("fmi2EnterInitializationMode", &[Mode::Instantiated]) {
+            return s;
+        }
+        self.mode = Mode::Initialization;
+        Status::Ok
+    }
+
+    /// Applies the parameters, checks them together, and builds the solver.
+    pub fn exit_initialization(&mut self) -> Status {
+        if let Err(s) = self.require("fmi2ExitInitializationMode", &[Mode::Initialization]) {
+            return s;
+        }
+        let problem = match self.configured_problem() {
+            Ok(p) => p,
+            Err(msg) => return self.error(format!("fmi2ExitInitializationMode: {msg}")),
+        };
+        let mut solver = match Solver::new(problem) {
+            Ok(s) => s,
+            Err(e) => return self.error(format!("fmi2ExitInitializationMode: {e}")),
+        };
+        let mut state = solver.state().clone();
+        state.time = self.start_time;
+        solver.restore(state);
+        self.last = StepResult::at_rest(solver.problem(), self.start_time, &solver.state().u);
+        self.solver = Some(solver);
+        self.mode = Mode::StepComplete;
+        Status::Ok
+    }
+
+    /// The scene's problem with the parameter values set on this instance.
+    fn configured_problem(&self) -> Result<Problem, String> {
+        let mut p = self.base.clone();
+        for (i, v) in self.vars.iter().enumerate() {
+            match v.binding {
+                Binding::MaterialConstant { material, name } => {
+                    p.materials[material].set_constant(name, self.reals[i])?;
+                }
+                Binding::Friction { pair, dynamic } => {
+                    let c = &mut p.contacts[pair];
+                    if dynamic {
+                        c.mu_d = self.reals[i];
+                    } else {
+                        c.mu_s = self.reals[i];
+                    }
+                }
+                Binding::Tolerance => {
+                    p.solver.force_tolerance = self.reals[i];
+                    p.solver.displacement_tolerance = self.reals[i];
+                }
+                Binding::MaxIterations => p.solver.max_iterations = self.ints[i].max(0) as usize,
+                Binding::MaxSubsteps => p.solver.max_bisections = self.ints[i].max(0) as usize,
+                _ => {}
+            }
+        }
+        p.check_parameters()?;
+        Ok(p)
+    }
+
+    pub fn terminate(&mut self) -> Status {
+        if let Err(s) = self.require("fmi2Terminate", &[Mode::StepComplete, Mode::Error]) {
+            return s;
+        }
+        self.mode = Mode::Terminated;
+        Status::Ok
+    }
+
+    /// Back to the state right after instantiation: start values, no solver.
+    pub fn reset(&mut self) -> Status {
+        self.solver = None;
+        self.steps = 0;
+        self.start_time = 0.0;
+        self.load_starts();
+        self.last =
+            StepResult::at_rest(&self.base, 0.0, &vec![0.0; 2 * self.base.mesh.nodes.len()]);
+        self.mode = Mode::Instantiated;
+        Status::Ok
+    }
+
+    /// Looks a value reference up and checks its type.
+    fn variable(&mut self, call: &str, vr: u32, ty: Type) -> Result<usize, Status> {
+        match self.by_vr.get(&vr) {
+            Some(&i) if self.vars[i].ty == ty => Ok(i),
+            Some(&i) => {
+                let v = &self.vars[i];
+                let msg = format!(
+                    "{call}: variable '{}' (valueReference {vr}) is {:?}, not {ty:?}",
+                    v.name, v.ty
+                );
+                Err(self.error(msg))
+            }
+            None => Err(self.error(format!("{call}: no variable has valueReference {vr}"))),
+        }
+    }
+
+    /// May variable `i` be set now? Parameters before the solver is built,
+    /// inputs until the instance terminates, outputs never.
+    fn settable(&mut self, call: &str, i: usize) -> Result<(), Status> {
+        let v = &self.vars[i];
+        let ok = match v.causality {
+            Causality::Parameter => matches!(self.mode, Mode::Instantiated | Mode::Initialization),
+            Causality::Input => matches!(
+                self.mode,
+                Mode::Instantiated | Mode::Initialization | Mode::StepComplete
+            ),
+            Causality::Output => false,
+        };
+        if ok {
+            Ok(())
+        } else {
+            let msg = format!(
+                "{call}: '{}' ({:?}) cannot be set in mode {:?}",
+                v.name, v.causality, self.mode
+            );
+            Err(self.error(msg))
+        }
+    }
+
+    /// Checks all values first: a rejected call changes nothing.
+    pub fn set_real(&mut self, vrs: &[u32], values: &[f64]) -> Status {
+        let mut checked = Vec::with_capacity(vrs.len());
+        for (&vr, &value) in vrs.iter().zip(values) {
+            let i = match self.variable("fmi2SetReal", vr, Type::Real) {
+                Ok(i) => i,
+                Err(s) => return s,
+            };
+            if let Err(s) = self.settable("fmi2SetReal", i) {
+                return s;
+            }
+            if let Err(msg) = self.check_real(i, value) {
+                let name = self.vars[i].name.clone();
+                return self.error(format!("fmi2SetReal: {name} = {value:?} rejected: {msg}"));
+            }
+            checked.push((i, value));
+        }
+        for (i, value) in checked {
+            self.reals[i] = value;
+        }
+        Status::Ok
+    }
+
+    /// Range check of one Real value.
+    fn check_real(&self, i: usize, value: f64) -> Result<(), String> {
+        if !value.is_finite() {
+            return Err("not a finite number".into());
+        }
+        match self.vars[i].binding {
+            Binding::MaterialConstant { name: "E", .. } => check_modulus(value),
+            Binding::MaterialConstant { name: "nu", .. } => {
+                check_poisson(self.base.analysis, value)
+            }
+            Binding::Friction { .. } => check_coefficient(value),
+            Binding::Tolerance if !(value > 0.0 && value < 1.0) => {
+                Err("the relative tolerance must lie in (0, 1)".into())
+            }
+            _ => Ok(()),
+        }
+    }
+
+    pub fn set_integer(&mut self, vrs: &[u32], values: &[i32]) -> Status {
+        let mut checked = Vec::with_capacity(vrs.len());
+        for (&vr, &value) in vrs.iter().zip(values) {
+            let i = match self.variable("fmi2SetInteger", vr, Type::Integer) {
+                Ok(i) => i,
+                Err(s) => return s,
+            };
+            if let Err(s) = self.settable("fmi2SetInteger", i) {
+                return s;
+            }
+            let bad = match self.vars[i].binding {
+                Binding::MaxIterations => (value < 1).then_some("at least 1 iteration is needed"),
+                Binding::MaxSubsteps => (value < 0).then_some("must not be negative"),
+                _ => None,
+            };
+            if let Some(msg) = bad {
+                let name = self.vars[i].name.clone();
+                return self.error(format!("fmi2SetInteger: {name} = {value} rejected: {msg}"));
+            }
+            checked.push((i, value));
+        }
+        for (i, value) in checked {
+            self.ints[i] = value;
+        }
+        Status::Ok
+    }
+
+    pub fn set_string(&mut self, vrs: &[u32], values: &[String]) -> Status {
+        for (&vr, value) in vrs.iter().zip(values) {
+            let i = match self.variable("fmi2SetString", vr, Type::String) {
+                Ok(i) => i,
+                Err(s) => return s,
+            };
+            if let Err(s) = self.settable("fmi2SetString", i) {
+                return s;
+            }
+            self.output_dir = value.clone();
+        }
+        Status::Ok
+    }
+
+    /// Value of variable `i` as f64 (Real and Integer variables).
+    fn value(&self, i: usize) -> f64 {
+        let v = &self.vars[i];
+        match v.causality {
+            Causality::Output => output(&v.binding, &self.last).unwrap_or(0.0),
+            _ if v.ty == Type::Integer => f64::from(self.ints[i]),
+            _ => self.reals[i],
+        }
+    }
+
+    pub fn get_real(&mut self, vrs: &[u32], out: &mut [f64]) -> Status {
+        for (&vr, o) in vrs.iter().zip(out.iter_mut()) {
+            match self.variable("fmi2GetReal", vr, Type::Real) {
+                Ok(i) => *o = self.value(i),
+                Err(s) => return s,
+            }
+        }
+        Status::Ok
+    }
+
+    pub fn get_integer(&mut self, vrs: &[u32], out: &mut [i32]) -> Status {
+        for (&vr, o) in vrs.iter().zip(out.iter_mut()) {
+            match self.variable("fmi2GetInteger", vr, Type::Integer) {
+                // Integer outputs are counts and states, exact in f64.
+                Ok(i) => *o = self.value(i) as i32,
+                Err(s) => return s,
+            }
+        }
+        Status::Ok
+    }
+
+    pub fn get_string(&mut self, vrs: &[u32]) -> Result<Vec<String>, Status> {
+        let mut out = Vec::with_capacity(vrs.len());
+        for &vr in vrs {
+            self.variable("fmi2GetString", vr, Type::String)?;
+            out.push(self.output_dir.clone());
+        }
+        Ok(out)
+    }
+
+    /// Time of the last converged step.
+    pub fn last_successful_time(&self) -> f64 {
+        self.solver
+            .as_ref()
+            .map_or(self.start_time, |s| s.state().time)
+    }
+
+    /// One quasi-static increment from t to t + h with the inputs' current
+    /// values as the prescribed values at t + h. A step that does not
+    /// converge within `solver.max_substeps` bisections returns Discard and
+    /// leaves the state at t.
+    pub fn do_step(&mut self, t: f64, h: f64) -> Status {
+        if let Err(s) = self.require("fmi2DoStep", &[Mode::StepComplete]) {
+            return s;
+        }
+        let now = self.last_successful_time();
+        if !(t.is_finite() && h.is_finite() && h > 0.0) {
+            return self.error(format!(
+                "fmi2DoStep: currentCommunicationPoint = {t}, communicationStepSize = {h}: both must be finite and the step size positive"
+            ));
+        }
+        if (t - now).abs() > 1e-9 * now.abs().max(1.0) {
+            return self.error(format!(
+                "fmi2DoStep: currentCommunicationPoint = {t:?}, but the FMU is at t = {now:?} (restore a saved state to go back)"
+            ));
+        }
+        let Some(solver) = self.solver.as_mut() else {
+            return self.error("fmi2DoStep: no solver (internal)");
+        };
+        for (i, v) in self.vars.iter().enumerate() {
+            match v.binding {
+                Binding::DriverInput { driver, component } => {
+                    solver.set_input(driver, component, Some(self.reals[i]))
+                }
+                Binding::RigidInput { rigid, component } => {
+                    solver.set_rigid_input(rigid, component, Some(self.reals[i]))
+                }
+                _ => {}
+            }
+        }
+        let (log, on, cats) = (&mut self.log, self.logging_on, &self.categories);
+        let result = solver.advance(now + h, &mut |cat, msg| emit(log, on, cats, cat, msg));
+        match result {
+            Ok(step) => {
+                self.last = step;
+                self.steps += 1;
+                self.write_vtk()
+            }
+            Err(SolveError::NotConverged { time, reason }) => {
+                let msg = format!(
+                    "fmi2DoStep: step to t = {time} discarded, the state stays at t = {now}: {reason}"
+                );
+                self.log(LogCategory::Error, &msg);
+                Status::Discard
+            }
+            Err(e) => self.error(format!("fmi2DoStep: {e}")),
+        }
+    }
+
+    /// One VTK file per step into `output_dir`, when it is set.
+    fn write_vtk(&mut self) -> Status {
+        if self.output_dir.is_empty() {
+            return Status::Ok;
+        }
+        let Some(solver) = &self.solver else {
+            return Status::Ok;
+        };
+        let dir = PathBuf::from(&self.output_dir);
+        let stem: String = self
+            .name
+            .chars()
+            .map(|c| {
+                if c.is_ascii_alphanumeric() || c == '-' {
+                    c
+                } else {
+                    '_'
+                }
+            })
+            .collect();
+        let file = dir.join(format!("{stem}_{:04}.vtu", self.steps));
+        let stress = solver.element_stresses();
+        let written = std::fs::create_dir_all(&dir).and_then(|()| {
+            crate::output::write_vtu(&file, &solver.problem().mesh, &solver.state().u, &stress)
+        });
+        match written {
+            Ok(()) => Status::Ok,
+            Err(e) => {
+                let msg = format!(
+                    "output_dir: cannot write {}: {e} (the step itself converged)",
+                    file.display()
+                );
+                self.log(LogCategory::Warning, &msg);
+                Status::Warning
+            }
+        }
+    }
+
+    pub fn get_state(&mut self) -> Result<Snapshot, Status> {
+        let Some(solver) = &self.solver else {
+            return Err(
+                self.error("fmi2GetFMUstate: the state exists from fmi2ExitInitializationMode on")
+            );
+        };
+        Ok(Snapshot {
+            guid: self.guid.clone(),
+            reals: self.reals.clone(),
+            ints: self.ints.clone(),
+            output_dir: self.output_dir.clone(),
+            state: solver.state().clone(),
+            last: self.last.clone(),
+            steps: self.steps,
+        })
+    }
+
+    /// Restores a state saved from an instance of the same FMU with the
+    /// same parameters; accepted after a failed step or an internal error.
+    pub fn set_state(&mut self, snap: &Snapshot) -> Status {
+        if let Err(s) = self.require(
+            "fmi2SetFMUstate",
+            &[Mode::StepComplete, Mode::Terminated, Mode::Error],
+        ) {
+            return s;
+        }
+        if snap.guid != self.guid {
+            return self.error(format!(
+                "fmi2SetFMUstate: the state belongs to an FMU with GUID {}, this one is {}",
+                snap.guid, self.guid
+            ));
+        }
+        if snap.reals.len() != self.reals.len()
+            || snap.state.u.len() != self.base.mesh.nodes.len() * 2
+        {
+            return self.error("fmi2SetFMUstate: the state does not fit this FMU's variables");
+        }
+        for (i, v) in self.vars.iter().enumerate() {
+            if v.causality != Causality::Parameter {
+                continue;
+            }
+            let differs = match v.ty {
+                Type::Real => snap.reals[i].to_bits() != self.reals[i].to_bits(),
+                Type::Integer => snap.ints[i] != self.ints[i],
+                Type::String => false,
+            };
+            if differs {
+                let msg = format!(
+                    "fmi2SetFMUstate: the state was saved with {} = {}, this instance has {}",
+                    v.name,
+                    if v.ty == Type::Real {
+                        snap.reals[i]
+                    } else {
+                        f64::from(snap.ints[i])
+                    },
+                    if v.ty == Type::Real {
+                        self.reals[i]
+                    } else {
+                        f64::from(self.ints[i])
+                    },
+                );
+                return self.error(msg);
+            }
+        }
+        let Some(solver) = self.solver.as_mut() else {
+            return self.error("fmi2SetFMUstate: no solver (internal)");
+        };
+        solver.restore(snap.state.clone());
+        self.reals.clone_from(&snap.reals);
+        self.ints.clone_from(&snap.ints);
+        self.output_dir.clone_from(&snap.output_dir);
+        self.last = snap.last.clone();
+        self.steps = snap.steps;
+        self.mode = Mode::StepComplete;
+        Status::Ok
+    }
+
+    /// Marks the instance failed after a caught panic.
+    pub fn fail(&mut self, msg: &str) {
+        self.mode = Mode::Error;
+        self.log(LogCategory::Error, msg);
+    }
+}
+
+fn emit(
+    log: &mut LogFn,
+    logging_on: bool,
+    categories: &[bool; 4],
+    category: LogCategory,
+    msg: &str,
+) {
+    let (status, index) = match category {
+        LogCategory::Error => (Status::Error, 0),
+        LogCategory::Warning => (Status::Warning, 1),
+        LogCategory::Newton => (Status::Ok, 2),
+        LogCategory::Contact => (Status::Ok, 3),
+    };
+    let always = index < 2;
+    if always || (logging_on && categories[index]) {
+        log(status, category.fmi_name(), msg);
+    }
+}
+
+impl Snapshot {
+    pub fn guid(&self) -> &str {
+        &self.guid
+    }
+
+    /// Bytes for fmi2SerializeFMUstate: a header line, then JSON whose
+    /// numbers read back to the same f64 bits.
+    pub fn to_bytes(&self) -> Vec<u8> {
+        let mut out = SNAPSHOT_MAGIC.to_vec();
+        // Serializing plain data with finite floats cannot fail.
+        out.extend(serde_json::to_vec(self).unwrap_or_default());
+        out
+    }
+
+    pub fn from_bytes(bytes: &[u8]) -> Result<Snapshot, String> {
+        let body = bytes
+            .strip_prefix(SNAPSHOT_MAGIC)
+            .ok_or("fmi2DeSerializeFMUstate: the bytes are not a contact2d FMU state")?;
+        serde_json::from_slice(body)
+            .map_err(|e| format!("fmi2DeSerializeFMUstate: the state is damaged: {e}"))
+    }
+}

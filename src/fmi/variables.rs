@@ -1,0 +1,507 @@
+//! The FMU's variables, made from a problem (SPEC section 4): their names,
+//! value references, causality, units, and what each one reads or writes.
+//! Value references run 1, 2, ... over all types, parameters first, then
+//! inputs, then outputs, in scene order: unique across types.
+
+use crate::problem::{ForceUnit, LengthUnit, MaterialSpec, Problem};
+use crate::results::StepResult;
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Type {
+    Real,
+    Integer,
+    String,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Causality {
+    Parameter,
+    Input,
+    Output,
+}
+
+/// What a Real variable measures; its unit follows from the scene's units.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Quantity {
+    Length,
+    Angle,
+    Force,
+    Moment,
+    Stress,
+    None,
+}
+
+/// A scalar of a contact pair's result.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PairField {
+    Fx,
+    Fy,
+    Fn,
+    Ft,
+    NStick,
+    NSlip,
+    NOpen,
+}
+
+/// A per-node array of a contact pair's result.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum NodeField {
+    State,
+    Tn,
+    Tt,
+    X,
+    Y,
+}
+
+/// Where a variable's value lives.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Binding {
+    /// Prescribed component (0 ux, 1 uy) of a driver.
+    DriverInput {
+        driver: usize,
+        component: usize,
+    },
+    /// Pose component (0 ux, 1 uy, 2 theta) of a rigid target.
+    RigidInput {
+        rigid: usize,
+        component: usize,
+    },
+    /// Reaction (0 Rx, 1 Ry, 2 Mz) of entry `index` of `StepResult::drivers`.
+    Reaction {
+        index: usize,
+        component: usize,
+    },
+    Pair {
+        pair: usize,
+        field: PairField,
+    },
+    Node {
+        pair: usize,
+        field: NodeField,
+        k: usize,
+    },
+    MaterialConstant {
+        material: usize,
+        name: &'static str,
+    },
+    Friction {
+        pair: usize,
+        dynamic: bool,
+    },
+    Tolerance,
+    MaxIterations,
+    MaxSubsteps,
+    Iterations,
+    Substeps,
+    Residual,
+    OutputDir,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub enum Start {
+    Real(f64),
+    Integer(i32),
+    String(String),
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Variable {
+    pub name: String,
+    pub vr: u32,
+    pub ty: Type,
+    pub causality: Causality,
+    pub quantity: Quantity,
+    pub description: String,
+    /// Start value: required for parameters and inputs, absent for outputs.
+    pub start: Option<Start>,
+    pub binding: Binding,
+}
+
+/// The variables of a problem, in value-reference order.
+pub fn variables(problem: &Problem) -> Vec<Variable> {
+    let mut list = Vec::new();
+    let mut add = |name: String,
+                   ty: Type,
+                   causality: Causality,
+                   quantity: Quantity,
+                   description: String,
+                   start: Option<Start>,
+                   binding: Binding| {
+        let vr = list.len() as u32 + 1;
+        list.push(Variable {
+            name,
+            vr,
+            ty,
+            causality,
+            quantity,
+            description,
+            start,
+            binding,
+        });
+    };
+    use Causality::*;
+
+    // Parameters.
+    for (m, material) in problem.materials.iter().enumerate() {
+        for (name, value) in material.constants() {
+            let (quantity, what) = match (&material.spec, name) {
+                (MaterialSpec::LinearElastic { .. }, "E") => (Quantity::Stress, "Young's modulus"),
+                _ => (Quantity::None, "Poisson's ratio"),
+            };
+            add(
+                format!("{}.{name}", material.name),
+                Type::Real,
+                Parameter,
+                quantity,
+                format!("{what} of material '{}'", material.name),
+                Some(Start::Real(value)),
+                Binding::MaterialConstant { material: m, name },
+            );
+        }
+    }
+    for (p, pair) in problem.contacts.iter().enumerate() {
+        for (dynamic, key, value, what) in [
+            (false, "mu_s", pair.mu_s, "static"),
+            (true, "mu_d", pair.mu_d, "dynamic"),
+        ] {
+            add(
+                format!("{}.{key}", pair.name),
+                Type::Real,
+                Parameter,
+                Quantity::None,
+                format!(
+                    "{what} friction coefficient of contact pair '{}'",
+                    pair.name
+                ),
+                Some(Start::Real(value)),
+                Binding::Friction { pair: p, dynamic },
+            );
+        }
+    }
+    let s = &problem.solver;
+    add(
+        "solver.tolerance".into(),
+        Type::Real,
+        Parameter,
+        Quantity::None,
+        "Newton tolerance on the relative force (and displacement) norm".into(),
+        Some(Start::Real(s.force_tolerance)),
+        Binding::Tolerance,
+    );
+    add(
+        "solver.max_iterations".into(),
+        Type::Integer,
+        Parameter,
+        Quantity::None,
+        "Newton iterations allowed per increment".into(),
+        Some(Start::Integer(clamp_i32(s.max_iterations))),
+        Binding::MaxIterations,
+    );
+    add(
+        "solver.max_substeps".into(),
+        Type::Integer,
+        Parameter,
+        Quantity::None,
+        "bisections allowed within one step before it is discarded".into(),
+        Some(Start::Integer(clamp_i32(s.max_bisections))),
+        Binding::MaxSubsteps,
+    );
+    add(
+        "output_dir".into(),
+        Type::String,
+        Parameter,
+        Quantity::None,
+        "folder for one VTK file per step; empty: none".into(),
+        Some(Start::String(String::new())),
+        Binding::OutputDir,
+    );
+
+    // Inputs: the prescribed components at the end of the step.
+    let f = &problem.functions;
+    for (d, driver) in problem.drivers.iter().enumerate() {
+        for (component, (key, value)) in [("ux", &driver.ux), ("uy", &driver.uy)]
+            .into_iter()
+            .enumerate()
+        {
+            if let Some(value) = value {
+                add(
+                    format!("{}.{key}", driver.name),
+                    Type::Real,
+                    Input,
+                    Quantity::Length,
+                    format!("prescribed displacement {key} of driver '{}'", driver.name),
+                    Some(Start::Real(value.at(0.0, f))),
+                    Binding::DriverInput {
+                        driver: d,
+                        component,
+                    },
+                );
+            }
+        }
+    }
+    for (r, rigid) in problem.rigids.iter().enumerate() {
+        for (component, (key, value, quantity)) in [
+            ("ux", &rigid.ux, Quantity::Length),
+            ("uy", &rigid.uy, Quantity::Length),
+            ("theta", &rigid.theta, Quantity::Angle),
+        ]
+        .into_iter()
+        .enumerate()
+        {
+            add(
+                format!("{}.{key}", rigid.name),
+                Type::Real,
+                Input,
+                quantity,
+                format!("rigid-body motion {key} of rigid target '{}'", rigid.name),
+                Some(Start::Real(value.at(0.0, f))),
+                Binding::RigidInput {
+                    rigid: r,
+                    component,
+                },
+            );
+        }
+    }
+
+    // Outputs: reactions (drivers, then rigid targets, as in StepResult).
+    let reacting = problem
+        .drivers
+        .iter()
+        .map(|d| (d.name.as_str(), false))
+        .chain(problem.rigids.iter().map(|r| (r.name.as_str(), true)));
+    for (index, (name, rigid)) in reacting.enumerate() {
+        let n = if rigid { 3 } else { 2 };
+        for (component, key) in ["Rx", "Ry", "Mz"].into_iter().enumerate().take(n) {
+            let quantity = if component == 2 {
+                Quantity::Moment
+            } else {
+                Quantity::Force
+            };
+            add(
+                format!("{name}.{key}"),
+                Type::Real,
+                Output,
+                quantity,
+                format!("{key} exerted by '{name}' on the body to impose its motion"),
+                None,
+                Binding::Reaction { index, component },
+            );
+        }
+    }
+    for (p, pair) in problem.contacts.iter().enumerate() {
+        for (field, key, ty, quantity, what) in [
+            (
+                PairField::Fx,
+                "Fx",
+                Type::Real,
+                Quantity::Force,
+                "resultant contact force on the contactor, x",
+            ),
+            (
+                PairField::Fy,
+                "Fy",
+                Type::Real,
+                Quantity::Force,
+                "resultant contact force on the contactor, y",
+            ),
+            (
+                PairField::Fn,
+                "Fn",
+                Type::Real,
+                Quantity::Force,
+                "sum of the segment normal resultants T_n",
+            ),
+            (
+                PairField::Ft,
+                "Ft",
+                Type::Real,
+                Quantity::Force,
+                "sum of the segment tangential resultants T_t",
+            ),
+            (
+                PairField::NStick,
+                "n_stick",
+                Type::Integer,
+                Quantity::None,
+                "number of sticking contactor nodes",
+            ),
+            (
+                PairField::NSlip,
+                "n_slip",
+                Type::Integer,
+                Quantity::None,
+                "number of sliding contactor nodes",
+            ),
+            (
+                PairField::NOpen,
+                "n_open",
+                Type::Integer,
+                Quantity::None,
+                "number of open contactor nodes",
+            ),
+        ] {
+            add(
+                format!("{}.{key}", pair.name),
+                ty,
+                Output,
+                quantity,
+                format!("{what} (pair '{}')", pair.name),
+                None,
+                Binding::Pair { pair: p, field },
+            );
+        }
+        for (field, key, ty, quantity, what) in [
+            (
+                NodeField::State,
+                "state",
+                Type::Integer,
+                Quantity::None,
+                "state: 0 open, 1 stick, 2 slip",
+            ),
+            (
+                NodeField::Tn,
+                "tn",
+                Type::Real,
+                Quantity::Stress,
+                "normal traction (compression positive)",
+            ),
+            (
+                NodeField::Tt,
+                "tt",
+                Type::Real,
+                Quantity::Stress,
+                "tangential traction",
+            ),
+            (NodeField::X, "x", Type::Real, Quantity::Length, "current x"),
+            (NodeField::Y, "y", Type::Real, Quantity::Length, "current y"),
+        ] {
+            for k in 0..pair.contactor.len() {
+                add(
+                    format!("{}.{key}[{}]", pair.name, k + 1),
+                    ty,
+                    Output,
+                    quantity,
+                    format!("contactor node {} of pair '{}': {what}", k + 1, pair.name),
+                    None,
+                    Binding::Node { pair: p, field, k },
+                );
+            }
+        }
+    }
+    add(
+        "solver.iterations".into(),
+        Type::Integer,
+        Output,
+        Quantity::None,
+        "Newton iterations of the last step (all its substeps)".into(),
+        None,
+        Binding::Iterations,
+    );
+    add(
+        "solver.substeps".into(),
+        Type::Integer,
+        Output,
+        Quantity::None,
+        "bisections used in the last step".into(),
+        None,
+        Binding::Substeps,
+    );
+    add(
+        "solver.residual".into(),
+        Type::Real,
+        Output,
+        Quantity::None,
+        "final relative force residual of the last step".into(),
+        None,
+        Binding::Residual,
+    );
+    list
+}
+
+fn clamp_i32(v: usize) -> i32 {
+    i32::try_from(v).unwrap_or(i32::MAX)
+}
+
+/// The unit of a quantity in the scene's units (None: dimensionless).
+pub fn unit(quantity: Quantity, length: LengthUnit, force: ForceUnit) -> Option<&'static str> {
+    use ForceUnit::*;
+    use LengthUnit::*;
+    Some(match (quantity, length, force) {
+        (Quantity::None, _, _) => return None,
+        (Quantity::Angle, _, _) => "rad",
+        (Quantity::Length, Metre, _) => "m",
+        (Quantity::Length, Millimetre, _) => "mm",
+        (Quantity::Force, _, Newton) => "N",
+        (Quantity::Force, _, Kilonewton) => "kN",
+        (Quantity::Moment, Metre, Newton) => "N.m",
+        (Quantity::Moment, Millimetre, Newton) => "N.mm",
+        (Quantity::Moment, Metre, Kilonewton) => "kN.m",
+        (Quantity::Moment, Millimetre, Kilonewton) => "kN.mm",
+        (Quantity::Stress, Metre, Newton) => "Pa",
+        (Quantity::Stress, Millimetre, Newton) => "MPa",
+        (Quantity::Stress, Metre, Kilonewton) => "kPa",
+        (Quantity::Stress, Millimetre, Kilonewton) => "GPa",
+    })
+}
+
+/// SI base-unit exponents [kg, m, s, rad] and factor of a unit.
+pub fn base_unit(unit: &str) -> ([i32; 4], f64) {
+    match unit {
+        "m" => ([0, 1, 0, 0], 1.0),
+        "mm" => ([0, 1, 0, 0], 1e-3),
+        "rad" => ([0, 0, 0, 1], 1.0),
+        "s" => ([0, 0, 1, 0], 1.0),
+        "N" => ([1, 1, -2, 0], 1.0),
+        "kN" => ([1, 1, -2, 0], 1e3),
+        "N.m" => ([1, 2, -2, 0], 1.0),
+        "N.mm" => ([1, 2, -2, 0], 1e-3),
+        "kN.m" => ([1, 2, -2, 0], 1e3),
+        "kN.mm" => ([1, 2, -2, 0], 1.0),
+        "Pa" => ([1, -1, -2, 0], 1.0),
+        "kPa" => ([1, -1, -2, 0], 1e3),
+        "MPa" => ([1, -1, -2, 0], 1e6),
+        "GPa" => ([1, -1, -2, 0], 1e9),
+        _ => ([0; 4], 1.0),
+    }
+}
+
+/// Value of an output variable in a step result (Real and Integer outputs;
+/// None for a binding that is not an output).
+pub fn output(binding: &Binding, result: &StepResult) -> Option<f64> {
+    Some(match *binding {
+        Binding::Reaction { index, component } => {
+            let r = &result.drivers.get(index)?.1;
+            match component {
+                0 => r.rx,
+                1 => r.ry,
+                _ => r.mz.unwrap_or(0.0),
+            }
+        }
+        Binding::Pair { pair, field } => {
+            let p = &result.pairs.get(pair)?.1;
+            match field {
+                PairField::Fx => p.fx,
+                PairField::Fy => p.fy,
+                PairField::Fn => p.fn_,
+                PairField::Ft => p.ft,
+                PairField::NStick => p.n_stick as f64,
+                PairField::NSlip => p.n_slip as f64,
+                PairField::NOpen => p.n_open as f64,
+            }
+        }
+        Binding::Node { pair, field, k } => {
+            let n = &result.pairs.get(pair)?.1.nodes;
+            match field {
+                NodeField::State => i32::from(*n.state.get(k)?) as f64,
+                NodeField::Tn => *n.tn.get(k)?,
+                NodeField::Tt => *n.tt.get(k)?,
+                NodeField::X => *n.x.get(k)?,
+                NodeField::Y => *n.y.get(k)?,
+            }
+        }
+        Binding::Iterations => result.iterations as f64,
+        Binding::Substeps => result.substeps as f64,
+        Binding::Residual => result.residual,
+        _ => return None,
+    })
+}
