@@ -533,15 +533,25 @@ impl Solver {
                     let mut full = rhs.clone();
                     for (i, row) in c.rows.iter().enumerate() {
                         let mut b = row.rhs;
+                        let mut free = false;
                         for &(d, v) in &row.dofs {
                             if eq[d] == PRESCRIBED {
                                 if it == 0 {
                                     b -= v * dup[d];
                                 }
                             } else {
+                                free |= v != 0.0;
                                 extra.push((n + i, eq[d] as usize, v));
                                 extra.push((eq[d] as usize, n + i, v));
                             }
+                        }
+                        if !free {
+                            // Every dof the row acts on is prescribed (a
+                            // sticking node on a symmetry plane against a
+                            // fixed target): the drivers already hold it; its
+                            // multiplier gets an identity row.
+                            extra.push((n + i, n + i, 1.0));
+                            b = 0.0;
                         }
                         full.push(b);
                     }

@@ -290,9 +290,7 @@ pub fn check_modulus(e: f64) -> Result<(), String> {
     if e > 0.0 && e.is_finite() {
         Ok(())
     } else {
-        Err(format!(
-            "E = {e:?}: Young's modulus must be positive and finite"
-        ))
+        Err("Young's modulus must be positive and finite".into())
     }
 }
 

@@ -1,0 +1,937 @@
+//! The FMU's C interface, driven through the built shared library as a
+//! master would load it (fmi-sys's libloading binding): instantiate,
+//! initialize, step, get/set/serialize state, reset, free; the wrong GUID,
+//! NULL and zero-length arguments, rejected inputs and parameters, a
+//! discarded step and its retry, and instances on two threads.
+
+use contact2d::fmi::description::{guid, model_description};
+use contact2d::fmi::variables::variables;
+use contact2d::newton::Solver;
+use fmi_sys::fmi2::*;
+use std::collections::HashMap;
+use std::ffi::{CStr, CString, c_char, c_void};
+use std::path::{Path, PathBuf};
+use std::ptr::{null, null_mut};
+use std::sync::{Mutex, OnceLock};
+
+const OK: fmi2Status = fmi2Status_fmi2OK;
+const DISCARD: fmi2Status = fmi2Status_fmi2Discard;
+const ERROR: fmi2Status = fmi2Status_fmi2Error;
+
+fn repo() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+fn library_path() -> PathBuf {
+    contact2d::fmi::export::find_library(Path::new(env!("CARGO_BIN_EXE_contact2d")))
+        .expect("libcontact2d.so built beside the binary or under deps/")
+}
+
+/// The library, loaded once per test process (as a master shares it
+/// between its instances).
+fn lib() -> &'static Fmi2Binding {
+    static LIB: OnceLock<Fmi2Binding> = OnceLock::new();
+    LIB.get_or_init(|| unsafe { Fmi2Binding::new(library_path()) }.expect("load libcontact2d.so"))
+}
+
+/// Messages the logger received, per instance (the environment pointer).
+type Log = Mutex<Vec<(fmi2Status, String, String)>>;
+
+/// The logger is variadic in C; the FMU always calls it with the format
+/// "%s" and one string, so this receives that string as the sixth argument
+/// (the x86-64 and AArch64 C conventions pass it in the same register).
+unsafe extern "C" fn logger(
+    env: fmi2ComponentEnvironment,
+    _name: fmi2String,
+    status: fmi2Status,
+    category: fmi2String,
+    format: fmi2String,
+    message: *const c_char,
+) {
+    let log = unsafe { &*(env as *const Log) };
+    assert_eq!(unsafe { CStr::from_ptr(format) }, c"%s");
+    let text = |p: *const c_char| unsafe { CStr::from_ptr(p) }.to_string_lossy().into_owned();
+    log.lock()
+        .unwrap()
+        .push((status, text(category), text(message)));
+}
+
+/// An FMU unpacked by hand: `resources/scene.toml` and the variables.
+struct Unpacked {
+    resources: CString,
+    guid: CString,
+    vr: HashMap<String, u32>,
+    _dir: PathBuf,
+}
+
+fn unpack(scene: &Path, tag: &str) -> Unpacked {
+    static COUNT: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+    let n = COUNT.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    let dir = std::env::temp_dir().join(format!("contact2d-fmu-{}-{tag}-{n}", std::process::id()));
+    let resources = dir.join("resources");
+    std::fs::create_dir_all(&resources).unwrap();
+    std::fs::copy(scene, resources.join("scene.toml")).unwrap();
+    let problem = contact2d::scene::load(scene).unwrap();
+    let vr = variables(&problem)
+        .into_iter()
+        .map(|v| (v.name, v.vr))
+        .collect();
+    Unpacked {
+        resources: CString::new(format!("file://{}", resources.display())).unwrap(),
+        guid: CString::new(guid(&problem)).unwrap(),
+        vr,
+        _dir: dir,
+    }
+}
+
+/// One instance with its logger.
+struct Inst {
+    c: fmi2Component,
+    log: Box<Log>,
+    vr: HashMap<String, u32>,
+    _callbacks: Box<fmi2CallbackFunctions>,
+}
+
+unsafe impl Send for Inst {}
+
+impl Inst {
+    fn new(u: &Unpacked, name: &str) -> Inst {
+        Self::with_guid(u, name, &u.guid).expect("instantiate")
+    }
+
+    fn with_guid(u: &Unpacked, name: &str, guid: &CStr) -> Result<Inst, Vec<String>> {
+        let log: Box<Log> = Box::default();
+        let callbacks = Box::new(fmi2CallbackFunctions {
+            logger: Some(unsafe {
+                std::mem::transmute::<
+                    unsafe extern "C" fn(
+                        fmi2ComponentEnvironment,
+                        fmi2String,
+                        fmi2Status,
+                        fmi2String,
+                        fmi2String,
+                        *const c_char,
+                    ),
+                    unsafe extern "C" fn(
+                        fmi2ComponentEnvironment,
+                        fmi2String,
+                        fmi2Status,
+                        fmi2String,
+                        fmi2String,
+                        ...
+                    ),
+                >(logger)
+            }),
+            allocateMemory: None,
+            freeMemory: None,
+            stepFinished: None,
+            componentEnvironment: &*log as *const Log as *mut c_void,
+        });
+        let name = CString::new(name).unwrap();
+        let c = unsafe {
+            (lib().fmi2Instantiate.as_ref().unwrap())(
+                name.as_ptr(),
+                fmi2Type_fmi2CoSimulation,
+                guid.as_ptr(),
+                u.resources.as_ptr(),
+                &*callbacks,
+                0,
+                0,
+            )
+        };
+        if c.is_null() {
+            return Err(log.lock().unwrap().iter().map(|m| m.2.clone()).collect());
+        }
+        Ok(Inst {
+            c,
+            log,
+            vr: u.vr.clone(),
+            _callbacks: callbacks,
+        })
+    }
+
+    fn vr(&self, name: &str) -> u32 {
+        *self
+            .vr
+            .get(name)
+            .unwrap_or_else(|| panic!("no variable {name}"))
+    }
+
+    fn init(&self) {
+        let l = lib();
+        unsafe {
+            assert_eq!(
+                (l.fmi2SetupExperiment.as_ref().unwrap())(self.c, 0, 0.0, 0.0, 0, 0.0),
+                OK
+            );
+            assert_eq!(
+                (l.fmi2EnterInitializationMode.as_ref().unwrap())(self.c),
+                OK
+            );
+            assert_eq!((l.fmi2ExitInitializationMode.as_ref().unwrap())(self.c), OK);
+        }
+    }
+
+    fn set_real(&self, name: &str, v: f64) -> fmi2Status {
+        let vr = [self.vr(name)];
+        unsafe { (lib().fmi2SetReal.as_ref().unwrap())(self.c, vr.as_ptr(), 1, &v) }
+    }
+
+    fn set_int(&self, name: &str, v: i32) -> fmi2Status {
+        let vr = [self.vr(name)];
+        unsafe { (lib().fmi2SetInteger.as_ref().unwrap())(self.c, vr.as_ptr(), 1, &v) }
+    }
+
+    fn real(&self, name: &str) -> f64 {
+        let vr = [self.vr(name)];
+        let mut v = f64::NAN;
+        let s = unsafe { (lib().fmi2GetReal.as_ref().unwrap())(self.c, vr.as_ptr(), 1, &mut v) };
+        assert_eq!(s, OK, "get {name}");
+        v
+    }
+
+    fn int(&self, name: &str) -> i32 {
+        let vr = [self.vr(name)];
+        let mut v = -1;
+        let s = unsafe { (lib().fmi2GetInteger.as_ref().unwrap())(self.c, vr.as_ptr(), 1, &mut v) };
+        assert_eq!(s, OK, "get {name}");
+        v
+    }
+
+    fn step(&self, t: f64, h: f64) -> fmi2Status {
+        unsafe { (lib().fmi2DoStep.as_ref().unwrap())(self.c, t, h, 1) }
+    }
+
+    /// Every output, as f64 (Integer outputs converted), in name order.
+    fn outputs(&self) -> Vec<(String, f64)> {
+        let mut names: Vec<&String> = self.vr.keys().collect();
+        names.sort();
+        let is_output = |n: &str| {
+            [
+                ".Rx",
+                ".Ry",
+                ".Mz",
+                ".Fx",
+                ".Fy",
+                ".Fn",
+                ".Ft",
+                "n_stick",
+                "n_slip",
+                "n_open",
+                "state[",
+                ".tn[",
+                ".tt[",
+                ".x[",
+                ".y[",
+                "solver.iterations",
+                "solver.substeps",
+                "solver.residual",
+            ]
+            .iter()
+            .any(|k| n.contains(k))
+        };
+        names
+            .into_iter()
+            .filter(|n| is_output(n))
+            .map(|n| {
+                let integer = n.contains("state[")
+                    || n.contains("n_")
+                    || n == "solver.iterations"
+                    || n == "solver.substeps";
+                let v = if integer {
+                    f64::from(self.int(n))
+                } else {
+                    self.real(n)
+                };
+                (n.clone(), v)
+            })
+            .collect()
+    }
+
+    fn messages(&self) -> Vec<String> {
+        self.log
+            .lock()
+            .unwrap()
+            .iter()
+            .map(|m| m.2.clone())
+            .collect()
+    }
+
+    fn last_message(&self) -> String {
+        self.messages().last().cloned().unwrap_or_default()
+    }
+}
+
+impl Drop for Inst {
+    fn drop(&mut self) {
+        unsafe { (lib().fmi2FreeInstance.as_ref().unwrap())(self.c) };
+    }
+}
+
+fn hertz() -> Unpacked {
+    unpack(&repo().join("scenes/hertz_plane_strain.toml"), "hertz")
+}
+
+/// Steps Hertz as its scene does: press.uy = -0.07 t, t = 0.25 ... 1.
+fn step_hertz(inst: &Inst, from: usize, to: usize) {
+    for k in from..to {
+        let t = 0.25 * k as f64;
+        assert_eq!(inst.set_real("press.uy", -0.07 * (t + 0.25)), OK);
+        assert_eq!(inst.step(t, 0.25), OK, "{:?}", inst.messages());
+    }
+}
+
+#[test]
+fn exports_all_34_functions() {
+    let library = unsafe { libloading::Library::new(library_path()) }.unwrap();
+    let names = [
+        "fmi2GetTypesPlatform",
+        "fmi2GetVersion",
+        "fmi2SetDebugLogging",
+        "fmi2Instantiate",
+        "fmi2FreeInstance",
+        "fmi2SetupExperiment",
+        "fmi2EnterInitializationMode",
+        "fmi2ExitInitializationMode",
+        "fmi2Terminate",
+        "fmi2Reset",
+        "fmi2GetReal",
+        "fmi2GetInteger",
+        "fmi2GetBoolean",
+        "fmi2GetString",
+        "fmi2SetReal",
+        "fmi2SetInteger",
+        "fmi2SetBoolean",
+        "fmi2SetString",
+        "fmi2GetFMUstate",
+        "fmi2SetFMUstate",
+        "fmi2FreeFMUstate",
+        "fmi2SerializedFMUstateSize",
+        "fmi2SerializeFMUstate",
+        "fmi2DeSerializeFMUstate",
+        "fmi2GetDirectionalDerivative",
+        "fmi2SetRealInputDerivatives",
+        "fmi2GetRealOutputDerivatives",
+        "fmi2DoStep",
+        "fmi2CancelStep",
+        "fmi2GetStatus",
+        "fmi2GetRealStatus",
+        "fmi2GetIntegerStatus",
+        "fmi2GetBooleanStatus",
+        "fmi2GetStringStatus",
+    ];
+    assert_eq!(names.len(), 34);
+    for n in names {
+        let sym = unsafe { library.get::<*const c_void>(n.as_bytes()) };
+        assert!(sym.is_ok(), "{n} not exported");
+    }
+    let platform = unsafe { CStr::from_ptr((lib().fmi2GetTypesPlatform.as_ref().unwrap())()) };
+    assert_eq!(platform, c"default");
+    let version = unsafe { CStr::from_ptr((lib().fmi2GetVersion.as_ref().unwrap())()) };
+    assert_eq!(version, c"2.0");
+}
+
+/// The FMU's outputs after each step equal the solver's own run of the same
+/// load path (the scene's ramp) to round-off: the FMU only maps variables.
+#[test]
+fn steps_match_the_solver() {
+    let u = hertz();
+    let inst = Inst::new(&u, "hertz");
+    inst.init();
+    // Before the first step: at rest, every node open at its position.
+    assert_eq!(inst.real("contact.Fn"), 0.0);
+    assert_eq!(
+        inst.int("contact.n_open"),
+        inst.vr
+            .keys()
+            .filter(|k| k.starts_with("contact.x["))
+            .count() as i32
+    );
+
+    let mut solver = Solver::new(
+        contact2d::scene::load(&repo().join("scenes/hertz_plane_strain.toml")).unwrap(),
+    )
+    .unwrap();
+    for k in 0..4 {
+        step_hertz(&inst, k, k + 1);
+        let t = 0.25 * (k + 1) as f64;
+        let step = solver.advance(t, &mut |_, _| {}).unwrap();
+        let pair = &step.pairs[0].1;
+        let press = &step.drivers[1].1;
+        let close = |a: f64, b: f64, what: &str| {
+            // The FMU reaches the input linearly from the converged value;
+            // the scene's ramp gives the same numbers up to the last bits.
+            assert!(
+                (a - b).abs() <= 1e-9 * b.abs().max(1.0),
+                "{what}: FMU {a} vs solver {b}"
+            );
+        };
+        close(inst.real("contact.Fn"), pair.fn_, "Fn");
+        close(inst.real("contact.Fx"), pair.fx, "Fx");
+        close(inst.real("contact.Fy"), pair.fy, "Fy");
+        close(inst.real("press.Ry"), press.ry, "press.Ry");
+        close(inst.real("flat.Ry"), step.drivers[2].1.ry, "flat.Ry");
+        assert_eq!(inst.int("contact.n_slip") as usize, pair.n_slip);
+        assert_eq!(inst.int("contact.n_open") as usize, pair.n_open);
+        for (i, (&tn, &x)) in pair.nodes.tn.iter().zip(&pair.nodes.x).enumerate() {
+            close(inst.real(&format!("contact.tn[{}]", i + 1)), tn, "tn");
+            close(inst.real(&format!("contact.x[{}]", i + 1)), x, "x");
+            assert_eq!(
+                inst.int(&format!("contact.state[{}]", i + 1)),
+                i32::from(pair.nodes.state[i])
+            );
+        }
+        assert_eq!(inst.int("solver.iterations") as usize, step.iterations);
+    }
+    // The load reached P/2 of about 3300 on the quarter model.
+    assert!((inst.real("contact.Fn") - 3287.36).abs() < 1.0);
+    let mut t = f64::NAN;
+    let s = unsafe {
+        (lib().fmi2GetRealStatus.as_ref().unwrap())(
+            inst.c,
+            fmi2StatusKind_fmi2LastSuccessfulTime,
+            &mut t,
+        )
+    };
+    assert_eq!((s, t), (OK, 1.0));
+    unsafe { assert_eq!((lib().fmi2Terminate.as_ref().unwrap())(inst.c), OK) };
+}
+
+/// Get a state, step, set it back, step again: identical outputs, bit for
+/// bit; the same through serialization into a second instance.
+#[test]
+fn saved_state_continues_bit_for_bit() {
+    let u = hertz();
+    let l = lib();
+    let a = Inst::new(&u, "a");
+    a.init();
+    step_hertz(&a, 0, 2);
+    let mut state: fmi2FMUstate = null_mut();
+    unsafe { assert_eq!((l.fmi2GetFMUstate.as_ref().unwrap())(a.c, &mut state), OK) };
+    step_hertz(&a, 2, 4);
+    let first = a.outputs();
+    unsafe { assert_eq!((l.fmi2SetFMUstate.as_ref().unwrap())(a.c, state), OK) };
+    assert_eq!(a.real("press.Ry"), {
+        // Outputs are those of the saved time again.
+        let b = Inst::new(&u, "check");
+        b.init();
+        step_hertz(&b, 0, 2);
+        b.real("press.Ry")
+    });
+    step_hertz(&a, 2, 4);
+    let again = a.outputs();
+    assert_eq!(first.len(), again.len());
+    for ((n, x), (_, y)) in first.iter().zip(&again) {
+        assert_eq!(x.to_bits(), y.to_bits(), "{n}: {x} then {y}");
+    }
+
+    // Serialize, deserialize into a fresh instance, continue there.
+    let mut size = 0usize;
+    unsafe {
+        assert_eq!(
+            (l.fmi2SerializedFMUstateSize.as_ref().unwrap())(a.c, state, &mut size),
+            OK
+        )
+    };
+    let mut bytes = vec![0 as c_char; size];
+    unsafe {
+        assert_eq!(
+            (l.fmi2SerializeFMUstate.as_ref().unwrap())(a.c, state, bytes.as_mut_ptr(), size),
+            OK
+        );
+        // Too small a buffer is refused.
+        assert_eq!(
+            (l.fmi2SerializeFMUstate.as_ref().unwrap())(a.c, state, bytes.as_mut_ptr(), size - 1),
+            ERROR
+        );
+    }
+    let b = Inst::new(&u, "b");
+    b.init();
+    let mut restored: fmi2FMUstate = null_mut();
+    unsafe {
+        assert_eq!(
+            (l.fmi2DeSerializeFMUstate.as_ref().unwrap())(b.c, bytes.as_ptr(), size, &mut restored),
+            OK
+        );
+        assert_eq!((l.fmi2SetFMUstate.as_ref().unwrap())(b.c, restored), OK);
+    }
+    step_hertz(&b, 2, 4);
+    for ((n, x), (_, y)) in first.iter().zip(&b.outputs()) {
+        assert_eq!(
+            x.to_bits(),
+            y.to_bits(),
+            "{n} after deserialization: {x} vs {y}"
+        );
+    }
+    // Damaged bytes are refused with a message.
+    let mut bad: fmi2FMUstate = null_mut();
+    unsafe {
+        assert_eq!(
+            (l.fmi2DeSerializeFMUstate.as_ref().unwrap())(b.c, bytes.as_ptr(), size / 2, &mut bad),
+            ERROR
+        );
+    }
+    assert!(b.last_message().contains("damaged"), "{}", b.last_message());
+    unsafe {
+        assert_eq!((l.fmi2FreeFMUstate.as_ref().unwrap())(a.c, &mut state), OK);
+        assert_eq!(
+            (l.fmi2FreeFMUstate.as_ref().unwrap())(b.c, &mut restored),
+            OK
+        );
+    }
+    assert!(state.is_null() && restored.is_null());
+}
+
+/// A step that cannot converge without bisection returns Discard, keeps the
+/// last converged state, and the same jump in four steps then succeeds.
+#[test]
+fn discarded_step_keeps_the_state_and_a_retry_succeeds() {
+    let u = unpack(&repo().join("tests/data/scenes/tl_shear.toml"), "tl");
+    let l = lib();
+    let inst = Inst::new(&u, "tl");
+    unsafe {
+        assert_eq!(
+            (l.fmi2EnterInitializationMode.as_ref().unwrap())(inst.c),
+            OK
+        );
+    }
+    assert_eq!(inst.set_int("solver.max_substeps", 0), OK);
+    unsafe {
+        assert_eq!((l.fmi2ExitInitializationMode.as_ref().unwrap())(inst.c), OK);
+    }
+    let mut saved: fmi2FMUstate = null_mut();
+    unsafe {
+        assert_eq!(
+            (l.fmi2GetFMUstate.as_ref().unwrap())(inst.c, &mut saved),
+            OK
+        )
+    };
+    assert_eq!(inst.set_real("top.ux", 0.5), OK);
+    assert_eq!(inst.set_real("top.uy", -0.3), OK);
+    assert_eq!(inst.step(0.0, 1.0), DISCARD);
+    assert!(
+        inst.messages().iter().any(|m| m.contains("discarded")),
+        "{:?}",
+        inst.messages()
+    );
+    let mut t = f64::NAN;
+    unsafe {
+        (l.fmi2GetRealStatus.as_ref().unwrap())(
+            inst.c,
+            fmi2StatusKind_fmi2LastSuccessfulTime,
+            &mut t,
+        )
+    };
+    assert_eq!(t, 0.0);
+    assert_eq!(
+        inst.real("top.Rx"),
+        0.0,
+        "outputs stay at the last converged time"
+    );
+    // Roll back (a master's usual move) and retry in four steps.
+    unsafe { assert_eq!((l.fmi2SetFMUstate.as_ref().unwrap())(inst.c, saved), OK) };
+    for k in 0..4 {
+        let s = (k + 1) as f64 / 4.0;
+        inst.set_real("top.ux", 0.5 * s);
+        inst.set_real("top.uy", -0.3 * s);
+        assert_eq!(
+            inst.step(k as f64 * 0.25, 0.25),
+            OK,
+            "{:?}",
+            inst.messages()
+        );
+        assert!(inst.int("solver.iterations") <= 6);
+    }
+    // The same end state as the solver's own four increments.
+    let mut problem =
+        contact2d::scene::load(&repo().join("tests/data/scenes/tl_shear.toml")).unwrap();
+    problem.solver.max_bisections = 0;
+    let mut solver = Solver::new(problem).unwrap();
+    let mut last = None;
+    for k in 1..=4 {
+        last = Some(solver.advance(k as f64 * 0.25, &mut |_, _| {}).unwrap());
+    }
+    let top = &last.unwrap().drivers[1].1;
+    for (name, want) in [("top.Rx", top.rx), ("top.Ry", top.ry)] {
+        let got = inst.real(name);
+        assert!(
+            (got - want).abs() <= 1e-9 * want.abs(),
+            "{name}: FMU {got} vs solver {want}"
+        );
+    }
+    unsafe { (l.fmi2FreeFMUstate.as_ref().unwrap())(inst.c, &mut saved) };
+}
+
+#[test]
+fn bad_inputs_and_parameters_are_rejected_by_name() {
+    let u = hertz();
+    let l = lib();
+    let inst = Inst::new(&u, "bad");
+    unsafe {
+        assert_eq!(
+            (l.fmi2EnterInitializationMode.as_ref().unwrap())(inst.c),
+            OK
+        )
+    };
+    for (name, value, expect) in [
+        ("steel.E", -1.0, "steel.E = -1.0 rejected: Young's modulus"),
+        ("steel.E", 0.0, "steel.E = 0.0 rejected"),
+        (
+            "steel.nu",
+            0.5,
+            "steel.nu = 0.5 rejected: Poisson's ratio must satisfy -1 < nu < 0.5 in plane strain",
+        ),
+        (
+            "steel.nu",
+            f64::NAN,
+            "steel.nu = NaN rejected: not a finite number",
+        ),
+        ("contact.mu_s", -0.1, "contact.mu_s = -0.1 rejected"),
+        ("solver.tolerance", 2.0, "solver.tolerance = 2.0 rejected"),
+    ] {
+        assert_eq!(inst.set_real(name, value), ERROR, "{name} = {value}");
+        assert!(
+            inst.last_message().contains(expect),
+            "{}",
+            inst.last_message()
+        );
+    }
+    assert_eq!(inst.set_int("solver.max_iterations", 0), ERROR);
+    assert!(inst.last_message().contains("solver.max_iterations = 0"));
+    // mu_d > mu_s is a relation: checked when initialization ends.
+    assert_eq!(inst.set_real("contact.mu_d", 0.2), OK);
+    unsafe {
+        assert_eq!(
+            (l.fmi2ExitInitializationMode.as_ref().unwrap())(inst.c),
+            ERROR
+        )
+    };
+    assert!(
+        inst.last_message()
+            .contains("contact.mu_d = 0.2: mu_d must not exceed mu_s = 0.0"),
+        "{}",
+        inst.last_message()
+    );
+    assert_eq!(inst.set_real("contact.mu_d", 0.0), OK);
+    unsafe { assert_eq!((l.fmi2ExitInitializationMode.as_ref().unwrap())(inst.c), OK) };
+    // Fixed parameters are refused after initialization; inputs must be
+    // finite; outputs cannot be set.
+    assert_eq!(inst.set_real("steel.E", 1.0), ERROR);
+    assert!(
+        inst.last_message()
+            .contains("cannot be set in mode StepComplete")
+    );
+    for bad in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+        assert_eq!(inst.set_real("press.uy", bad), ERROR);
+        assert!(
+            inst.last_message().contains("press.uy"),
+            "{}",
+            inst.last_message()
+        );
+    }
+    assert_eq!(inst.set_real("contact.Fn", 1.0), ERROR);
+    // A type mismatch and an unknown reference.
+    let vr = [inst.vr("contact.n_slip")];
+    let mut x = 0.0;
+    unsafe {
+        assert_eq!(
+            (l.fmi2GetReal.as_ref().unwrap())(inst.c, vr.as_ptr(), 1, &mut x),
+            ERROR
+        );
+        assert_eq!(
+            (l.fmi2GetReal.as_ref().unwrap())(inst.c, [99_999].as_ptr(), 1, &mut x),
+            ERROR
+        );
+    }
+    assert!(inst.last_message().contains("99999"));
+    // The instance still works.
+    step_hertz(&inst, 0, 1);
+    assert!(inst.real("contact.Fn") > 0.0);
+    // Wrong state: a step before the current time, initialization again.
+    assert_eq!(inst.step(0.0, 0.25), ERROR);
+    assert!(inst.last_message().contains("but the FMU is at t = 0.25"));
+    unsafe {
+        assert_eq!(
+            (l.fmi2EnterInitializationMode.as_ref().unwrap())(inst.c),
+            ERROR
+        )
+    };
+    assert!(
+        inst.last_message()
+            .contains("not allowed in mode StepComplete")
+    );
+}
+
+#[test]
+fn null_and_zero_length_arguments() {
+    let u = hertz();
+    let l = lib();
+    unsafe {
+        // A NULL component is refused by every function.
+        assert_eq!(
+            (l.fmi2DoStep.as_ref().unwrap())(null_mut(), 0.0, 1.0, 0),
+            ERROR
+        );
+        assert_eq!((l.fmi2Reset.as_ref().unwrap())(null_mut()), ERROR);
+        assert_eq!(
+            (l.fmi2GetReal.as_ref().unwrap())(null_mut(), null(), 0, null_mut()),
+            ERROR
+        );
+        (l.fmi2FreeInstance.as_ref().unwrap())(null_mut());
+    }
+    let inst = Inst::new(&u, "null");
+    inst.init();
+    unsafe {
+        // Zero-length arrays may be NULL.
+        assert_eq!(
+            (l.fmi2GetReal.as_ref().unwrap())(inst.c, null(), 0, null_mut()),
+            OK
+        );
+        assert_eq!(
+            (l.fmi2SetReal.as_ref().unwrap())(inst.c, null(), 0, null()),
+            OK
+        );
+        assert_eq!(
+            (l.fmi2GetBoolean.as_ref().unwrap())(inst.c, null(), 0, null_mut()),
+            OK
+        );
+        // NULL arrays with a length are not.
+        assert_eq!(
+            (l.fmi2GetReal.as_ref().unwrap())(inst.c, null(), 3, null_mut()),
+            ERROR
+        );
+        assert!(inst.last_message().contains("NULL"));
+        assert_eq!(
+            (l.fmi2SetString.as_ref().unwrap())(inst.c, null(), 1, null()),
+            ERROR
+        );
+        let mut s: fmi2FMUstate = null_mut();
+        assert_eq!(
+            (l.fmi2GetFMUstate.as_ref().unwrap())(inst.c, null_mut()),
+            ERROR
+        );
+        assert_eq!((l.fmi2SetFMUstate.as_ref().unwrap())(inst.c, s), ERROR);
+        assert_eq!((l.fmi2FreeFMUstate.as_ref().unwrap())(inst.c, &mut s), OK);
+        // Unsupported functions say so.
+        assert_eq!(
+            (l.fmi2GetDirectionalDerivative.as_ref().unwrap())(
+                inst.c,
+                null(),
+                0,
+                null(),
+                0,
+                null(),
+                null_mut()
+            ),
+            ERROR
+        );
+        assert!(inst.last_message().contains("not supported"));
+        assert_eq!((l.fmi2CancelStep.as_ref().unwrap())(inst.c), ERROR);
+        let mut st = OK;
+        assert_eq!(
+            (l.fmi2GetStatus.as_ref().unwrap())(inst.c, fmi2StatusKind_fmi2DoStepStatus, &mut st),
+            DISCARD
+        );
+    }
+    // Instantiation failures return NULL and say why.
+    let wrong = Inst::with_guid(&u, "wrong", c"{00000000-0000-0000-0000-000000000000}");
+    let msgs = wrong.err().expect("wrong GUID refused");
+    assert!(
+        msgs.iter().any(|m| m.contains("does not match")),
+        "{msgs:?}"
+    );
+    let missing = Unpacked {
+        resources: c"file:///nonexistent/resources".into(),
+        guid: u.guid.clone(),
+        vr: HashMap::new(),
+        _dir: PathBuf::new(),
+    };
+    let msgs = Inst::with_guid(&missing, "missing", &u.guid)
+        .err()
+        .expect("no scene");
+    assert!(
+        msgs.iter()
+            .any(|m| m.contains("/nonexistent/resources/scene.toml") && m.contains("cannot read")),
+        "{msgs:?}"
+    );
+    let c = unsafe {
+        (lib().fmi2Instantiate.as_ref().unwrap())(
+            null(),
+            fmi2Type_fmi2CoSimulation,
+            u.guid.as_ptr(),
+            u.resources.as_ptr(),
+            null(),
+            0,
+            0,
+        )
+    };
+    assert!(
+        c.is_null(),
+        "a NULL instance name (and no callbacks) is refused"
+    );
+    let c = unsafe {
+        (lib().fmi2Instantiate.as_ref().unwrap())(
+            c"me".as_ptr(),
+            fmi2Type_fmi2ModelExchange,
+            u.guid.as_ptr(),
+            u.resources.as_ptr(),
+            null(),
+            0,
+            0,
+        )
+    };
+    assert!(c.is_null(), "model exchange is refused");
+}
+
+/// Reset returns to the start values; the same steps give the same outputs.
+#[test]
+fn reset_starts_again() {
+    let u = hertz();
+    let inst = Inst::new(&u, "reset");
+    inst.init();
+    step_hertz(&inst, 0, 2);
+    let first = inst.outputs();
+    unsafe { assert_eq!((lib().fmi2Reset.as_ref().unwrap())(inst.c), OK) };
+    assert_eq!(inst.real("press.uy"), 0.0);
+    assert_eq!(inst.real("contact.Fn"), 0.0);
+    inst.init();
+    step_hertz(&inst, 0, 2);
+    for ((n, x), (_, y)) in first.iter().zip(&inst.outputs()) {
+        assert_eq!(x.to_bits(), y.to_bits(), "{n}");
+    }
+}
+
+/// Instances on two threads at once, each its own state, the results those
+/// of one instance alone.
+#[test]
+fn instances_on_two_threads() {
+    let u = hertz();
+    let alone = Inst::new(&u, "alone");
+    alone.init();
+    step_hertz(&alone, 0, 4);
+    let expect = alone.outputs();
+    let runs: Vec<Vec<(String, f64)>> = std::thread::scope(|s| {
+        let handles: Vec<_> = (0..2)
+            .map(|i| {
+                let u = &u;
+                s.spawn(move || {
+                    let inst = Inst::new(u, &format!("thread{i}"));
+                    inst.init();
+                    step_hertz(&inst, 0, 4);
+                    inst.outputs()
+                })
+            })
+            .collect();
+        handles.into_iter().map(|h| h.join().unwrap()).collect()
+    });
+    for run in runs {
+        assert_eq!(run, expect);
+    }
+}
+
+/// Newton and contact lines reach the logger only when their category is on.
+#[test]
+fn log_categories() {
+    let u = hertz();
+    let l = lib();
+    let inst = Inst::new(&u, "log");
+    inst.init();
+    step_hertz(&inst, 0, 1);
+    assert!(inst.log.lock().unwrap().is_empty(), "logging off: nothing");
+    let cats = [c"logNewton".as_ptr()];
+    unsafe {
+        assert_eq!(
+            (l.fmi2SetDebugLogging.as_ref().unwrap())(inst.c, 1, 1, cats.as_ptr()),
+            OK
+        )
+    };
+    step_hertz(&inst, 1, 2);
+    let log = inst.log.lock().unwrap().clone();
+    assert!(
+        log.iter()
+            .any(|m| m.1 == "logNewton" && m.2.contains("|r|/|r0|"))
+    );
+    assert!(log.iter().all(|m| m.1 != "logContact"));
+    let unknown = [c"logEverything".as_ptr()];
+    unsafe {
+        assert_eq!(
+            (l.fmi2SetDebugLogging.as_ref().unwrap())(inst.c, 1, 1, unknown.as_ptr()),
+            ERROR
+        )
+    };
+    assert!(inst.last_message().contains("logEverything"));
+}
+
+/// `modelDescription/` holds what `export` writes for each shipped scene.
+#[test]
+fn committed_model_descriptions_are_current() {
+    let mut scenes = Vec::new();
+    for dir in ["scenes", "scenes/verification"] {
+        for e in std::fs::read_dir(repo().join(dir)).unwrap() {
+            let p = e.unwrap().path();
+            if p.extension().is_some_and(|x| x == "toml") {
+                scenes.push(p);
+            }
+        }
+    }
+    scenes.sort();
+    let bless = std::env::var_os("CONTACT2D_BLESS").is_some();
+    let mut stale = Vec::new();
+    for scene in &scenes {
+        let stem = scene.file_stem().unwrap().to_string_lossy().into_owned();
+        let xml = model_description(&contact2d::scene::load(scene).unwrap());
+        let path = repo().join("modelDescription").join(format!("{stem}.xml"));
+        if bless {
+            std::fs::create_dir_all(path.parent().unwrap()).unwrap();
+            std::fs::write(&path, &xml).unwrap();
+        } else if std::fs::read_to_string(&path).ok().as_deref() != Some(xml.as_str()) {
+            stale.push(path.display().to_string());
+        }
+    }
+    assert!(
+        stale.is_empty(),
+        "out of date (regenerate with CONTACT2D_BLESS=1 cargo test --release --test fmu committed): {stale:?}"
+    );
+}
+
+/// `contact2d export` writes the committed description, the library and
+/// the scene.
+#[test]
+fn export_writes_the_fmu() {
+    let out = std::env::temp_dir().join(format!("contact2d-export-{}.fmu", std::process::id()));
+    let status = std::process::Command::new(env!("CARGO_BIN_EXE_contact2d"))
+        .args(["export", "scenes/hertz_plane_strain.toml", "-o"])
+        .arg(&out)
+        .current_dir(repo())
+        .status()
+        .unwrap();
+    assert!(status.success());
+    let mut zip = zip::ZipArchive::new(std::fs::File::open(&out).unwrap()).unwrap();
+    let mut names: Vec<String> = zip.file_names().map(|n| n.unwrap().into_owned()).collect();
+    names.sort();
+    assert_eq!(
+        names,
+        [
+            "binaries/linux64/contact2d.so",
+            "modelDescription.xml",
+            "resources/scene.toml"
+        ]
+    );
+    let mut xml = String::new();
+    std::io::Read::read_to_string(&mut zip.by_name("modelDescription.xml").unwrap(), &mut xml)
+        .unwrap();
+    let committed =
+        std::fs::read_to_string(repo().join("modelDescription/hertz_plane_strain.xml")).unwrap();
+    assert_eq!(xml, committed);
+    let _ = std::fs::remove_file(&out);
+
+    // A scene that does not load is refused with its file:line.
+    let bad = std::process::Command::new(env!("CARGO_BIN_EXE_contact2d"))
+        .args(["export", "tests/data/scenes/syntax.toml", "-o"])
+        .arg(&out)
+        .current_dir(repo())
+        .output()
+        .unwrap();
+    assert_eq!(bad.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&bad.stderr).contains("syntax.toml:"));
+}
