@@ -17,6 +17,8 @@ m_arc = along_top - along_top / 2, along_top = 2 round((pi / 4) / ln q)
 (clamped to 2..n). tests/contact_cattaneo.rs checks the match.
 
 Usage: python3 scripts/cattaneo_block_mesh.py > scenes/verification/meshes/cattaneo_block.msh
+       python3 scripts/cattaneo_block_mesh.py --q8 > BLOCK_Q8.msh  (8-node quadrilaterals,
+       the mid-side nodes of the top matching those of a q8 cylinder)
 """
 
 import math
@@ -38,13 +40,22 @@ def graded(n, ratio):
     return [math.expm1(k * log_q) / total for k in range(n + 1)]
 
 
-def core_arc_x():
-    """x of the arc nodes of the core, from the contact point outward."""
+def fine(t):
+    """The positions with their midpoints inserted (8-node lattices)."""
+    out = []
+    for a, b in zip(t, t[1:]):
+        out += [a, 0.5 * (a + b)]
+    return out + [t[-1]]
+
+
+def core_arc_x(q8):
+    """x of the arc nodes of the core, from the contact point outward; with
+    q8, mid-side nodes included (at the middle of each arc, in arc length)."""
     log_q = math.log(RATIO) / (DIVISIONS - 1)
     along_top = min(max(2 * round((math.pi / 4) / log_q), 2), DIVISIONS)
     m_arc = along_top - along_top // 2
-    t = graded(DIVISIONS, RATIO)
-    return [RADIUS * math.sin(s) for s in t[: m_arc + 1]]
+    t = graded(DIVISIONS, RATIO)[: m_arc + 1]
+    return [RADIUS * math.sin(s) for s in (fine(t) if q8 else t)]
 
 
 def grow(start, first, end):
@@ -60,24 +71,43 @@ def grow(start, first, end):
 
 
 def main():
-    core = core_arc_x()
+    q8 = sys.argv[1:] == ["--q8"]
+    core = core_arc_x(False)
     right = core + grow(core[-1], (core[-1] - core[-2]) * GROWTH, 0.5 * WIDTH)[1:]
     xs = [-x for x in reversed(right[1:])] + right
     # Downward: the core spacings first (square elements under the contact
     # zone), then growing.
     depth = core + grow(core[-1], (core[-1] - core[-2]) * GROWTH, DEPTH)[1:]
     ys = [-y for y in reversed(depth)]
+    if q8:
+        # Mid-side nodes: on the arc's in the core, at the middle elsewhere.
+        core8 = core_arc_x(True)
+        m = len(core) - 1
+        right8 = core8 + fine(right[m:])[1:]
+        xs = [-x for x in reversed(right8[1:])] + right8
+        ys = fine(ys)
     nx, ny = len(xs), len(ys)
+    step = 2 if q8 else 1
 
     def tag(i, j):
         return j * nx + i + 1
 
+    def used(i, j):
+        return not (q8 and i % 2 == 1 and j % 2 == 1)
+
     quads = []
-    for j in range(ny - 1):
-        for i in range(nx - 1):
-            quads.append((tag(i, j), tag(i + 1, j), tag(i + 1, j + 1), tag(i, j + 1)))
-    top = [(tag(i + 1, ny - 1), tag(i, ny - 1)) for i in range(nx - 1)]
-    bottom = [(tag(i, 0), tag(i + 1, 0)) for i in range(nx - 1)]
+    for j in range(0, ny - 1, step):
+        for i in range(0, nx - 1, step):
+            e = [tag(i, j), tag(i + step, j), tag(i + step, j + step), tag(i, j + step)]
+            if q8:
+                e += [tag(i + 1, j), tag(i + 2, j + 1), tag(i + 1, j + 2), tag(i, j + 1)]
+            quads.append(tuple(e))
+    top, bottom = [], []
+    for i in range(0, nx - 1, step):
+        mid = [tag(i + 1, ny - 1)] if q8 else []
+        top.append((tag(i + step, ny - 1), tag(i, ny - 1), *mid))
+        mid = [tag(i + 1, 0)] if q8 else []
+        bottom.append((tag(i, 0), tag(i + step, 0), *mid))
 
     out = sys.stdout
     w = out.write
@@ -89,18 +119,19 @@ def main():
     w(f"2 {x0} {y0} 0 {x1} {y0} 0 1 2 0\n")
     w(f"1 {x0} {y0} 0 {x1} 0 0 1 3 2 1 2\n")
     w("$EndEntities\n")
-    n = nx * ny
-    w(f"$Nodes\n1 {n} 1 {n}\n2 1 0 {n}\n")
-    for k in range(n):
-        w(f"{k + 1}\n")
-    for j in range(ny):
-        for i in range(nx):
-            w(f"{xs[i]!r} {ys[j]!r} 0\n")
+    nodes = [(i, j) for j in range(ny) for i in range(nx) if used(i, j)]
+    n = len(nodes)
+    w(f"$Nodes\n1 {n} 1 {nx * ny}\n2 1 0 {n}\n")
+    for i, j in nodes:
+        w(f"{tag(i, j)}\n")
+    for i, j in nodes:
+        w(f"{xs[i]!r} {ys[j]!r} 0\n")
     w("$EndNodes\n")
     ne = len(top) + len(bottom) + len(quads)
     w(f"$Elements\n3 {ne} 1 {ne}\n")
     e = 1
-    for dim, entity, kind, items in ((1, 1, 1, top), (1, 2, 1, bottom), (2, 1, 3, quads)):
+    line, quad = (8, 16) if q8 else (1, 3)
+    for dim, entity, kind, items in ((1, 1, line, top), (1, 2, line, bottom), (2, 1, quad, quads)):
         w(f"{dim} {entity} {kind} {len(items)}\n")
         for item in items:
             w(f"{e} {' '.join(str(v) for v in item)}\n")
