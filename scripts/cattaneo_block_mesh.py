@@ -16,15 +16,21 @@ t_k = (q^k - 1) / (q^n - 1), q = ratio^(1 / (n - 1)), for k up to
 m_arc = along_top - along_top / 2, along_top = 2 round((pi / 4) / ln q)
 (clamped to 2..n). tests/contact_cattaneo.rs checks the match.
 
-Usage: python3 scripts/cattaneo_block_mesh.py > scenes/verification/meshes/cattaneo_block.msh
-       python3 scripts/cattaneo_block_mesh.py --q8 > BLOCK_Q8.msh  (8-node quadrilaterals,
-       the mid-side nodes of the top matching those of a q8 cylinder)
+Usage: python3 scripts/cattaneo_block_mesh.py [--q8] [--divisions N] > FILE.msh
+
+  (no options)     scenes/verification/meshes/cattaneo_block.msh
+  --divisions 120  tests/data/cattaneo_block_120.msh, for the cylinder with
+                   divisions = 120 (the refined run of tests/contact_cattaneo.rs)
+  --q8             8-node quadrilaterals, the top's mid-side nodes matching
+                   those of a q8 cylinder
 """
 
+import argparse
 import math
 import sys
 
-# The cylinder's disk generator (must match the scene's [[body]] "cylinder").
+# The cylinder's disk generator (must match the scene's [[body]] "cylinder";
+# --divisions overrides DIVISIONS).
 RADIUS = 20.0
 DIVISIONS = 80
 RATIO = 20.0
@@ -48,13 +54,13 @@ def fine(t):
     return out + [t[-1]]
 
 
-def core_arc_x(q8):
+def core_arc_x(q8, divisions):
     """x of the arc nodes of the core, from the contact point outward; with
     q8, mid-side nodes included (at the middle of each arc, in arc length)."""
-    log_q = math.log(RATIO) / (DIVISIONS - 1)
-    along_top = min(max(2 * round((math.pi / 4) / log_q), 2), DIVISIONS)
+    log_q = math.log(RATIO) / (divisions - 1)
+    along_top = min(max(2 * round((math.pi / 4) / log_q), 2), divisions)
     m_arc = along_top - along_top // 2
-    t = graded(DIVISIONS, RATIO)[: m_arc + 1]
+    t = graded(divisions, RATIO)[: m_arc + 1]
     return [RADIUS * math.sin(s) for s in (fine(t) if q8 else t)]
 
 
@@ -71,8 +77,12 @@ def grow(start, first, end):
 
 
 def main():
-    q8 = sys.argv[1:] == ["--q8"]
-    core = core_arc_x(False)
+    parser = argparse.ArgumentParser(description="Write the Cattaneo-Mindlin block mesh.")
+    parser.add_argument("--q8", action="store_true", help="8-node quadrilaterals")
+    parser.add_argument("--divisions", type=int, default=DIVISIONS, help="the disk's divisions")
+    args = parser.parse_args()
+    q8 = args.q8
+    core = core_arc_x(False, args.divisions)
     right = core + grow(core[-1], (core[-1] - core[-2]) * GROWTH, 0.5 * WIDTH)[1:]
     xs = [-x for x in reversed(right[1:])] + right
     # Downward: the core spacings first (square elements under the contact
@@ -81,7 +91,7 @@ def main():
     ys = [-y for y in reversed(depth)]
     if q8:
         # Mid-side nodes: on the arc's in the core, at the middle elsewhere.
-        core8 = core_arc_x(True)
+        core8 = core_arc_x(True, args.divisions)
         m = len(core) - 1
         right8 = core8 + fine(right[m:])[1:]
         xs = [-x for x in reversed(right8[1:])] + right8
