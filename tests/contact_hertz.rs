@@ -60,8 +60,8 @@ fn hertz_cylinder_tractions_within_1_percent_and_converging() {
         fine.rms
     );
     // Away from the edge the tractions have converged to Hertz: measured
-    // 5.5e-4 and 5.7e-4 (and +6.8e-4 at the centre, on both meshes). What is
-    // left is not the mesh: the centre offset falls with (a/R)^2 (+1.4e-4
+    // 5.5e-4 and 5.7e-4 (centre +5.7e-4 and +6.8e-4). What is left is not
+    // the mesh: the centre offset falls with (a/R)^2 (+1.4e-4
     // at a/R = 0.028, see benches/refinement.rs), Hertz's half-space and
     // parabolic profile against a finite cylinder with a circular one.
     assert!(shipped.rms_interior < 1e-3 && fine.rms_interior < 1e-3);
