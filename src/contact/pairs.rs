@@ -10,7 +10,7 @@
 use super::segment::{ContactPoint, Segment};
 use super::traction::{self, Geometry, SegmentState};
 use crate::assembly::PRESCRIBED;
-use crate::problem::{AnalysisKind, ContactPair, Problem, Target};
+use crate::problem::{AnalysisKind, ContactPair, Kinematics, Problem, Target};
 use crate::results::{NodeState, PairNodes, PairResult};
 use nalgebra::Vector2;
 use serde::{Deserialize, Serialize};
@@ -378,6 +378,44 @@ pub fn update(
             SLIDE_HYSTERESIS,
         )
         .map_err(|e| format!("pair '{}': {e}", pair.name))?;
+        // Reported tractions are per unit area of the geometry the element
+        // stresses live on: the reference one under small-strain kinematics
+        // (linear theory, as Hertz's), the current one under total
+        // Lagrangian kinematics (Cauchy tractions). The decisions above only
+        // compare tractions of the same segment, so they do not depend on it.
+        let reference_area = matches!(
+            problem.kinematics,
+            Kinematics::SmallStrain | Kinematics::MaterialNonlinearOnly
+        );
+        let x_area: Vec<Vector2<f64>> = if reference_area {
+            pair.contactor
+                .iter()
+                .map(|&n| Vector2::new(problem.mesh.nodes[n][0], problem.mesh.nodes[n][1]))
+                .collect()
+        } else {
+            x.clone()
+        };
+        let (node_tn, node_tt) = if reference_area {
+            let xs: Vec<[f64; 2]> = x_area.iter().map(|v| [v.x, v.y]).collect();
+            let out = traction::evaluate(
+                geometry,
+                pair.recovery,
+                pair.mu_s,
+                pair.mu_d,
+                pair.rule,
+                pair.closed,
+                &xs,
+                &active,
+                &force,
+                &prev,
+                &ever,
+                SLIDE_HYSTERESIS,
+            )
+            .map_err(|e| format!("pair '{}': {e}", pair.name))?;
+            (out.node_tn, out.node_tt)
+        } else {
+            (ev.node_tn.clone(), ev.node_tt.clone())
+        };
         for (s, seg) in mem.segments.iter_mut().enumerate() {
             seg.state = from_segment_state(ev.segments[s].state);
             seg.ever_slid = ev.segments[s].ever_slid;
@@ -626,12 +664,12 @@ pub fn update(
             result.nodes.tn.push(if state == NodeState::Open {
                 0.0
             } else {
-                ev.node_tn[k]
+                node_tn[k]
             });
             result.nodes.tt.push(if state == NodeState::Open {
                 0.0
             } else {
-                ev.node_tt[k]
+                node_tt[k]
             });
             result.nodes.state.push(state);
         }
@@ -657,7 +695,7 @@ pub fn update(
                     }
                 })
                 .collect();
-            if let Some(t) = quadratic_tractions(geometry, pair.closed, &x, &closed_now, &f) {
+            if let Some(t) = quadratic_tractions(geometry, pair.closed, &x_area, &closed_now, &f) {
                 for k in 0..m {
                     if !closed_now[k] {
                         continue;

@@ -162,3 +162,138 @@ pub fn nodes_where(mesh: &Mesh, pred: impl Fn(f64, f64) -> bool) -> Vec<usize> {
 pub fn silent() -> impl FnMut(contact2d::results::LogCategory, &str) {
     |_, _| {}
 }
+
+/// A frictionless Hertz press (the shipped `hertz_*` scenes) at its last
+/// increment, against Hertz's pressure with P taken from the computed
+/// resultant of the first contact pair.
+pub struct Hertz {
+    /// Load: per unit thickness over the full cylinder (twice the quarter's
+    /// Fy), or the total over the circle for the sphere (Fy itself).
+    pub p: f64,
+    pub a: f64,
+    pub p0: f64,
+    /// Nodes of the contact zone: closed in the solution or inside Hertz's a
+    /// (reference coordinate X < a).
+    pub zone: usize,
+    /// Reference X of the last closed and of the first open contactor node.
+    pub last_closed: f64,
+    pub first_open: f64,
+    /// RMS over the contact zone of (tn - p(X)) / p0: tn as reported, p
+    /// Hertz's pressure at the node's reference coordinate (zero beyond a).
+    pub rms: f64,
+    /// The same over the nodes X < 0.8 a (away from the edge).
+    pub rms_interior: f64,
+    /// (tn - p0) / p0 at the contact point (the first contactor node).
+    pub centre: f64,
+    /// RMS over the contact zone and at the centre with tn converted to
+    /// force per unit CURRENT area (the lengths, and radii, of the deformed
+    /// surface), for comparison.
+    pub rms_current: f64,
+    pub centre_current: f64,
+}
+
+/// Hertz's pressure at x (zero beyond a).
+pub fn hertz_pressure(p0: f64, a: f64, x: f64) -> f64 {
+    if x < a {
+        p0 * (1.0 - x * x / (a * a)).sqrt()
+    } else {
+        0.0
+    }
+}
+
+/// Hertz for the solved press `s`: a cylinder (plane) or a sphere
+/// (axisymmetric) of `radius` on a rigid flat, E* = E / (1 - nu^2). Plane:
+/// a = sqrt(4 P R / (pi E*)), p0 = 2 P / (pi a); axisymmetric:
+/// a = (3 P R / (4 E*))^(1/3), p0 = 3 P / (2 pi a^2).
+pub fn hertz(s: &contact2d::newton::Solver, radius: f64, e_star: f64) -> Hertz {
+    use contact2d::results::NodeState;
+    use std::f64::consts::PI;
+    let problem = s.problem();
+    let axisymmetric = problem.analysis == AnalysisKind::Axisymmetric;
+    let pairs = s.last_pairs();
+    let pair = &pairs[0].1;
+    let (p, a, p0) = if axisymmetric {
+        let p = pair.fy;
+        let a = (3.0 * p * radius / (4.0 * e_star)).cbrt();
+        (p, a, 3.0 * p / (2.0 * PI * a * a))
+    } else {
+        let p = 2.0 * pair.fy;
+        let a = (4.0 * p * radius / (PI * e_star)).sqrt();
+        (p, a, 2.0 * p / (PI * a))
+    };
+    let n = &pair.nodes;
+    let m = n.x.len();
+    let reference: Vec<[f64; 2]> = problem.contacts[0]
+        .contactor
+        .iter()
+        .map(|&c| problem.mesh.nodes[c])
+        .collect();
+    let current: Vec<[f64; 2]> = (0..m).map(|k| [n.x[k], n.y[k]]).collect();
+    let closed: Vec<usize> = (0..m).filter(|&k| n.state[k] != NodeState::Open).collect();
+    let last = *closed.last().expect("no node in contact");
+    // The contact zone is one run of nodes from the contact point on.
+    assert_eq!(
+        closed,
+        (0..closed.len()).collect::<Vec<_>>(),
+        "contact zone"
+    );
+    let zone: Vec<usize> = (0..m)
+        .filter(|&k| n.state[k] != NodeState::Open || reference[k][0] < a)
+        .collect();
+    let interior: Vec<usize> = zone
+        .iter()
+        .copied()
+        .filter(|&k| reference[k][0] < 0.8 * a)
+        .collect();
+    let error = |k: usize, tn: f64| (tn - hertz_pressure(p0, a, reference[k][0])) / p0;
+    let rms = |ks: &[usize], tn: &dyn Fn(usize) -> f64| {
+        (ks.iter().map(|&k| error(k, tn(k)).powi(2)).sum::<f64>() / ks.len() as f64).sqrt()
+    };
+    // Area elements of the deformed surface over the reference ones: the
+    // chord through the neighbouring nodes (times x / X axisymmetric).
+    let chord = |q: &[[f64; 2]], i: usize, j: usize| (q[j][0] - q[i][0]).hypot(q[j][1] - q[i][1]);
+    let stretch = |k: usize| {
+        let (i, j) = (k.saturating_sub(1), k + 1);
+        let mut r = chord(&current, i, j) / chord(&reference, i, j);
+        if axisymmetric {
+            let q = k.max(1);
+            r *= current[q][0] / reference[q][0];
+        }
+        r
+    };
+    let per_current = |k: usize| n.tn[k] / stretch(k);
+    Hertz {
+        p,
+        a,
+        p0,
+        zone: zone.len(),
+        last_closed: reference[last][0],
+        first_open: reference[last + 1][0],
+        rms: rms(&zone, &|k| n.tn[k]),
+        rms_interior: rms(&interior, &|k| n.tn[k]),
+        centre: error(0, n.tn[0]),
+        rms_current: rms(&zone, &per_current),
+        centre_current: error(0, per_current(0)),
+    }
+}
+
+impl std::fmt::Display for Hertz {
+    fn fmt(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+        write!(
+            f,
+            "P {:.1}  a {:.4}  p0 {:.1}  zone {} nodes (last closed X {:.4}, first open {:.4})  \
+             rms {:.2e}  X<0.8a {:.2e}  centre {:+.2e}  | per current area: rms {:.2e} centre {:+.2e}",
+            self.p,
+            self.a,
+            self.p0,
+            self.zone,
+            self.last_closed,
+            self.first_open,
+            self.rms,
+            self.rms_interior,
+            self.centre,
+            self.rms_current,
+            self.centre_current
+        )
+    }
+}
