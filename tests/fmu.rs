@@ -383,8 +383,10 @@ fn steps_match_the_solver() {
         }
         assert_eq!(inst.int("solver.iterations") as usize, step.iterations);
     }
-    // The load reached P/2 of about 3300 on the quarter model.
-    assert!((inst.real("contact.Fn") - 3287.36).abs() < 1.0);
+    // The quarter model carries P/2; the scene is set to reach P of about
+    // 6600 (the paper's maximum) within 2 %.
+    let half = inst.real("contact.Fn");
+    assert!((half - 3300.0).abs() < 0.02 * 3300.0, "P/2 = {half}");
     let mut t = f64::NAN;
     let s = unsafe {
         (lib().fmi2GetRealStatus.as_ref().unwrap())(

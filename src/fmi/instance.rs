@@ -176,9 +176,11 @@ impl Instance {
         if categories.is_empty() {
             self.categories = [on; 4];
         } else {
+            // Listed categories on: only those; listed off: those off.
+            let mut set = if on { [false; 4] } else { self.categories };
             for c in categories {
                 match LOG_CATEGORIES.iter().position(|(n, _)| n == c) {
-                    Some(i) => self.categories[i] = on,
+                    Some(i) => set[i] = on,
                     None => {
                         return self.error(format!(
                             "fmi2SetDebugLogging: unknown log category '{c}' (known: logStatusError, logStatusWarning, logNewton, logContact)"
@@ -186,6 +188,7 @@ impl Instance {
                     }
                 }
             }
+            self.categories = set;
         }
         self.logging_on = on || self.categories.iter().any(|&c| c);
         Status::Ok
