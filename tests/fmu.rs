@@ -937,3 +937,70 @@ fn export_writes_the_fmu() {
     assert_eq!(bad.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&bad.stderr).contains("syntax.toml:"));
 }
+
+/// Value references are unique across types; the GUID follows the interface
+/// (names, references, types, causality, units), not the start values.
+#[test]
+fn guid_follows_the_interface() {
+    let text = std::fs::read_to_string(repo().join("scenes/hertz_plane_strain.toml")).unwrap();
+    let load = |t: &str| contact2d::scene::parse(t, &repo().join("scenes/x.toml")).unwrap();
+    let base = load(&text);
+    let vars = variables(&base);
+    let mut vrs: Vec<u32> = vars.iter().map(|v| v.vr).collect();
+    vrs.sort();
+    vrs.dedup();
+    assert_eq!(vrs.len(), vars.len(), "value references unique");
+    let g = guid(&base);
+    // Another E: same interface, same GUID.
+    let stiffer = load(&text.replace("E = 200000.0", "E = 210000.0"));
+    assert_eq!(guid(&stiffer), g);
+    // A renamed driver, other units, a finer mesh (more contactor nodes):
+    // another interface, another GUID.
+    for (from, to) in [
+        ("name = \"press\"", "name = \"push\""),
+        ("length = \"mm\"", "length = \"m\""),
+        ("divisions = 60", "divisions = 62"),
+    ] {
+        assert!(text.contains(from), "{from}");
+        assert_ne!(guid(&load(&text.replace(from, to))), g, "{from} -> {to}");
+    }
+}
+
+/// `output_dir` set: one VTK file per step, named after the instance.
+#[test]
+fn output_dir_gets_one_vtk_file_per_step() {
+    let u = hertz();
+    let l = lib();
+    let inst = Inst::new(&u, "vtk out");
+    let dir = std::env::temp_dir().join(format!("contact2d-vtk-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let value = CString::new(dir.to_string_lossy().as_bytes()).unwrap();
+    let vr = [inst.vr("output_dir")];
+    unsafe {
+        assert_eq!(
+            (l.fmi2EnterInitializationMode.as_ref().unwrap())(inst.c),
+            OK
+        );
+        assert_eq!(
+            (l.fmi2SetString.as_ref().unwrap())(inst.c, vr.as_ptr(), 1, &value.as_ptr()),
+            OK
+        );
+        assert_eq!((l.fmi2ExitInitializationMode.as_ref().unwrap())(inst.c), OK);
+        let mut back: fmi2String = null();
+        assert_eq!(
+            (l.fmi2GetString.as_ref().unwrap())(inst.c, vr.as_ptr(), 1, &mut back),
+            OK
+        );
+        assert_eq!(CStr::from_ptr(back), value.as_c_str());
+    }
+    step_hertz(&inst, 0, 2);
+    let mut files: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    files.sort();
+    assert_eq!(files, ["vtk_out_0001.vtu", "vtk_out_0002.vtu"]);
+    let vtu = std::fs::read_to_string(dir.join("vtk_out_0002.vtu")).unwrap();
+    assert!(vtu.contains("displacement"));
+    let _ = std::fs::remove_dir_all(&dir);
+}

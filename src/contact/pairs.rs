@@ -412,7 +412,18 @@ pub fn update(
                 SLIDE_HYSTERESIS,
             )
             .map_err(|e| format!("pair '{}': {e}", pair.name))?;
-            (out.node_tn, out.node_tt)
+            // Magnitude per reference area, direction from the current
+            // surface (the reference surface is turned against the current
+            // one where the contact flattens it, by about a/R at the edge:
+            // decomposing there would move mu-sized parts of tn into tt).
+            let scale = |k: usize| {
+                let cur = ev.node_tn[k].hypot(ev.node_tt[k]);
+                let reference = out.node_tn[k].hypot(out.node_tt[k]);
+                if cur > 0.0 { reference / cur } else { 0.0 }
+            };
+            (0..m)
+                .map(|k| (ev.node_tn[k] * scale(k), ev.node_tt[k] * scale(k)))
+                .unzip()
         } else {
             (ev.node_tn.clone(), ev.node_tt.clone())
         };
