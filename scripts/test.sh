@@ -14,6 +14,6 @@ cargo clippy --all-targets -- -D warnings
 echo "== cargo test --release"
 cargo test --release
 echo "== cargo build --release"
-cargo build --release --bin contact2d
+cargo build --release --bin contact2d --lib
 echo "== pytest tests/python"
 CONTACT2D_BIN="$PWD/target/release/contact2d" .venv/bin/pytest tests/python -q

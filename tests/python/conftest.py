@@ -32,3 +32,200 @@ def run_cli(contact2d, tmp_path):
         )
 
     return run
+
+
+# --- The FMU (issue 4): exported once per session, opened through fmpy. ---
+
+import ctypes
+import json
+
+SCENES = {
+    "hertz": REPO / "scenes" / "hertz_plane_strain.toml",
+    "sliding_block": REPO / "scenes" / "verification" / "sliding_block.toml",
+    "tl_shear": REPO / "tests" / "data" / "scenes" / "tl_shear.toml",
+}
+
+
+@pytest.fixture(scope="session")
+def fmus(contact2d, tmp_path_factory) -> dict:
+    """`contact2d export` of each scene of SCENES, once: name -> .fmu path."""
+    out = tmp_path_factory.mktemp("fmus")
+    paths = {}
+    for name, scene in SCENES.items():
+        path = out / f"{name}.fmu"
+        done = subprocess.run(
+            [str(contact2d), "export", str(scene), "-o", str(path)],
+            capture_output=True,
+            text=True,
+            timeout=300,
+        )
+        assert done.returncode == 0, done.stderr
+        assert "variables" in done.stdout, done.stdout
+        paths[name] = path
+    return paths
+
+
+@pytest.fixture(scope="session")
+def unpacked(fmus, tmp_path_factory) -> dict:
+    """Each exported FMU extracted once (instances share the folder, as a
+    master shares the loaded library between instances)."""
+    from fmpy import extract
+
+    base = tmp_path_factory.mktemp("unpacked")
+    return {name: Path(extract(str(path), str(base / name))) for name, path in fmus.items()}
+
+
+@pytest.fixture(scope="session")
+def cli_summary(contact2d, tmp_path_factory):
+    """`contact2d run SCENE --summary` -> the summary dict (cached per scene)."""
+    cache = {}
+    base = tmp_path_factory.mktemp("summaries")
+
+    def summary(scene: Path) -> dict:
+        key = str(scene)
+        if key not in cache:
+            path = base / f"{len(cache)}_{Path(scene).stem}.json"
+            done = subprocess.run(
+                [str(contact2d), "run", str(scene), "--summary", str(path)],
+                capture_output=True,
+                text=True,
+                timeout=300,
+            )
+            assert done.returncode == 0, done.stderr
+            cache[key] = json.loads(path.read_text())
+        return cache[key]
+
+    return summary
+
+
+# One logger for every instance: fmpy's native proxy (addLoggerProxy), which
+# formats the FMU's printf-style message, keeps a single Python target per
+# process, so messages are routed by instance name.
+_MESSAGES: dict = {}
+
+
+def _route_log(env, instance_name, status, category, message):
+    name = instance_name.decode() if instance_name else ""
+    entry = (status, (category or b"").decode(), (message or b"").decode(errors="replace"))
+    if name in _MESSAGES:
+        _MESSAGES[name].append(entry)
+    else:
+        print(f"[{name} {status} {entry[1]}] {entry[2]}")
+
+
+_CALLBACKS = None
+
+
+def _callbacks():
+    global _CALLBACKS
+    if _CALLBACKS is None:
+        from fmpy import calloc, free
+        from fmpy.fmi2 import (
+            fmi2CallbackAllocateMemoryTYPE,
+            fmi2CallbackFreeMemoryTYPE,
+            fmi2CallbackFunctions,
+            fmi2CallbackLoggerTYPE,
+        )
+        from fmpy.logging import addLoggerProxy
+
+        cb = fmi2CallbackFunctions()
+        cb.logger = fmi2CallbackLoggerTYPE(_route_log)
+        cb.allocateMemory = fmi2CallbackAllocateMemoryTYPE(calloc)
+        cb.freeMemory = fmi2CallbackFreeMemoryTYPE(free)
+        addLoggerProxy(ctypes.byref(cb))
+        # Keep the Python callable alive with the struct.
+        _CALLBACKS = (cb, _route_log)
+    return _CALLBACKS[0]
+
+
+class Slave:
+    """An fmpy FMU2Slave of an extracted FMU, with its log messages in
+    `.messages` as (status, category, message), and value access by name."""
+
+    _count = 0
+
+    def __init__(self, unzipdir: Path, name: str = "fmu"):
+        from fmpy import read_model_description
+        from fmpy.fmi2 import FMU2Slave
+
+        Slave._count += 1
+        self.name = f"{name}-{Slave._count}"
+        self.md = read_model_description(str(unzipdir))
+        self.vars = {v.name: v for v in self.md.modelVariables}
+        self.messages = _MESSAGES.setdefault(self.name, [])
+        self.fmu = FMU2Slave(
+            guid=self.md.guid,
+            unzipDirectory=str(unzipdir),
+            modelIdentifier=self.md.coSimulation.modelIdentifier,
+            instanceName=self.name,
+        )
+        try:
+            self.fmu.instantiate(callbacks=_callbacks())
+        except Exception:
+            self.fmu.freeLibrary()
+            raise
+
+    def vr(self, name):
+        return self.vars[name].valueReference
+
+    def init(self, **params):
+        self.fmu.setupExperiment(startTime=0.0)
+        self.fmu.enterInitializationMode()
+        for k, v in params.items():
+            self.set(k, v)
+        self.fmu.exitInitializationMode()
+        return self
+
+    def set(self, name, value):
+        if self.vars[name].type == "Integer":
+            self.fmu.setInteger([self.vr(name)], [int(value)])
+        else:
+            self.fmu.setReal([self.vr(name)], [float(value)])
+
+    def real(self, name) -> float:
+        return self.fmu.getReal([self.vr(name)])[0]
+
+    def int(self, name) -> int:
+        return self.fmu.getInteger([self.vr(name)])[0]
+
+    def reals(self, names) -> list:
+        return self.fmu.getReal([self.vr(n) for n in names])
+
+    def ints(self, names) -> list:
+        return self.fmu.getInteger([self.vr(n) for n in names])
+
+    def nodes(self, pair: str, what: str) -> list:
+        m = sum(1 for n in self.vars if n.startswith(f"{pair}.{what}["))
+        names = [f"{pair}.{what}[{k}]" for k in range(1, m + 1)]
+        return self.ints(names) if what == "state" else self.reals(names)
+
+    def outputs(self) -> dict:
+        """Every output variable, by name (Integer ones as int)."""
+        out = {}
+        for name, v in self.vars.items():
+            if v.causality == "output":
+                out[name] = self.int(name) if v.type == "Integer" else self.real(name)
+        return out
+
+    def text(self) -> str:
+        return "\n".join(m[2] for m in self.messages)
+
+    def free(self):
+        if self.fmu is not None:
+            self.fmu.freeInstance()
+            self.fmu = None
+
+
+@pytest.fixture
+def open_fmu(unpacked):
+    """open_fmu("hertz") -> a new instantiated Slave; freed after the test."""
+    made = []
+
+    def open_(name: str, unzipdir: Path | None = None) -> Slave:
+        s = Slave(unzipdir or unpacked[name], name)
+        made.append(s)
+        return s
+
+    yield open_
+    for s in reversed(made):
+        s.free()
