@@ -129,8 +129,8 @@ pub enum TractionError {
     /// A friction coefficient is negative or not finite.
     #[error("friction coefficients mu_s = {mu_s}, mu_d = {mu_d} must be finite and non-negative")]
     InvalidFriction { mu_s: f64, mu_d: f64 },
-    /// The slide hysteresis is outside [0, 1).
-    #[error("slide hysteresis eta = {eta} must lie in [0, 1)")]
+    /// The slide hysteresis is outside [0, 1].
+    #[error("slide hysteresis eta = {eta} must lie in [0, 1]")]
     InvalidHysteresis { eta: f64 },
     /// An active node has no contact area (all its weights vanish, e.g. every adjoining
     /// segment lies on the axis of revolution).
@@ -647,6 +647,9 @@ pub struct SegmentDecision {
     pub tf: f64,
     /// Whether the segment has ever slid, this decision included.
     pub ever_slid: bool,
+    /// Sliding: the sign of the friction resultant it applies along its tangent
+    /// (`sign(T_t)`, or the direction it kept, see [`evaluate`]); zero otherwise.
+    pub sign: f64,
 }
 
 /// Step 3 for one segment (Sections 3.2-3.4):
@@ -658,7 +661,11 @@ pub struct SegmentDecision {
 ///   Slide with `T_f = mu_d T_n`;
 /// - previously Slide: `T_f = mu_d T_n`; Stick only if `|T_t| < (1 - eta) T_f`, otherwise
 ///   Slide. The hysteresis `eta` keeps a converged sliding segment, where `|T_t| = T_f`
-///   to round-off, from flipping back.
+///   to round-off, from flipping back. With `eta = 1` a sliding segment never returns to
+///   sticking on force grounds: after an iteration its `T_t` is the friction it applied
+///   itself (its nodes are free along the target), so the test of Section 3.4 compares
+///   `mu_d T_n` of two iterations; the caller then decides the return to sticking
+///   kinematically (a slip that runs along the friction force).
 ///
 /// `ever_slid` becomes true when the segment slides now.
 pub fn decide_segment(
@@ -672,6 +679,7 @@ pub fn decide_segment(
         state: SegmentState::Open,
         tf: 0.0,
         ever_slid,
+        sign: 0.0,
     };
     if !seg.in_contact || seg.tn_total < 0.0 {
         return open;
@@ -682,6 +690,7 @@ pub fn decide_segment(
         state: SegmentState::Slide,
         tf: friction.mu_d * tn,
         ever_slid: true,
+        sign: signum0(seg.tt_total),
     };
     if friction.is_frictionless() {
         return SegmentDecision { tf: 0.0, ..slide };
@@ -694,6 +703,7 @@ pub fn decide_segment(
                     state: SegmentState::Stick,
                     tf: capacity,
                     ever_slid,
+                    sign: 0.0,
                 }
             } else {
                 slide
@@ -705,6 +715,7 @@ pub fn decide_segment(
                     state: SegmentState::Stick,
                     tf: slide.tf,
                     ever_slid: true,
+                    sign: 0.0,
                 }
             } else {
                 slide
@@ -721,7 +732,7 @@ pub fn decide_segments(
     ever_slid: &[bool],
     tractions: &[SegmentTractions],
 ) -> Result<Vec<SegmentDecision>, TractionError> {
-    if !(eta.is_finite() && (0.0..1.0).contains(&eta)) {
+    if !(eta.is_finite() && (0.0..=1.0).contains(&eta)) {
         return Err(TractionError::InvalidHysteresis { eta });
     }
     check_len("previous segment states", tractions.len(), previous.len())?;
@@ -749,7 +760,7 @@ pub fn applied_tangential(seg: &SegmentTractions, decision: &SegmentDecision) ->
     match decision.state {
         SegmentState::Open => 0.0,
         SegmentState::Stick => seg.tt_total,
-        SegmentState::Slide => signum0(seg.tt_total) * decision.tf,
+        SegmentState::Slide => decision.sign * decision.tf,
     }
 }
 
@@ -881,6 +892,8 @@ pub struct SegmentEval {
     pub tf: f64,
     pub state: SegmentState,
     pub ever_slid: bool,
+    /// See [`SegmentDecision::sign`].
+    pub sign: f64,
 }
 
 /// The result of [`evaluate`].
@@ -910,8 +923,17 @@ pub struct Evaluation {
 ///
 /// `x`: current node positions; `active`: node in contact after the previous iteration;
 /// `force`: force of the contact on each node (only active entries read); `previous`,
-/// `ever_slid`: per segment, after the previous iteration; `eta`: slide hysteresis
-/// (about 1e-6). Frictionless when `mu_s == mu_d == 0`.
+/// `ever_slid`: per segment, after the previous iteration; `directions`: per segment, the
+/// sign of the friction it applied if it was sliding (zero if unknown); `eta`: slide
+/// hysteresis. Frictionless when `mu_s == mu_d == 0`.
+///
+/// A segment that was sliding and still slides keeps the direction of its friction
+/// (Section 5 of the paper: the friction acts in the direction of the tangential force
+/// before sliding). Its recovered `T_t` is, after an iteration, the friction it applied
+/// itself plus what its neighbours' changes spilled onto its nodes; with large increments
+/// the latter can flip its sign for an iteration, and friction that follows it would push
+/// the node along its slip. A reversal is caught kinematically (the node sticks at its
+/// anchor and the next sticking-to-sliding decision takes the new sign).
 pub fn evaluate(
     geometry: Geometry,
     recovery: Recovery,
@@ -924,13 +946,23 @@ pub fn evaluate(
     force: &[[f64; 2]],
     previous: &[SegmentState],
     ever_slid: &[bool],
+    directions: &[f64],
     eta: f64,
 ) -> Result<Evaluation, TractionError> {
     let friction = Friction::new(mu_s, mu_d, rule)?;
     let chain = Chain::new(geometry, closed, x)?;
     let traction = recover_tractions(&chain, recovery, active, force)?;
     let tractions = segment_tractions(&chain, active, &traction)?;
-    let decisions = decide_segments(&friction, eta, previous, ever_slid, &tractions)?;
+    let mut decisions = decide_segments(&friction, eta, previous, ever_slid, &tractions)?;
+    check_len("directions", tractions.len(), directions.len())?;
+    for (j, d) in decisions.iter_mut().enumerate() {
+        if previous[j] == SegmentState::Slide
+            && d.state == SegmentState::Slide
+            && directions[j] != 0.0
+        {
+            d.sign = directions[j].signum();
+        }
+    }
     let forces = contact_forces(&chain, &tractions, &decisions)?;
     let states: Vec<SegmentState> = decisions.iter().map(|d| d.state).collect();
     let node_states = node_states(&chain, active, &states)?;
@@ -952,6 +984,7 @@ pub fn evaluate(
                 tf: d.tf,
                 state: d.state,
                 ever_slid: d.ever_slid,
+                sign: d.sign,
             }
         })
         .collect();

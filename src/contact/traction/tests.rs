@@ -181,8 +181,19 @@ fn eval(
     ever_slid: &[bool],
 ) -> Evaluation {
     evaluate(
-        geometry, recovery, friction.0, friction.1, friction.2, closed, x, active, force, previous,
-        ever_slid, ETA,
+        geometry,
+        recovery,
+        friction.0,
+        friction.1,
+        friction.2,
+        closed,
+        x,
+        active,
+        force,
+        previous,
+        ever_slid,
+        &vec![0.0; previous.len()],
+        ETA,
     )
     .expect("valid input")
 }
@@ -1025,6 +1036,7 @@ fn err(
         force,
         &vec![SegmentState::Stick; segs],
         &vec![false; segs],
+        &vec![0.0; segs],
         eta,
     )
     .expect_err("invalid input")
@@ -1084,6 +1096,7 @@ fn invalid_inputs_are_errors() {
             &bad_force,
             &[SegmentState::Open; 2],
             &[false; 2],
+            &[0.0; 2],
             ETA
         )
         .is_ok()
@@ -1139,7 +1152,7 @@ fn invalid_inputs_are_errors() {
         E::InvalidFriction { .. }
     ));
     assert!(matches!(
-        err(PLANAR, false, &x, &on, &f, ok, 1.0),
+        err(PLANAR, false, &x, &on, &f, ok, 1.5),
         E::InvalidHysteresis { .. }
     ));
     assert!(matches!(
@@ -1177,6 +1190,7 @@ fn invalid_inputs_are_errors() {
         &f,
         &[SegmentState::Stick; 3],
         &[false; 2],
+        &[0.0; 2],
         ETA,
     )
     .unwrap_err();
