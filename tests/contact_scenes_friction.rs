@@ -471,10 +471,6 @@ fn cgs4_incline_converges_up_to_slip_onset_and_stops_past_it() {
 /// (tan alpha + mu) / (1 - mu tan alpha), and no converged state carries
 /// more friction than mu Fn.
 #[test]
-#[ignore = "measured: the block converges up to F/G = 0.4146, 0.54 % past the onset 0.412371 \
-            (Ft/Fn = 0.30208 > mu = 0.3 from F/G = 0.4124 on): a segment that slides but has a \
-            sticking end node (Table 1) passes more than mu T_n through that node; the first \
-            failure is at 0.4148 (+0.59 %)"]
 fn cgs4_slip_onset_within_0p1_percent() {
     let c = cgs4();
     let l = onset();

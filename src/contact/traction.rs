@@ -789,6 +789,169 @@ pub fn applied_tangential_traction(
     }
 }
 
+/// Step 3, continued: the sticking segments next to sliding ones are checked again on
+/// the force that the sliding segments leave them.
+///
+/// Table 1 makes a node stick when one of its segments sticks, so a sticking node shared
+/// with a sliding segment takes, through its two multipliers, whatever its out-of-balance
+/// force is. The sliding segment applies only its friction `T_f` (Fig. 5b) at that node;
+/// the rest of the node's force is carried by the sticking side. The resultants of
+/// Eqs. (28)-(31), however, split that node's force between both segments through the
+/// recovered linear tractions, so the sticking segment is checked on part of what it
+/// carries, and the part recovered onto the sliding segment beyond its `T_f` is carried
+/// by nobody's capacity: the pair can hold more than `mu Fn` (0.54 % on CGS-4).
+///
+/// Here each maximal run of sticking segments that touches a sliding one is checked on
+/// the force left at its nodes once the sliding segments' loads (unaltered normal
+/// tractions and uniform friction, Fig. 5) are taken off: the tractions are recovered
+/// over the run alone (the same Eq. 26/27 system, or lumped), and its segments are
+/// decided as in Section 3.3 on those resultants. A segment that now fails slides, which
+/// can expose its neighbour: repeated until nothing changes (only sticking turns into
+/// sliding, so at most once per segment). The resultants of every segment then add up to
+/// the pair's total, and a converged state has `|Ft| <= mu Fn` on a straight target.
+/// The runs' tractions decide only; the contact forces stay those of Fig. 5 (a sticking
+/// node's multipliers take the difference).
+#[allow(clippy::too_many_arguments)]
+fn recheck_sticking_runs(
+    chain: &Chain,
+    recovery: Recovery,
+    friction: &Friction,
+    eta: f64,
+    active: &[bool],
+    force: &[[f64; 2]],
+    previous: &[SegmentState],
+    ever_slid: &[bool],
+    tractions: &[SegmentTractions],
+    decisions: &mut [SegmentDecision],
+) -> Result<(), TractionError> {
+    let nseg = chain.segments.len();
+    if friction.is_frictionless() {
+        return Ok(());
+    }
+    // A segment that was not sliding is decided on the remainder once a sliding
+    // neighbour takes its share; its own check on the full recovery (Section 3.3) stands
+    // only where no sliding segment touches its run. Start from the continuing slides.
+    let plain = decisions.to_vec();
+    for (j, d) in decisions.iter_mut().enumerate() {
+        if previous[j] != SegmentState::Slide && d.state == SegmentState::Slide {
+            *d = SegmentDecision {
+                state: SegmentState::Stick,
+                tf: friction.sticking_mu(ever_slid[j]) * tractions[j].tn_total,
+                ever_slid: ever_slid[j],
+                sign: 0.0,
+            };
+        }
+    }
+    loop {
+        // Where the runs are enumerated from: an open chain from its first segment, a
+        // closed one from a segment that does not stick (all sticking: one run, which
+        // touches no sliding segment).
+        let start = match (0..nseg).find(|&j| decisions[j].state != SegmentState::Stick) {
+            _ if !chain.closed => nseg - 1,
+            Some(j) => j,
+            None => {
+                let failed: Vec<usize> = (0..nseg)
+                    .filter(|&j| plain[j].state != SegmentState::Stick)
+                    .collect();
+                if failed.is_empty() {
+                    return Ok(());
+                }
+                for j in failed {
+                    decisions[j] = plain[j];
+                }
+                continue;
+            }
+        };
+        // The loads of the sliding segments, per node.
+        let mut slide_load = vec![[0.0; 2]; chain.nodes()];
+        for (j, s) in chain.segments.iter().enumerate() {
+            if decisions[j].state != SegmentState::Slide {
+                continue;
+            }
+            let normal = s.loads(tractions[j].tn);
+            let tangential = s.loads(applied_tangential_traction(s, &tractions[j], &decisions[j]));
+            for (end, &k) in s.nodes.iter().enumerate() {
+                for c in 0..2 {
+                    slide_load[k][c] += normal[end] * s.normal[c] + tangential[end] * s.tangent[c];
+                }
+            }
+        }
+        // Maximal runs of sticking segments, in chain order from a segment that does
+        // not stick (so that a run of a closed chain does not wrap around it).
+        let mut changed = false;
+        let mut run: Vec<usize> = Vec::new();
+        for i in 1..=nseg {
+            let j = (start + i) % nseg;
+            if decisions[j].state == SegmentState::Stick {
+                run.push(j);
+                if i < nseg {
+                    continue;
+                }
+            }
+            if run.is_empty() {
+                continue;
+            }
+            let first = chain.segments[run[0]].nodes[0];
+            let last = chain.segments[*run.last().unwrap()].nodes[1];
+            let touches_slide = chain
+                .adjoining(first)
+                .into_iter()
+                .chain(chain.adjoining(last))
+                .flatten()
+                .any(|s| decisions[s].state == SegmentState::Slide);
+            if !touches_slide {
+                for &j in &run {
+                    if plain[j].state != SegmentState::Stick {
+                        decisions[j] = plain[j];
+                        changed = true;
+                    }
+                }
+            } else {
+                let nodes: Vec<usize> = std::iter::once(first)
+                    .chain(run.iter().map(|&s| chain.segments[s].nodes[1]))
+                    .collect();
+                let x: Vec<[f64; 2]> = nodes.iter().map(|&k| chain.x[k]).collect();
+                let on: Vec<bool> = nodes.iter().map(|&k| active[k]).collect();
+                let left: Vec<[f64; 2]> = nodes
+                    .iter()
+                    .map(|&k| {
+                        [
+                            force[k][0] - slide_load[k][0],
+                            force[k][1] - slide_load[k][1],
+                        ]
+                    })
+                    .collect();
+                let sub = Chain::new(chain.geometry, false, &x)?;
+                let t = recover_tractions(&sub, recovery, &on, &left)?;
+                let st = segment_tractions(&sub, &on, &t)?;
+                for (r, &j) in run.iter().enumerate() {
+                    let d = decide_segment(friction, eta, previous[j], ever_slid[j], &st[r]);
+                    if d.state != SegmentState::Stick {
+                        // Slides (or releases) on what it carries: the applied
+                        // friction is mu_d of its own T_n, in the direction of
+                        // the force it was left with.
+                        decisions[j] = SegmentDecision {
+                            state: d.state,
+                            tf: if d.state == SegmentState::Slide {
+                                friction.mu_d * tractions[j].tn_total
+                            } else {
+                                0.0
+                            },
+                            ever_slid: d.ever_slid,
+                            sign: d.sign,
+                        };
+                        changed = true;
+                    }
+                }
+            }
+            run.clear();
+        }
+        if !changed {
+            return Ok(());
+        }
+    }
+}
+
 /// Step 4: the contact forces (global components, per node): the consistent nodal loads
 /// of the unaltered linear normal traction and of the tangential traction of
 /// [`applied_tangential_traction`] of every segment that is not open (Fig. 5, Eq. 32).
@@ -963,6 +1126,18 @@ pub fn evaluate(
             d.sign = directions[j].signum();
         }
     }
+    recheck_sticking_runs(
+        &chain,
+        recovery,
+        &friction,
+        eta,
+        active,
+        force,
+        previous,
+        ever_slid,
+        &tractions,
+        &mut decisions,
+    )?;
     let forces = contact_forces(&chain, &tractions, &decisions)?;
     let states: Vec<SegmentState> = decisions.iter().map(|d| d.state).collect();
     let node_states = node_states(&chain, active, &states)?;
