@@ -2,7 +2,8 @@
 //! scenes/verification/flexible_target.toml (a flexible block dragged along a
 //! coarse flexible strip, frictionless and with mu = 0.2) and
 //! scenes/verification/cgs4_inclined.toml (a block pushed up an incline under
-//! load control, after NAFEMS CGS-4).
+//! load control, after NAFEMS CGS-4); and
+//! scenes/verification/sliding_block.toml with large drag increments.
 //!
 //! Run with `cargo test --release --test contact_scenes_friction -- --nocapture`
 //! to see the measured numbers.
@@ -470,10 +471,6 @@ fn cgs4_incline_converges_up_to_slip_onset_and_stops_past_it() {
 /// (tan alpha + mu) / (1 - mu tan alpha), and no converged state carries
 /// more friction than mu Fn.
 #[test]
-#[ignore = "measured: the block converges up to F/G = 0.4146, 0.54 % past the onset 0.412371 \
-            (Ft/Fn = 0.30208 > mu = 0.3 from F/G = 0.4124 on): a segment that slides but has a \
-            sticking end node (Table 1) passes more than mu T_n through that node; the first \
-            failure is at 0.4148 (+0.59 %)"]
 fn cgs4_slip_onset_within_0p1_percent() {
     let c = cgs4();
     let l = onset();
@@ -501,4 +498,77 @@ fn cgs4_slip_onset_within_0p1_percent() {
         ));
     }
     assert!(wrong.is_empty(), "{}", wrong.join("; "));
+}
+
+// ---------------------------------------------------------------------------
+// 3. The sliding block with large increments.
+// ---------------------------------------------------------------------------
+
+/// scenes/verification/sliding_block.toml with large drag increments (as an
+/// FMU master takes them): ux grows by `du` per increment after the press.
+/// The block must slide at every drag increment, all nodes slipping, with
+/// Ft = mu_d Fn and the same drag force whatever the increment, and without
+/// bisection. (Before the fix, with du = 0.05 the states alternated between
+/// 2/7/0 and 8/1/0 stick/slip/open and Rx between 3.35 and 1.59; with
+/// du = 0.02 the second drag increment did not converge.)
+#[test]
+fn sliding_block_with_large_increments_slides_at_mu_d_every_increment() {
+    let mu_d = 0.2;
+    for du in [0.05f64, 0.02] {
+        let mut problem = load("verification/sliding_block.toml", &[]);
+        // The drag function: ux = 0.2 (t - 1) / 2 for t in [1, 3].
+        let dt = du / 0.1;
+        let n = (2.0 / dt).round() as usize;
+        problem.times = std::iter::once(1.0)
+            .chain((1..=n).map(|i| 1.0 + i as f64 * dt))
+            .collect();
+        problem.solver.max_bisections = 0;
+        let r = run(problem);
+        assert!(
+            r.failed.is_none(),
+            "du = {du}: {:?} {:?}",
+            r.failed,
+            r.warnings
+        );
+        let drags: Vec<&StepResult> = r.steps.iter().filter(|s| s.time > 1.0).collect();
+        assert_eq!(drags.len(), n);
+        let rx0 = drags[0].drivers.iter().find(|d| d.0 == "top").unwrap().1.rx;
+        for s in &drags {
+            let p = pair(s);
+            let rx = s.drivers.iter().find(|d| d.0 == "top").unwrap().1.rx;
+            println!(
+                "du = {du}: t = {:.2}: {} iterations, stick/slip/open {}/{}/{}, Ft/Fn = {:.6}, \
+                 Rx = {rx:.6}",
+                s.time,
+                s.iterations,
+                p.n_stick,
+                p.n_slip,
+                p.n_open,
+                p.ft / p.fn_
+            );
+            assert_eq!(s.substeps, 0, "du = {du}, t = {}: bisected", s.time);
+            assert_eq!(
+                p.n_slip,
+                p.nodes.x.len(),
+                "du = {du}, t = {}: every node slides",
+                s.time
+            );
+            assert!(
+                (-p.ft / (mu_d * p.fn_) - 1.0).abs() < 1e-3,
+                "du = {du}, t = {}: Ft/Fn = {}",
+                s.time,
+                p.ft / p.fn_
+            );
+            assert!(
+                (rx / (mu_d * p.fn_) - 1.0).abs() < 1e-3,
+                "du = {du}, t = {}: Rx = {rx}",
+                s.time
+            );
+            assert!(
+                (rx / rx0 - 1.0).abs() < 1e-6,
+                "du = {du}, t = {}: Rx = {rx} against {rx0}",
+                s.time
+            );
+        }
+    }
 }

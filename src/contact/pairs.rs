@@ -15,18 +15,19 @@ use crate::results::{NodeState, PairNodes, PairResult};
 use nalgebra::Vector2;
 use serde::{Deserialize, Serialize};
 
-/// A sliding segment returns to sticking on force grounds only when its
-/// tangential force falls this fraction below the capacity. At a converged
-/// sliding state the recovered T_t of a segment differs from its T_f by the
-/// mismatch between the piecewise-uniform friction tractions (Fig. 5) and the
-/// linear field that the recovery of Eq. (26) fits to their nodal loads:
-/// up to about 25 % at the ends of a block, where T_n varies fast. A real
-/// reversal is caught kinematically instead (a node whose slip runs along its
-/// friction force sticks at the point where the slip began). Measured on
-/// scenes/verification/sliding_block.toml: with 1e-6 most segments flipped
-/// back to sticking every iteration; with 0.3 the block slides with every
-/// node slipping and Ft = mu_d Fn to round-off, in 1-2 iterations.
-const SLIDE_HYSTERESIS: f64 = 0.3;
+/// The hysteresis of the segments' return from sliding to sticking on force
+/// grounds (Section 3.4), as a fraction of the capacity: 1, i.e. never. After
+/// an iteration a sliding segment's recovered T_t is the friction it applied
+/// itself (its nodes are free along the target) plus what its neighbours'
+/// changes spill onto its nodes, so the test of Section 3.4 compares mu_d T_n
+/// of two iterations, or a transient: with large increments (a drag of 0.05
+/// on scenes/verification/sliding_block.toml) it sent segments back to
+/// sticking at points they had slid to, and the converged states alternated
+/// between increments (2/7/0 and 8/1/0 stick/slip/open). A 0.3 hysteresis
+/// only hid this at small increments. A sliding node returns to sticking
+/// kinematically instead: when its slip from its anchor runs along its
+/// friction force, it sticks at the anchor.
+const SLIDE_HYSTERESIS: f64 = 1.0;
 /// A node's contact force counts as tension above this fraction of the
 /// largest contact force of its pair (round-off at a node just touching).
 const TENSION_TOLERANCE: f64 = 1e-8;
@@ -56,6 +57,10 @@ pub struct SegmentMemory {
     /// Open, Stick or Slip (Slip meaning the segment slides).
     pub state: NodeState,
     pub ever_slid: bool,
+    /// Sliding: the sign of its friction resultant along the contactor
+    /// (kept while it slides); zero otherwise.
+    #[serde(default)]
+    pub direction: f64,
 }
 
 /// What a pair carries from one iteration, and one increment, to the next.
@@ -273,6 +278,23 @@ fn follow(
     best
 }
 
+/// The contact point of a node at its anchor (the material point of the
+/// target where it was at the start of the increment, or where it first
+/// touched in it), when the anchor is on the target and within `reach`.
+/// Sticking holds a node there: with large increments a node may slide, or
+/// be released and come back, in early iterations; its slip over the
+/// increment, which the friction must oppose, is measured from the anchor.
+fn anchor_point(
+    segments: &[TargetSegment],
+    anchor: Option<(usize, f64)>,
+    x: Vector2<f64>,
+    reach: f64,
+) -> Option<(usize, ContactPoint)> {
+    let (j, beta) = anchor?;
+    let cp = segments.get(j)?.seg.contact_at(x, beta);
+    (cp.overlap().norm() <= reach).then_some((j, cp))
+}
+
 fn geometry(problem: &Problem) -> Geometry {
     match problem.analysis {
         AnalysisKind::PlaneStrain { thickness } | AnalysisKind::PlaneStress { thickness } => {
@@ -363,6 +385,7 @@ pub fn update(
             .map(|s| to_segment_state(s.state))
             .collect();
         let ever: Vec<bool> = mem.segments.iter().map(|s| s.ever_slid).collect();
+        let directions: Vec<f64> = mem.segments.iter().map(|s| s.direction).collect();
         let ev = traction::evaluate(
             geometry,
             pair.recovery,
@@ -375,6 +398,7 @@ pub fn update(
             &force,
             &prev,
             &ever,
+            &directions,
             SLIDE_HYSTERESIS,
         )
         .map_err(|e| format!("pair '{}': {e}", pair.name))?;
@@ -430,6 +454,7 @@ pub fn update(
         for (s, seg) in mem.segments.iter_mut().enumerate() {
             seg.state = from_segment_state(ev.segments[s].state);
             seg.ever_slid = ev.segments[s].ever_slid;
+            seg.direction = ev.segments[s].sign;
         }
         let frictionless = pair.mu_s == 0.0 && pair.mu_d == 0.0;
         let new_contact = if frictionless {
@@ -461,14 +486,73 @@ pub fn update(
             .filter(|&k| active[k])
             .map(|k| force[k][0].hypot(force[k][1]))
             .fold(0.0, f64::max);
+        // Nodes not in contact that have penetrated. One that was in
+        // contact at the start of the increment and comes back in it
+        // (released in an early iteration of a large increment) has slid
+        // from its anchor while free: it comes back sliding, and a segment
+        // of it that has just come back (it was open), or slides, takes a
+        // friction against that slip.
+        let nseg = mem.segments.len();
+        let closed = pair.closed;
+        let adjoining = move |k: usize| {
+            let before = if k > 0 {
+                Some(k - 1)
+            } else {
+                closed.then(|| nseg - 1)
+            };
+            [before, (k < nseg).then_some(k)]
+        };
+        let mut recontact: Vec<Option<((usize, ContactPoint), bool)>> = vec![None; m];
+        for k in (0..m).filter(|&k| mem.nodes[k].state == NodeState::Open) {
+            let Some((j, cp)) = search(&segments, x[k], reach) else {
+                continue;
+            };
+            let slip = match (frictionless, mem.nodes[k].anchor) {
+                (false, Some((sa, ba))) if sa < segments.len() => {
+                    cp.point() - segments[sa].seg.point_at(ba)
+                }
+                _ => Vector2::zeros(),
+            };
+            let slid = slip.norm() > 1e-9 * segments[j].seg.length();
+            recontact[k] = Some(((j, cp), slid));
+            if !slid {
+                continue;
+            }
+            for s in adjoining(k).into_iter().flatten() {
+                // Contactor segment s runs from node s to node s + 1.
+                let tau = x[(s + 1) % m] - x[s];
+                let seg = &mut mem.segments[s];
+                if seg.state != NodeState::Stick || prev[s] == SegmentState::Open {
+                    seg.state = NodeState::Slip;
+                    seg.direction = -slip.dot(&tau).signum();
+                    seg.ever_slid = true;
+                }
+            }
+        }
+        // Table 1 on the segment states as they now are.
+        let table1: Vec<NodeState> = (0..m)
+            .map(|k| {
+                let has = |st: NodeState| {
+                    adjoining(k)
+                        .into_iter()
+                        .flatten()
+                        .any(|s| mem.segments[s].state == st)
+                };
+                if !active[k] || ev.node_states[k] == NodeState::Open {
+                    NodeState::Open
+                } else if has(NodeState::Stick) {
+                    NodeState::Stick
+                } else if has(NodeState::Slip) {
+                    NodeState::Slip
+                } else {
+                    NodeState::Open
+                }
+            })
+            .collect();
         for k in 0..m {
             let old = mem.nodes[k];
             let mut lambda = Vector2::zeros();
-            let mut state = if active[k] {
-                ev.node_states[k]
-            } else {
-                NodeState::Open
-            };
+            let mut state = table1[k];
             if active[k] && state != NodeState::Open {
                 lambda = Vector2::new(ev.forces[k][0], ev.forces[k][1]);
             }
@@ -531,17 +615,21 @@ pub fn update(
                             stuck_at = Some((sa, ba));
                         }
                     }
+                    // A sliding node that Table 1 makes stick also goes
+                    // back to its anchor: sticking means no slip over the
+                    // increment (see `anchor_point`).
+                    let table1 = state == NodeState::Stick && stuck_at.is_none();
+                    if table1
+                        && point.is_some()
+                        && let Some(at) = anchor_point(&segments, old.anchor, x[k], reach)
+                    {
+                        point = Some(at);
+                    }
                     if let Some((sa, ba)) = stuck_at {
                         point = Some((sa, segments[sa].seg.contact_at(x[k], ba)));
                         // Its segments stick too: the next decision checks
                         // the capacity instead of keeping the old slide.
-                        let nseg = mem.segments.len();
-                        let before = if k > 0 {
-                            Some(k - 1)
-                        } else {
-                            pair.closed.then(|| nseg - 1)
-                        };
-                        for j in [before, (k < nseg).then_some(k)].into_iter().flatten() {
+                        for j in adjoining(k).into_iter().flatten() {
                             mem.segments[j].state = NodeState::Stick;
                         }
                     }
@@ -549,9 +637,9 @@ pub fn update(
                 // A node released in this iteration still sits on the target
                 // to round-off: it is not searched again until it has moved.
                 NodeState::Open if old.state == NodeState::Open => {
-                    if let Some(found) = search(&segments, x[k], reach) {
+                    if let Some((found, slid)) = recontact[k] {
                         point = Some(found);
-                        state = new_contact;
+                        state = if slid { NodeState::Slip } else { new_contact };
                     }
                 }
                 NodeState::Open => {}
@@ -574,7 +662,9 @@ pub fn update(
             if let Some((j, cp)) = point.filter(|_| state != NodeState::Open) {
                 node.segment = j;
                 node.beta = cp.beta();
-                if state == NodeState::Stick || node.anchor.is_none() {
+                // The anchor moves only when an increment begins: a node
+                // that sticks is at its anchor (or new to contact).
+                if node.anchor.is_none() {
                     node.anchor = Some((j, cp.beta()));
                 }
                 let target = segments[j].nodes;

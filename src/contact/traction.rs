@@ -129,8 +129,8 @@ pub enum TractionError {
     /// A friction coefficient is negative or not finite.
     #[error("friction coefficients mu_s = {mu_s}, mu_d = {mu_d} must be finite and non-negative")]
     InvalidFriction { mu_s: f64, mu_d: f64 },
-    /// The slide hysteresis is outside [0, 1).
-    #[error("slide hysteresis eta = {eta} must lie in [0, 1)")]
+    /// The slide hysteresis is outside [0, 1].
+    #[error("slide hysteresis eta = {eta} must lie in [0, 1]")]
     InvalidHysteresis { eta: f64 },
     /// An active node has no contact area (all its weights vanish, e.g. every adjoining
     /// segment lies on the axis of revolution).
@@ -647,6 +647,9 @@ pub struct SegmentDecision {
     pub tf: f64,
     /// Whether the segment has ever slid, this decision included.
     pub ever_slid: bool,
+    /// Sliding: the sign of the friction resultant it applies along its tangent
+    /// (`sign(T_t)`, or the direction it kept, see [`evaluate`]); zero otherwise.
+    pub sign: f64,
 }
 
 /// Step 3 for one segment (Sections 3.2-3.4):
@@ -658,7 +661,11 @@ pub struct SegmentDecision {
 ///   Slide with `T_f = mu_d T_n`;
 /// - previously Slide: `T_f = mu_d T_n`; Stick only if `|T_t| < (1 - eta) T_f`, otherwise
 ///   Slide. The hysteresis `eta` keeps a converged sliding segment, where `|T_t| = T_f`
-///   to round-off, from flipping back.
+///   to round-off, from flipping back. With `eta = 1` a sliding segment never returns to
+///   sticking on force grounds: after an iteration its `T_t` is the friction it applied
+///   itself (its nodes are free along the target), so the test of Section 3.4 compares
+///   `mu_d T_n` of two iterations; the caller then decides the return to sticking
+///   kinematically (a slip that runs along the friction force).
 ///
 /// `ever_slid` becomes true when the segment slides now.
 pub fn decide_segment(
@@ -672,6 +679,7 @@ pub fn decide_segment(
         state: SegmentState::Open,
         tf: 0.0,
         ever_slid,
+        sign: 0.0,
     };
     if !seg.in_contact || seg.tn_total < 0.0 {
         return open;
@@ -682,6 +690,7 @@ pub fn decide_segment(
         state: SegmentState::Slide,
         tf: friction.mu_d * tn,
         ever_slid: true,
+        sign: signum0(seg.tt_total),
     };
     if friction.is_frictionless() {
         return SegmentDecision { tf: 0.0, ..slide };
@@ -694,6 +703,7 @@ pub fn decide_segment(
                     state: SegmentState::Stick,
                     tf: capacity,
                     ever_slid,
+                    sign: 0.0,
                 }
             } else {
                 slide
@@ -705,6 +715,7 @@ pub fn decide_segment(
                     state: SegmentState::Stick,
                     tf: slide.tf,
                     ever_slid: true,
+                    sign: 0.0,
                 }
             } else {
                 slide
@@ -721,7 +732,7 @@ pub fn decide_segments(
     ever_slid: &[bool],
     tractions: &[SegmentTractions],
 ) -> Result<Vec<SegmentDecision>, TractionError> {
-    if !(eta.is_finite() && (0.0..1.0).contains(&eta)) {
+    if !(eta.is_finite() && (0.0..=1.0).contains(&eta)) {
         return Err(TractionError::InvalidHysteresis { eta });
     }
     check_len("previous segment states", tractions.len(), previous.len())?;
@@ -749,7 +760,7 @@ pub fn applied_tangential(seg: &SegmentTractions, decision: &SegmentDecision) ->
     match decision.state {
         SegmentState::Open => 0.0,
         SegmentState::Stick => seg.tt_total,
-        SegmentState::Slide => signum0(seg.tt_total) * decision.tf,
+        SegmentState::Slide => decision.sign * decision.tf,
     }
 }
 
@@ -774,6 +785,169 @@ pub fn applied_tangential_traction(
                 0.0
             };
             [tbar; 2]
+        }
+    }
+}
+
+/// Step 3, continued: the sticking segments next to sliding ones are checked again on
+/// the force that the sliding segments leave them.
+///
+/// Table 1 makes a node stick when one of its segments sticks, so a sticking node shared
+/// with a sliding segment takes, through its two multipliers, whatever its out-of-balance
+/// force is. The sliding segment applies only its friction `T_f` (Fig. 5b) at that node;
+/// the rest of the node's force is carried by the sticking side. The resultants of
+/// Eqs. (28)-(31), however, split that node's force between both segments through the
+/// recovered linear tractions, so the sticking segment is checked on part of what it
+/// carries, and the part recovered onto the sliding segment beyond its `T_f` is carried
+/// by nobody's capacity: the pair can hold more than `mu Fn` (0.54 % on CGS-4).
+///
+/// Here each maximal run of sticking segments that touches a sliding one is checked on
+/// the force left at its nodes once the sliding segments' loads (unaltered normal
+/// tractions and uniform friction, Fig. 5) are taken off: the tractions are recovered
+/// over the run alone (the same Eq. 26/27 system, or lumped), and its segments are
+/// decided as in Section 3.3 on those resultants. A segment that now fails slides, which
+/// can expose its neighbour: repeated until nothing changes (only sticking turns into
+/// sliding, so at most once per segment). The resultants of every segment then add up to
+/// the pair's total, and a converged state has `|Ft| <= mu Fn` on a straight target.
+/// The runs' tractions decide only; the contact forces stay those of Fig. 5 (a sticking
+/// node's multipliers take the difference).
+#[allow(clippy::too_many_arguments)]
+fn recheck_sticking_runs(
+    chain: &Chain,
+    recovery: Recovery,
+    friction: &Friction,
+    eta: f64,
+    active: &[bool],
+    force: &[[f64; 2]],
+    previous: &[SegmentState],
+    ever_slid: &[bool],
+    tractions: &[SegmentTractions],
+    decisions: &mut [SegmentDecision],
+) -> Result<(), TractionError> {
+    let nseg = chain.segments.len();
+    if friction.is_frictionless() {
+        return Ok(());
+    }
+    // A segment that was not sliding is decided on the remainder once a sliding
+    // neighbour takes its share; its own check on the full recovery (Section 3.3) stands
+    // only where no sliding segment touches its run. Start from the continuing slides.
+    let plain = decisions.to_vec();
+    for (j, d) in decisions.iter_mut().enumerate() {
+        if previous[j] != SegmentState::Slide && d.state == SegmentState::Slide {
+            *d = SegmentDecision {
+                state: SegmentState::Stick,
+                tf: friction.sticking_mu(ever_slid[j]) * tractions[j].tn_total,
+                ever_slid: ever_slid[j],
+                sign: 0.0,
+            };
+        }
+    }
+    loop {
+        // Where the runs are enumerated from: an open chain from its first segment, a
+        // closed one from a segment that does not stick (all sticking: one run, which
+        // touches no sliding segment).
+        let start = match (0..nseg).find(|&j| decisions[j].state != SegmentState::Stick) {
+            _ if !chain.closed => nseg - 1,
+            Some(j) => j,
+            None => {
+                let failed: Vec<usize> = (0..nseg)
+                    .filter(|&j| plain[j].state != SegmentState::Stick)
+                    .collect();
+                if failed.is_empty() {
+                    return Ok(());
+                }
+                for j in failed {
+                    decisions[j] = plain[j];
+                }
+                continue;
+            }
+        };
+        // The loads of the sliding segments, per node.
+        let mut slide_load = vec![[0.0; 2]; chain.nodes()];
+        for (j, s) in chain.segments.iter().enumerate() {
+            if decisions[j].state != SegmentState::Slide {
+                continue;
+            }
+            let normal = s.loads(tractions[j].tn);
+            let tangential = s.loads(applied_tangential_traction(s, &tractions[j], &decisions[j]));
+            for (end, &k) in s.nodes.iter().enumerate() {
+                for c in 0..2 {
+                    slide_load[k][c] += normal[end] * s.normal[c] + tangential[end] * s.tangent[c];
+                }
+            }
+        }
+        // Maximal runs of sticking segments, in chain order from a segment that does
+        // not stick (so that a run of a closed chain does not wrap around it).
+        let mut changed = false;
+        let mut run: Vec<usize> = Vec::new();
+        for i in 1..=nseg {
+            let j = (start + i) % nseg;
+            if decisions[j].state == SegmentState::Stick {
+                run.push(j);
+                if i < nseg {
+                    continue;
+                }
+            }
+            if run.is_empty() {
+                continue;
+            }
+            let first = chain.segments[run[0]].nodes[0];
+            let last = chain.segments[*run.last().unwrap()].nodes[1];
+            let touches_slide = chain
+                .adjoining(first)
+                .into_iter()
+                .chain(chain.adjoining(last))
+                .flatten()
+                .any(|s| decisions[s].state == SegmentState::Slide);
+            if !touches_slide {
+                for &j in &run {
+                    if plain[j].state != SegmentState::Stick {
+                        decisions[j] = plain[j];
+                        changed = true;
+                    }
+                }
+            } else {
+                let nodes: Vec<usize> = std::iter::once(first)
+                    .chain(run.iter().map(|&s| chain.segments[s].nodes[1]))
+                    .collect();
+                let x: Vec<[f64; 2]> = nodes.iter().map(|&k| chain.x[k]).collect();
+                let on: Vec<bool> = nodes.iter().map(|&k| active[k]).collect();
+                let left: Vec<[f64; 2]> = nodes
+                    .iter()
+                    .map(|&k| {
+                        [
+                            force[k][0] - slide_load[k][0],
+                            force[k][1] - slide_load[k][1],
+                        ]
+                    })
+                    .collect();
+                let sub = Chain::new(chain.geometry, false, &x)?;
+                let t = recover_tractions(&sub, recovery, &on, &left)?;
+                let st = segment_tractions(&sub, &on, &t)?;
+                for (r, &j) in run.iter().enumerate() {
+                    let d = decide_segment(friction, eta, previous[j], ever_slid[j], &st[r]);
+                    if d.state != SegmentState::Stick {
+                        // Slides (or releases) on what it carries: the applied
+                        // friction is mu_d of its own T_n, in the direction of
+                        // the force it was left with.
+                        decisions[j] = SegmentDecision {
+                            state: d.state,
+                            tf: if d.state == SegmentState::Slide {
+                                friction.mu_d * tractions[j].tn_total
+                            } else {
+                                0.0
+                            },
+                            ever_slid: d.ever_slid,
+                            sign: d.sign,
+                        };
+                        changed = true;
+                    }
+                }
+            }
+            run.clear();
+        }
+        if !changed {
+            return Ok(());
         }
     }
 }
@@ -881,6 +1055,8 @@ pub struct SegmentEval {
     pub tf: f64,
     pub state: SegmentState,
     pub ever_slid: bool,
+    /// See [`SegmentDecision::sign`].
+    pub sign: f64,
 }
 
 /// The result of [`evaluate`].
@@ -910,8 +1086,17 @@ pub struct Evaluation {
 ///
 /// `x`: current node positions; `active`: node in contact after the previous iteration;
 /// `force`: force of the contact on each node (only active entries read); `previous`,
-/// `ever_slid`: per segment, after the previous iteration; `eta`: slide hysteresis
-/// (about 1e-6). Frictionless when `mu_s == mu_d == 0`.
+/// `ever_slid`: per segment, after the previous iteration; `directions`: per segment, the
+/// sign of the friction it applied if it was sliding (zero if unknown); `eta`: slide
+/// hysteresis. Frictionless when `mu_s == mu_d == 0`.
+///
+/// A segment that was sliding and still slides keeps the direction of its friction
+/// (Section 5 of the paper: the friction acts in the direction of the tangential force
+/// before sliding). Its recovered `T_t` is, after an iteration, the friction it applied
+/// itself plus what its neighbours' changes spilled onto its nodes; with large increments
+/// the latter can flip its sign for an iteration, and friction that follows it would push
+/// the node along its slip. A reversal is caught kinematically (the node sticks at its
+/// anchor and the next sticking-to-sliding decision takes the new sign).
 pub fn evaluate(
     geometry: Geometry,
     recovery: Recovery,
@@ -924,13 +1109,35 @@ pub fn evaluate(
     force: &[[f64; 2]],
     previous: &[SegmentState],
     ever_slid: &[bool],
+    directions: &[f64],
     eta: f64,
 ) -> Result<Evaluation, TractionError> {
     let friction = Friction::new(mu_s, mu_d, rule)?;
     let chain = Chain::new(geometry, closed, x)?;
     let traction = recover_tractions(&chain, recovery, active, force)?;
     let tractions = segment_tractions(&chain, active, &traction)?;
-    let decisions = decide_segments(&friction, eta, previous, ever_slid, &tractions)?;
+    let mut decisions = decide_segments(&friction, eta, previous, ever_slid, &tractions)?;
+    check_len("directions", tractions.len(), directions.len())?;
+    for (j, d) in decisions.iter_mut().enumerate() {
+        if previous[j] == SegmentState::Slide
+            && d.state == SegmentState::Slide
+            && directions[j] != 0.0
+        {
+            d.sign = directions[j].signum();
+        }
+    }
+    recheck_sticking_runs(
+        &chain,
+        recovery,
+        &friction,
+        eta,
+        active,
+        force,
+        previous,
+        ever_slid,
+        &tractions,
+        &mut decisions,
+    )?;
     let forces = contact_forces(&chain, &tractions, &decisions)?;
     let states: Vec<SegmentState> = decisions.iter().map(|d| d.state).collect();
     let node_states = node_states(&chain, active, &states)?;
@@ -952,6 +1159,7 @@ pub fn evaluate(
                 tf: d.tf,
                 state: d.state,
                 ever_slid: d.ever_slid,
+                sign: d.sign,
             }
         })
         .collect();

@@ -181,8 +181,19 @@ fn eval(
     ever_slid: &[bool],
 ) -> Evaluation {
     evaluate(
-        geometry, recovery, friction.0, friction.1, friction.2, closed, x, active, force, previous,
-        ever_slid, ETA,
+        geometry,
+        recovery,
+        friction.0,
+        friction.1,
+        friction.2,
+        closed,
+        x,
+        active,
+        force,
+        previous,
+        ever_slid,
+        &vec![0.0; previous.len()],
+        ETA,
     )
     .expect("valid input")
 }
@@ -1025,6 +1036,7 @@ fn err(
         force,
         &vec![SegmentState::Stick; segs],
         &vec![false; segs],
+        &vec![0.0; segs],
         eta,
     )
     .expect_err("invalid input")
@@ -1084,6 +1096,7 @@ fn invalid_inputs_are_errors() {
             &bad_force,
             &[SegmentState::Open; 2],
             &[false; 2],
+            &[0.0; 2],
             ETA
         )
         .is_ok()
@@ -1139,7 +1152,7 @@ fn invalid_inputs_are_errors() {
         E::InvalidFriction { .. }
     ));
     assert!(matches!(
-        err(PLANAR, false, &x, &on, &f, ok, 1.0),
+        err(PLANAR, false, &x, &on, &f, ok, 1.5),
         E::InvalidHysteresis { .. }
     ));
     assert!(matches!(
@@ -1177,6 +1190,7 @@ fn invalid_inputs_are_errors() {
         &f,
         &[SegmentState::Stick; 3],
         &[false; 2],
+        &[0.0; 2],
         ETA,
     )
     .unwrap_err();
@@ -1210,4 +1224,79 @@ fn invalid_inputs_are_errors() {
         msg.contains("segment 0") && msg.contains("length 0"),
         "{msg}"
     );
+}
+
+// ------------------------------------------- sticking runs next to sliding segments
+
+/// Two unit segments on y = 0 (body above), planar, thickness 1, uniform t_n = 1
+/// (T_n = 1 each), mu_s = mu_d = 0.3. Segment 0 was sliding (friction +x, T_f = 0.3),
+/// segment 1 sticking; node 1 carries a tangential force of 0.5, the others none. The
+/// recovery splits it evenly (T_t = 0.25 on both segments), so the paper's check lets
+/// segment 1 stick; but segment 0 applies only 0.15 at node 1, and the 0.35 left there is
+/// segment 1's to carry, above its capacity 0.3: it slides.
+#[test]
+fn a_sticking_segment_is_checked_on_what_a_sliding_neighbour_leaves_it() {
+    let geometry = Geometry::Planar { thickness: 1.0 };
+    let x = [[0.0, 0.0], [1.0, 0.0], [2.0, 0.0]];
+    let force = [[0.0, 0.5], [0.5, 1.0], [0.0, 0.5]];
+    let run = |previous: [SegmentState; 2], directions: [f64; 2]| {
+        evaluate(
+            geometry,
+            Recovery::Consistent,
+            0.3,
+            0.3,
+            FrictionRule::MuDAfterSlip,
+            false,
+            &x,
+            &[true; 3],
+            &force,
+            &previous,
+            &[true, false],
+            &directions,
+            1.0,
+        )
+        .unwrap()
+    };
+    let ev = run([SegmentState::Slide, SegmentState::Stick], [1.0, 0.0]);
+    assert!((ev.segments[1].tt_total - 0.25).abs() < 1e-12);
+    assert!((ev.segments[1].tn_total - 1.0).abs() < 1e-12);
+    assert_eq!(ev.segments[0].state, SegmentState::Slide);
+    assert_eq!(ev.segments[1].state, SegmentState::Slide);
+    assert_eq!(ev.node_states, vec![NodeState::Slip; 3]);
+    // Both slide at mu: the pair applies exactly mu Fn.
+    assert!((ev.ft - 0.3 * ev.fn_).abs() < 1e-12);
+    // With no sliding neighbour the paper's check stands: both stick.
+    let ev = run([SegmentState::Stick, SegmentState::Stick], [0.0, 0.0]);
+    assert_eq!(ev.segments[0].state, SegmentState::Stick);
+    assert_eq!(ev.segments[1].state, SegmentState::Stick);
+}
+
+/// A segment that was sliding keeps the direction of its friction while it slides,
+/// whatever the sign of the T_t recovered in this iteration, and with `eta = 1` it does
+/// not return to sticking on force grounds.
+#[test]
+fn a_sliding_segment_keeps_its_direction_and_slides_on() {
+    let geometry = Geometry::Planar { thickness: 1.0 };
+    let x = [[0.0, 0.0], [2.0, 0.0]];
+    // t_n = 1, t_t = 0.05: T_n = 2, T_t = 0.1, well below mu_d T_n = 0.4.
+    let force = gauss_loads(geometry, false, &x, &[[0.05, 1.0], [0.05, 1.0]]);
+    let ev = evaluate(
+        geometry,
+        Recovery::Consistent,
+        0.3,
+        0.2,
+        FrictionRule::MuDAfterSlip,
+        false,
+        &x,
+        &[true; 2],
+        &force,
+        &[SegmentState::Slide],
+        &[true],
+        &[-1.0],
+        1.0,
+    )
+    .unwrap();
+    assert_eq!(ev.segments[0].state, SegmentState::Slide);
+    assert_eq!(ev.segments[0].sign, -1.0);
+    assert!((ev.ft + 0.2 * 2.0).abs() < 1e-12, "ft = {}", ev.ft);
 }
