@@ -433,6 +433,7 @@ pub fn update(
                 &force,
                 &prev,
                 &ever,
+                &directions,
                 SLIDE_HYSTERESIS,
             )
             .map_err(|e| format!("pair '{}': {e}", pair.name))?;
