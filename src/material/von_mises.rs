@@ -197,16 +197,34 @@ mod tests {
             &[0.0; HISTORY],
         );
         assert!(h1[4] > 0.0);
-        let cases: [(Voigt, [f64; HISTORY]); 5] = [
-            ([0.3 * ey, -0.1 * ey, 0.05 * ey, 0.2 * ey], [0.0; HISTORY]), // elastic
-            ([4.0 * ey, -1.0 * ey, -1.5 * ey, 1.0 * ey], [0.0; HISTORY]), // first yield, far
-            ([1.2 * ey, 0.0, 0.0, 0.0], [0.0; HISTORY]),                  // just past yield
-            ([3.5 * ey, -1.2 * ey, -0.4 * ey, 3.0 * ey], h1),             // reloading plastic
-            ([2.0 * ey, -1.0 * ey, -0.5 * ey, 1.0 * ey], h1),             // unloading, elastic
+        // (strain, converged history, plastic in plane strain/axisymmetric, in plane stress)
+        let cases: [(Voigt, [f64; HISTORY], bool, bool); 5] = [
+            (
+                [0.3 * ey, -0.1 * ey, 0.05 * ey, 0.2 * ey],
+                [0.0; HISTORY],
+                false,
+                false,
+            ),
+            (
+                [4.0 * ey, -1.0 * ey, -1.5 * ey, 1.0 * ey],
+                [0.0; HISTORY],
+                true,
+                true,
+            ),
+            ([1.4 * ey, 0.0, 0.0, 0.0], [0.0; HISTORY], true, true),
+            ([3.5 * ey, -1.2 * ey, -0.4 * ey, 3.0 * ey], h1, true, true),
+            ([2.0 * ey, -1.0 * ey, -0.5 * ey, 1.0 * ey], h1, false, false),
         ];
         for state in [StressState::Prescribed33, StressState::PlaneStress] {
             let m = law(state);
-            for (e, h) in &cases {
+            for (e, h, plastic3, plastic_ps) in &cases {
+                // The case is the state it claims to be.
+                let plastic = if state == StressState::PlaneStress {
+                    plastic_ps
+                } else {
+                    plastic3
+                };
+                assert_eq!(eval(&m, e, h).2[4] > h[4], *plastic, "{state:?} {e:?}");
                 // h = 1e-7 ey on strains ~ ey: truncation O(h^2) ~ 1e-14 relative,
                 // round-off ~ 1e-16 / 1e-7 ~ 1e-9 relative (plane stress adds its
                 // local-iteration tolerance 1e-13 / 1e-7 = 1e-6 of the scale).
@@ -224,6 +242,128 @@ mod tests {
                     "{state:?} strain {e:?}: relative tangent error {err:e}"
                 );
             }
+        }
+    }
+
+    /// Uniaxial stress at axial strain `e11`: the lateral strains found by
+    /// Newton (with the law's tangent) so that sigma22 = sigma33 = 0
+    /// (sigma22 only in plane stress, where the law meets sigma33 = 0).
+    fn uniaxial(m: &VonMises, e11: f64, history: &[f64; HISTORY]) -> (Voigt, [f64; HISTORY]) {
+        let mut e = [e11, -0.5 * e11, -0.5 * e11, 0.0];
+        let plane = m.state == StressState::PlaneStress;
+        for _ in 0..50 {
+            let (s, t, h) = eval(m, &e, history);
+            // Converged when the lateral stresses are round-off against sigma_y.
+            if s[1].abs() < 1e-12 * SY && s[2].abs() < 1e-12 * SY {
+                return (s, h);
+            }
+            if plane {
+                e[1] -= s[1] / t[1][1];
+            } else {
+                let det = t[1][1] * t[2][2] - t[1][2] * t[2][1];
+                e[1] -= (t[2][2] * s[1] - t[1][2] * s[2]) / det;
+                e[2] -= (t[1][1] * s[2] - t[2][1] * s[1]) / det;
+            }
+        }
+        panic!("uniaxial stress iteration did not converge at e11 = {e11}");
+    }
+
+    /// Closed form, uniaxial stress under monotonic loading: sigma = E eps up to
+    /// sigma_y, then sigma_y + E H / (E + H) (eps - sigma_y / E).
+    fn uniaxial_closed_form(eps: f64) -> f64 {
+        let ey = SY / E;
+        if eps <= ey {
+            E * eps
+        } else {
+            SY + E * H / (E + H) * (eps - ey)
+        }
+    }
+
+    #[test]
+    fn uniaxial_stress_path_loading_and_elastic_unloading() {
+        let ey = SY / E;
+        for state in [StressState::Prescribed33, StressState::PlaneStress] {
+            let m = law(state);
+            let mut h = [0.0; HISTORY];
+            let mut worst = 0.0f64;
+            // Load to 8 eps_y in 40 steps, committing the history at each.
+            for k in 1..=40 {
+                let eps = 8.0 * ey * k as f64 / 40.0;
+                let (s, h1) = uniaxial(&m, eps, &h);
+                h = h1;
+                worst = worst.max((s[0] - uniaxial_closed_form(eps)).abs());
+                // Equivalent plastic strain = axial plastic strain in uniaxial stress.
+                let alpha = (eps - s[0] / E).max(0.0);
+                assert!(
+                    (h[4] - alpha).abs() < 1e-12 * ey,
+                    "{state:?} eps {eps}: alpha {}",
+                    h[4]
+                );
+            }
+            let sigma_max = uniaxial_closed_form(8.0 * ey);
+            // Unload by 1.8 sigma_max / E: elastic (slope E) down to -0.8 sigma_max,
+            // inside the hardened surface |sigma| <= sigma_max.
+            let alpha = h[4];
+            for k in 1..=18 {
+                let eps = 8.0 * ey - 0.1 * sigma_max / E * k as f64;
+                let (s, h1) = uniaxial(&m, eps, &h);
+                h = h1;
+                worst = worst.max((s[0] - (sigma_max - E * (8.0 * ey - eps))).abs());
+                assert_eq!(h[4], alpha, "{state:?}: unloading must not flow");
+            }
+            eprintln!(
+                "von mises {state:?} uniaxial path: max |sigma - closed form| = {worst:.2e} (sigma_y = {SY})"
+            );
+            // Newton on the lateral stresses to 1e-12 sigma_y; the return is exact
+            // on a proportional path, so only round-off remains.
+            assert!(worst < 1e-9 * SY, "{state:?}: {worst:e}");
+        }
+    }
+
+    #[test]
+    fn pure_shear_path_loading_and_elastic_unloading() {
+        // tau = G gamma up to tau_y = sigma_y / sqrt(3), then
+        // tau = tau_y + G H / (3G + H) (gamma - tau_y / G).
+        let g = E / (2.0 * (1.0 + NU));
+        let tau_y = SY / 3f64.sqrt();
+        let closed = |gamma: f64| {
+            if gamma <= tau_y / g {
+                g * gamma
+            } else {
+                tau_y + g * H / (3.0 * g + H) * (gamma - tau_y / g)
+            }
+        };
+        let gmax = 10.0 * tau_y / g;
+        for state in [StressState::Prescribed33, StressState::PlaneStress] {
+            let m = law(state);
+            let mut h = [0.0; HISTORY];
+            let mut worst = 0.0f64;
+            for k in 1..=40 {
+                let gamma = gmax * k as f64 / 40.0;
+                let (s, _, h1) = eval(&m, &[0.0, 0.0, 0.0, gamma], &h);
+                h = h1;
+                worst = worst.max((s[3] - closed(gamma)).abs());
+                assert!(
+                    s[..3].iter().all(|v| v.abs() < 1e-9 * SY),
+                    "{state:?}: {s:?}"
+                );
+                // Plastic shear strain gamma_p = sqrt(3) alpha.
+                assert!((h[3] - 3f64.sqrt() * h[4]).abs() < 1e-12 * gmax);
+            }
+            let tau_max = closed(gmax);
+            let alpha = h[4];
+            for k in 1..=18 {
+                let gamma = gmax - 0.1 * tau_max / g * k as f64;
+                let (s, _, h1) = eval(&m, &[0.0, 0.0, 0.0, gamma], &h);
+                h = h1;
+                worst = worst.max((s[3] - (tau_max - g * (gmax - gamma))).abs());
+                assert_eq!(h[4], alpha, "{state:?}: unloading must not flow");
+            }
+            eprintln!(
+                "von mises {state:?} pure shear path: max |tau - closed form| = {worst:.2e} (tau_y = {tau_y:.3})"
+            );
+            // The return is exact on this proportional path: round-off only.
+            assert!(worst < 1e-9 * SY, "{state:?}: {worst:e}");
         }
     }
 }
