@@ -1,0 +1,235 @@
+//! Finite element solves with the nonlinear laws against closed forms:
+//! a plane stress Mooney-Rivlin strip stretched to lambda = 2 (total
+//! Lagrangian), and von Mises blocks (materially-nonlinear-only) in uniaxial
+//! stress and in simple shear, loaded past yield and unloaded. Each field is
+//! homogeneous, so the elements reproduce it exactly and the reactions must
+//! match the closed forms to the Newton tolerance.
+
+mod common;
+
+use contact2d::mesh::ElementKind;
+use contact2d::newton::Solver;
+use contact2d::problem::*;
+
+fn driver(name: &str, nodes: Vec<usize>, ux: Option<Scaled>, uy: Option<Scaled>) -> Driver {
+    Driver {
+        name: name.into(),
+        nodes,
+        ux,
+        uy,
+    }
+}
+
+fn fixed() -> Option<Scaled> {
+    Some(Scaled::constant(0.0))
+}
+
+fn follows(scale: f64) -> Option<Scaled> {
+    Some(Scaled {
+        scale,
+        function: Some(0),
+    })
+}
+
+/// Reaction Rx of the driver called `name`.
+fn rx(step: &contact2d::results::StepResult, name: &str) -> f64 {
+    step.drivers.iter().find(|d| d.0 == name).unwrap().1.rx
+}
+
+/// A strip [0, l] x [0, h] of thickness `t`: symmetry planes x = 0 (ux = 0)
+/// and y = 0 (uy = 0), the face x = l moved by `ux` following function 0,
+/// y free elsewhere: uniaxial stress in x. Function 0 is the stretch: ux = l f(t).
+fn strip(
+    kind: ElementKind,
+    (nx, ny): (usize, usize),
+    analysis: AnalysisKind,
+    kinematics: Kinematics,
+    spec: MaterialSpec,
+) -> Problem {
+    let (l, h) = (2.0, 1.0);
+    let mesh = common::grid(kind, [0.0, 0.0], [l, h], nx, ny, |x, y| [x, y]);
+    let mut p = common::problem(mesh, analysis, kinematics, 1.0, 0.0);
+    p.materials[0].spec = spec;
+    let left = common::nodes_where(&p.mesh, |x, _| x < 1e-12);
+    let bottom = common::nodes_where(&p.mesh, |_, y| y < 1e-12);
+    let right = common::nodes_where(&p.mesh, |x, _| (x - l).abs() < 1e-12);
+    p.drivers = vec![
+        driver("left", left, fixed(), None),
+        driver("bottom", bottom, None, fixed()),
+        driver("right", right, follows(l), None),
+    ];
+    p
+}
+
+#[test]
+fn mooney_rivlin_strip_stretched_to_twice_its_length() {
+    // Plane stress, y free: S22 = S33 = 0, so lambda2 = lambda3 = lambda^-1/2
+    // (the law's C33 = 1 / det C_2x2 makes lambda3 = 1 / (lambda lambda2),
+    // which equals lambda2 only then). The nominal stress is
+    // P11 = 2 (C1 + C2/lambda)(lambda - lambda^-2), and the reaction is P11
+    // times the reference area h t: TL integrates over the reference volume.
+    let (c1, c2, t) = (0.25, 0.07, 0.1);
+    let thin = AnalysisKind::PlaneStress { thickness: t };
+    for (kind, grid) in [(ElementKind::Q4, (1, 1)), (ElementKind::Q8, (3, 2))] {
+        let mut p = strip(
+            kind,
+            grid,
+            thin,
+            Kinematics::TotalLagrangian,
+            MaterialSpec::MooneyRivlin { c1, c2 },
+        );
+        p.times = (1..=10).map(|k| k as f64 / 10.0).collect();
+        let top = common::nodes_where(&p.mesh, |x, y| x > 1.99 && y > 0.99)[0];
+        let mut s = Solver::new(p).unwrap();
+        let (mut worst_p, mut worst_y) = (0.0f64, 0.0f64);
+        for k in 1..=10 {
+            let time = k as f64 / 10.0;
+            let step = s.advance(time, &mut common::silent()).unwrap();
+            let lambda = 1.0 + time;
+            let p11 = 2.0 * (c1 + c2 / lambda) * (lambda - lambda.powi(-2));
+            worst_p = worst_p.max((rx(&step, "right") / (1.0 * t) - p11).abs() / p11);
+            let lambda2 = 1.0 + s.state().u[2 * top + 1] / 1.0;
+            worst_y = worst_y.max((lambda2 - lambda.powf(-0.5)).abs());
+        }
+        eprintln!(
+            "mooney-rivlin strip {kind:?} {grid:?}: max |R/(h t) - P11| / P11 = {worst_p:.2e}, max |lambda2 - lambda^-1/2| = {worst_y:.2e}"
+        );
+        // Newton stops at |r|/|r0| <= 1e-8; the reaction and the contraction
+        // carry an error of that order relative to the load and the motion.
+        assert!(worst_p < 1e-8, "{kind:?}: {worst_p:e}");
+        assert!(worst_y < 1e-8, "{kind:?}: {worst_y:e}");
+    }
+}
+
+const E: f64 = 200e3;
+const NU: f64 = 0.3;
+const SY: f64 = 250.0;
+const H: f64 = 10e3;
+
+fn von_mises() -> MaterialSpec {
+    MaterialSpec::VonMises {
+        e: E,
+        nu: NU,
+        sigma_y: SY,
+        h: H,
+    }
+}
+
+/// Up to `peak` then back by `back` (function 0 of the problem), in `n`
+/// increments each way.
+fn load_and_unload(p: &mut Problem, peak: f64, back: f64, n: usize) {
+    p.functions[0].points = vec![(0.0, 0.0), (1.0, peak), (2.0, peak - back)];
+    p.times = (1..=2 * n).map(|k| k as f64 / n as f64).collect();
+}
+
+#[test]
+fn von_mises_strip_in_uniaxial_stress_loaded_past_yield_and_unloaded() {
+    // sigma = E eps up to sigma_y, then sigma_y + E H/(E + H)(eps - sigma_y/E);
+    // unloading elastic with slope E. Lateral strain -nu sigma/E - alpha/2
+    // (plastic flow is isochoric, alpha = axial plastic strain).
+    let ey = SY / E;
+    let peak = 8.0 * ey;
+    let sigma_peak = SY + E * H / (E + H) * (peak - ey);
+    let back = 1.8 * sigma_peak / E;
+    let plane_stress = AnalysisKind::PlaneStress { thickness: 1.0 };
+    for (kind, grid) in [(ElementKind::Q4, (1, 1)), (ElementKind::Q8, (4, 2))] {
+        let mut p = strip(
+            kind,
+            grid,
+            plane_stress,
+            Kinematics::MaterialNonlinearOnly,
+            von_mises(),
+        );
+        load_and_unload(&mut p, peak, back, 16);
+        let times = p.times.clone();
+        let top = common::nodes_where(&p.mesh, |x, y| x > 1.99 && y > 0.99)[0];
+        let mut s = Solver::new(p).unwrap();
+        let (mut worst_s, mut worst_e) = (0.0f64, 0.0f64);
+        let mut iterations = 0;
+        for &time in &times {
+            let step = s.advance(time, &mut common::silent()).unwrap();
+            iterations += step.iterations;
+            let eps = s.problem().functions[0].value(time);
+            let sigma = if time <= 1.0 {
+                if eps <= ey {
+                    E * eps
+                } else {
+                    SY + E * H / (E + H) * (eps - ey)
+                }
+            } else {
+                sigma_peak - E * (peak - eps)
+            };
+            let alpha = if time <= 1.0 {
+                (eps - sigma / E).max(0.0)
+            } else {
+                peak - sigma_peak / E
+            };
+            worst_s = worst_s.max((rx(&step, "right") / 1.0 - sigma).abs());
+            let eps22 = s.state().u[2 * top + 1] / 1.0;
+            worst_e = worst_e.max((eps22 - (-NU * sigma / E - alpha / 2.0)).abs());
+        }
+        eprintln!(
+            "von mises strip {kind:?} {grid:?}: max |R/A - sigma| = {worst_s:.2e} (sigma_y = {SY}), max |eps22 - closed form| = {worst_e:.2e} (eps_y = {ey:e}), {iterations} iterations in {} increments",
+            times.len()
+        );
+        // Newton to |r|/|r0| <= 1e-8 of an increment's load (~ 100): the
+        // reaction error is below 1e-6 sigma_y and the strain error below 1e-6 eps_y.
+        assert!(worst_s < 1e-6 * SY, "{kind:?}: {worst_s:e}");
+        assert!(worst_e < 1e-6 * ey, "{kind:?}: {worst_e:e}");
+    }
+}
+
+#[test]
+fn von_mises_block_in_plane_strain_simple_shear_loaded_past_yield_and_unloaded() {
+    // Every boundary node moved by ux = gamma y, uy = 0: pure shear stress,
+    // tau = G gamma up to tau_y = sigma_y/sqrt(3), then
+    // tau_y + G H/(3G + H)(gamma - tau_y/G); unloading with slope G. The top
+    // face (length 1, thickness 1) carries Rx = tau.
+    let g = E / (2.0 * (1.0 + NU));
+    let tau_y = SY / 3f64.sqrt();
+    let gy = tau_y / g;
+    let peak = 10.0 * gy;
+    let tau_peak = tau_y + g * H / (3.0 * g + H) * (peak - gy);
+    let back = 1.8 * tau_peak / g;
+    let mesh = common::grid(ElementKind::Q8, [0.0, 0.0], [1.0, 1.0], 2, 2, |x, y| [x, y]);
+    let mut p = common::problem(
+        mesh,
+        AnalysisKind::PlaneStrain { thickness: 1.0 },
+        Kinematics::MaterialNonlinearOnly,
+        1.0,
+        0.0,
+    );
+    p.materials[0].spec = von_mises();
+    let top = common::nodes_where(&p.mesh, |_, y| y > 1.0 - 1e-12);
+    p.drivers.push(driver("top", top, follows(1.0), fixed()));
+    let sides = common::nodes_where(&p.mesh, |x, y| {
+        y < 1.0 - 1e-12 && (x < 1e-12 || x > 1.0 - 1e-12 || y < 1e-12)
+    });
+    for n in sides {
+        let y = p.mesh.nodes[n][1];
+        p.drivers
+            .push(driver(&format!("n{n}"), vec![n], follows(y), fixed()));
+    }
+    load_and_unload(&mut p, peak, back, 20);
+    let times = p.times.clone();
+    let mut s = Solver::new(p).unwrap();
+    assert!(s.dofs() > 0, "the interior nodes are free");
+    let mut worst = 0.0f64;
+    for &time in &times {
+        let step = s.advance(time, &mut common::silent()).unwrap();
+        let gamma = s.problem().functions[0].value(time);
+        let tau = if time <= 1.0 {
+            if gamma <= gy {
+                g * gamma
+            } else {
+                tau_y + g * H / (3.0 * g + H) * (gamma - gy)
+            }
+        } else {
+            tau_peak - g * (peak - gamma)
+        };
+        worst = worst.max((rx(&step, "top") - tau).abs());
+    }
+    eprintln!("von mises simple shear Q8 2x2: max |Rx - tau| = {worst:.2e} (tau_y = {tau_y:.3})");
+    // As for the strip: Newton tolerance 1e-8 of loads ~ 100.
+    assert!(worst < 1e-6 * SY, "{worst:e}");
+}
