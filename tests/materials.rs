@@ -233,3 +233,86 @@ fn von_mises_block_in_plane_strain_simple_shear_loaded_past_yield_and_unloaded()
     // As for the strip: Newton tolerance 1e-8 of loads ~ 100.
     assert!(worst < 1e-6 * SY, "{worst:e}");
 }
+
+/// Convergence rates printed in the Newton log lines of one increment.
+fn rates(lines: &[String]) -> Vec<f64> {
+    lines
+        .iter()
+        .filter_map(|l| {
+            l.split("rate ")
+                .nth(1)
+                .and_then(|r| r.trim().parse::<f64>().ok())
+        })
+        .collect()
+}
+
+#[test]
+fn von_mises_punch_converges_quadratically() {
+    // An inhomogeneous plastic zone: a plane strain block on a fixed base,
+    // the left half of its top pressed down by 8 yield strains of its height.
+    // With the consistent tangent Newton converges quadratically; the
+    // continuum (elastic-plastic) tangent would give a rate near 1.
+    let mesh = common::grid(ElementKind::Q8, [0.0, 0.0], [1.0, 1.0], 6, 6, |x, y| [x, y]);
+    let mut p = common::problem(
+        mesh,
+        AnalysisKind::PlaneStrain { thickness: 1.0 },
+        Kinematics::MaterialNonlinearOnly,
+        1.0,
+        0.0,
+    );
+    p.materials[0].spec = von_mises();
+    let base = common::nodes_where(&p.mesh, |_, y| y < 1e-12);
+    let punch = common::nodes_where(&p.mesh, |x, y| y > 1.0 - 1e-12 && x < 0.5 + 1e-12);
+    p.drivers = vec![
+        driver("base", base, fixed(), fixed()),
+        driver("punch", punch, fixed(), follows(-8.0 * SY / E)),
+    ];
+    p.times = vec![0.25, 0.5, 0.75, 1.0];
+    let mut s = Solver::new(p).unwrap();
+    let mut plastic_increments = 0;
+    for &time in &[0.25, 0.5, 0.75, 1.0] {
+        let mut lines = Vec::new();
+        let r = s
+            .advance(time, &mut |c, m| {
+                if c == contact2d::results::LogCategory::Newton {
+                    lines.push(m.to_string())
+                }
+            })
+            .unwrap();
+        assert!(r.converged && r.substeps == 0);
+        // The estimate ln(r_k/r_k-1)/ln(r_k-1/r_k-2) of the last two
+        // iterations, where the set of yielding points has settled (earlier
+        // ones jump as points start or stop flowing): ~2, as in tests/newton.rs.
+        let rates = rates(&lines);
+        let last = rates.iter().rev().take(2).fold(0.0f64, |m, &v| m.max(v));
+        eprintln!(
+            "punch t = {time}: {} iterations, rates {rates:.2?}",
+            r.iterations
+        );
+        if r.iterations >= 4 {
+            plastic_increments += 1;
+            assert!(
+                last > 1.7,
+                "t = {time}: rates {rates:?}\n{}",
+                lines.join("\n")
+            );
+        }
+        assert!(
+            r.iterations <= 10,
+            "t = {time}: {} iterations",
+            r.iterations
+        );
+    }
+    let alpha = s
+        .state()
+        .history
+        .chunks(5)
+        .map(|h| h[4])
+        .fold(0.0f64, f64::max);
+    eprintln!("punch: max equivalent plastic strain {alpha:.3e}");
+    assert!(alpha > SY / E, "the block must flow well past yield");
+    assert!(
+        plastic_increments >= 2,
+        "too few increments to measure a rate"
+    );
+}

@@ -191,11 +191,7 @@ mod tests {
         let ey = SY / E;
         // A converged plastic history to start some cases from.
         let pre = law(StressState::Prescribed33);
-        let (_, _, h1) = eval(
-            &pre,
-            &[3.0 * ey, -1.0 * ey, -0.5 * ey, 2.0 * ey],
-            &[0.0; HISTORY],
-        );
+        let (_, _, h1) = eval(&pre, &[3.0 * ey, -ey, -0.5 * ey, 2.0 * ey], &[0.0; HISTORY]);
         assert!(h1[4] > 0.0);
         // (strain, converged history, plastic in plane strain/axisymmetric, in plane stress)
         let cases: [(Voigt, [f64; HISTORY], bool, bool); 5] = [
@@ -206,14 +202,14 @@ mod tests {
                 false,
             ),
             (
-                [4.0 * ey, -1.0 * ey, -1.5 * ey, 1.0 * ey],
+                [4.0 * ey, -ey, -1.5 * ey, 1.0 * ey],
                 [0.0; HISTORY],
                 true,
                 true,
             ),
             ([1.4 * ey, 0.0, 0.0, 0.0], [0.0; HISTORY], true, true),
             ([3.5 * ey, -1.2 * ey, -0.4 * ey, 3.0 * ey], h1, true, true),
-            ([2.0 * ey, -1.0 * ey, -0.5 * ey, 1.0 * ey], h1, false, false),
+            ([2.0 * ey, -ey, -0.5 * ey, 1.0 * ey], h1, false, false),
         ];
         for state in [StressState::Prescribed33, StressState::PlaneStress] {
             let m = law(state);
