@@ -203,7 +203,7 @@ fn von_mises_block_in_plane_strain_simple_shear_loaded_past_yield_and_unloaded()
     let top = common::nodes_where(&p.mesh, |_, y| y > 1.0 - 1e-12);
     p.drivers.push(driver("top", top, follows(1.0), fixed()));
     let sides = common::nodes_where(&p.mesh, |x, y| {
-        y < 1.0 - 1e-12 && (x < 1e-12 || x > 1.0 - 1e-12 || y < 1e-12)
+        y < 1.0 - 1e-12 && (!(1e-12..=1.0 - 1e-12).contains(&x) || y < 1e-12)
     });
     for n in sides {
         let y = p.mesh.nodes[n][1];
