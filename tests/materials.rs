@@ -316,3 +316,66 @@ fn von_mises_punch_converges_quadratically() {
         "too few increments to measure a rate"
     );
 }
+
+/// The shipped scene `name` solved through its load history: (time, result).
+fn shipped(name: &str) -> (Solver, Vec<(f64, contact2d::results::StepResult)>) {
+    let problem = common::shipped_scene(name, &[]);
+    let times = problem.times.clone();
+    let mut s = Solver::new(problem).unwrap();
+    let steps = times
+        .iter()
+        .map(|&t| (t, s.advance(t, &mut common::silent()).unwrap()))
+        .collect();
+    (s, steps)
+}
+
+#[test]
+fn shipped_rubber_strip_scene() {
+    let (s, steps) = shipped("verification/rubber_strip.toml");
+    let MaterialSpec::MooneyRivlin { c1, c2 } = s.problem().materials[0].spec else {
+        panic!("the rubber strip is Mooney-Rivlin")
+    };
+    let mut worst = 0.0f64;
+    for (t, step) in &steps {
+        let lambda = 1.0 + t;
+        let p11 = 2.0 * (c1 + c2 / lambda) * (lambda - lambda.powi(-2));
+        worst = worst.max((rx(step, "pull") / (1.0 * 0.1) - p11).abs() / p11);
+    }
+    eprintln!(
+        "rubber_strip.toml: {} increments, max |R/(h t) - P11| / P11 = {worst:.2e}",
+        steps.len()
+    );
+    assert_eq!(steps.len(), 10);
+    // Newton tolerance 1e-8 (as above).
+    assert!(worst < 1e-8, "{worst:e}");
+}
+
+#[test]
+fn shipped_plastic_strip_scene() {
+    let (s, steps) = shipped("verification/plastic_strip.toml");
+    let ey = SY / E;
+    let sigma_peak = SY + E * H / (E + H) * (8.0 * ey - ey);
+    let mut worst = 0.0f64;
+    for (t, step) in &steps {
+        let eps = s.problem().functions[0].value(*t) / 2.0;
+        let sigma = if *t <= 1.0 {
+            if eps <= ey {
+                E * eps
+            } else {
+                SY + E * H / (E + H) * (eps - ey)
+            }
+        } else {
+            sigma_peak - E * (8.0 * ey - eps)
+        };
+        worst = worst.max((rx(step, "pull") - sigma).abs());
+    }
+    eprintln!(
+        "plastic_strip.toml: {} increments, max |R/A - sigma| = {worst:.2e}",
+        steps.len()
+    );
+    assert_eq!(steps.len(), 16);
+    // Newton tolerance 1e-8 of loads ~ 100 (as above).
+    assert!(worst < 1e-6 * SY, "{worst:e}");
+    // The scene's constants are the ones of the closed form.
+    assert_eq!(s.problem().materials[0].spec, von_mises());
+}
