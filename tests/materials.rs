@@ -379,3 +379,55 @@ fn shipped_plastic_strip_scene() {
     // The scene's constants are the ones of the closed form.
     assert_eq!(s.problem().materials[0].spec, von_mises());
 }
+
+#[test]
+fn constants_by_name_and_their_range_checks() {
+    let mut p = common::shipped_scene("verification/rubber_strip.toml", &[]);
+    assert_eq!(p.materials[0].constants(), vec![("C1", 0.25), ("C2", 0.07)]);
+    p.materials[0].set_constant("C2", 0.0).unwrap();
+    assert_eq!(p.check_parameters(), Ok(()));
+    p.materials[0].set_constant("C1", 0.0).unwrap();
+    assert_eq!(
+        p.check_parameters(),
+        Err("rubber.C1 = 0.0: C1 must be positive and finite".into())
+    );
+    assert!(p.materials[0].set_constant("E", 1.0).is_err());
+
+    let mut p = common::shipped_scene("verification/plastic_strip.toml", &[]);
+    let names: Vec<&str> = p.materials[0].constants().iter().map(|c| c.0).collect();
+    assert_eq!(names, ["E", "nu", "sigma_y", "H"]);
+    for (name, value, message) in [
+        (
+            "H",
+            -1.0,
+            "steel.H = -1.0: the hardening modulus must be finite and not negative",
+        ),
+        (
+            "sigma_y",
+            0.0,
+            "steel.sigma_y = 0.0: the yield stress must be positive and finite",
+        ),
+        (
+            "nu",
+            0.5,
+            "steel.nu = 0.5: Poisson's ratio must satisfy -1 < nu < 0.5 for von_mises",
+        ),
+        (
+            "E",
+            -1.0,
+            "steel.E = -1.0: Young's modulus must be positive and finite",
+        ),
+    ] {
+        let mut q = p.clone();
+        q.materials[0].set_constant(name, value).unwrap();
+        assert_eq!(q.check_parameters(), Err(message.into()));
+    }
+    p.materials[0].set_constant("H", 0.0).unwrap();
+    assert_eq!(p.check_parameters(), Ok(()));
+    // A law outside its analysis is refused by the solver too.
+    p.kinematics = Kinematics::TotalLagrangian;
+    let e = Solver::new(p)
+        .err()
+        .expect("von_mises under total Lagrangian");
+    assert!(e.to_string().contains("von_mises needs"), "{e}");
+}
