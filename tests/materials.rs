@@ -91,9 +91,19 @@ fn mooney_rivlin_strip_stretched_to_twice_its_length() {
             let lambda2 = 1.0 + s.state().u[2 * top + 1] / 1.0;
             worst_y = worst_y.max((lambda2 - lambda.powf(-0.5)).abs());
         }
+        // Cauchy stress at lambda = 2: sigma11 = lambda P11 (J = 1), the rest 0.
+        let p11 = 2.0 * (c1 + c2 / 2.0) * (2.0 - 0.25);
+        let mut worst_c = 0.0f64;
+        for sigma in s.element_stresses() {
+            let expect = [2.0 * p11, 0.0, 0.0, 0.0];
+            for i in 0..4 {
+                worst_c = worst_c.max((sigma[i] - expect[i]).abs() / (2.0 * p11));
+            }
+        }
         eprintln!(
-            "mooney-rivlin strip {kind:?} {grid:?}: max |R/(h t) - P11| / P11 = {worst_p:.2e}, max |lambda2 - lambda^-1/2| = {worst_y:.2e}"
+            "mooney-rivlin strip {kind:?} {grid:?}: max |R/(h t) - P11| / P11 = {worst_p:.2e}, max |lambda2 - lambda^-1/2| = {worst_y:.2e}, max |sigma - (lambda P11, 0, 0, 0)| / (lambda P11) = {worst_c:.2e}"
         );
+        assert!(worst_c < 1e-8, "{kind:?}: {worst_c:e}");
         // Newton stops at |r|/|r0| <= 1e-8; the reaction and the contraction
         // carry an error of that order relative to the load and the motion.
         assert!(worst_p < 1e-8, "{kind:?}: {worst_p:e}");

@@ -41,6 +41,12 @@ pub trait MaterialLaw: Send + Sync + std::fmt::Debug {
     fn is_linear(&self) -> bool {
         false
     }
+    /// Plane stress, total Lagrangian: the thickness stretch lambda3 the law
+    /// implies at Green-Lagrange `strain`, when it defines one (None: the
+    /// reported Cauchy stress takes lambda3 = 1).
+    fn thickness_stretch(&self, _strain: &Voigt) -> Option<f64> {
+        None
+    }
     fn evaluate(
         &self,
         strain: &Voigt,

@@ -21,6 +21,12 @@ impl MooneyRivlin {
 }
 
 impl MaterialLaw for MooneyRivlin {
+    /// lambda3 = C33^1/2 = det(C_2x2)^-1/2 (det F = 1).
+    fn thickness_stretch(&self, strain: &Voigt) -> Option<f64> {
+        let det = (1.0 + 2.0 * strain[0]) * (1.0 + 2.0 * strain[1]) - strain[3] * strain[3];
+        Some(1.0 / det.sqrt())
+    }
+
     /// `strain` is the Green-Lagrange strain; its 33 entry is ignored (the
     /// law sets C33 itself). Returns the in-plane 2nd Piola-Kirchhoff stress
     /// (S33 = 0) and dS/dE.
