@@ -125,6 +125,20 @@ fn von_mises() -> MaterialSpec {
     }
 }
 
+/// The unit square in plane strain, n x n Q8, von Mises, MNO, no drivers.
+fn plastic_block(n: usize) -> Problem {
+    let mesh = common::grid(ElementKind::Q8, [0.0, 0.0], [1.0, 1.0], n, n, |x, y| [x, y]);
+    let mut p = common::problem(
+        mesh,
+        AnalysisKind::PlaneStrain { thickness: 1.0 },
+        Kinematics::MaterialNonlinearOnly,
+        1.0,
+        0.0,
+    );
+    p.materials[0].spec = von_mises();
+    p
+}
+
 /// Up to `peak` then back by `back` (function 0 of the problem), in `n`
 /// increments each way.
 fn load_and_unload(p: &mut Problem, peak: f64, back: f64, n: usize) {
@@ -201,15 +215,7 @@ fn von_mises_block_in_plane_strain_simple_shear_loaded_past_yield_and_unloaded()
     let peak = 10.0 * gy;
     let tau_peak = tau_y + g * H / (3.0 * g + H) * (peak - gy);
     let back = 1.8 * tau_peak / g;
-    let mesh = common::grid(ElementKind::Q8, [0.0, 0.0], [1.0, 1.0], 2, 2, |x, y| [x, y]);
-    let mut p = common::problem(
-        mesh,
-        AnalysisKind::PlaneStrain { thickness: 1.0 },
-        Kinematics::MaterialNonlinearOnly,
-        1.0,
-        0.0,
-    );
-    p.materials[0].spec = von_mises();
+    let mut p = plastic_block(2);
     let top = common::nodes_where(&p.mesh, |_, y| y > 1.0 - 1e-12);
     p.drivers.push(driver("top", top, follows(1.0), fixed()));
     let sides = common::nodes_where(&p.mesh, |x, y| {
@@ -244,33 +250,13 @@ fn von_mises_block_in_plane_strain_simple_shear_loaded_past_yield_and_unloaded()
     assert!(worst < 1e-6 * SY, "{worst:e}");
 }
 
-/// Convergence rates printed in the Newton log lines of one increment.
-fn rates(lines: &[String]) -> Vec<f64> {
-    lines
-        .iter()
-        .filter_map(|l| {
-            l.split("rate ")
-                .nth(1)
-                .and_then(|r| r.trim().parse::<f64>().ok())
-        })
-        .collect()
-}
-
 #[test]
 fn von_mises_punch_converges_quadratically() {
     // An inhomogeneous plastic zone: a plane strain block on a fixed base,
     // the left half of its top pressed down by 8 yield strains of its height.
     // With the consistent tangent Newton converges quadratically; the
     // continuum (elastic-plastic) tangent would give a rate near 1.
-    let mesh = common::grid(ElementKind::Q8, [0.0, 0.0], [1.0, 1.0], 6, 6, |x, y| [x, y]);
-    let mut p = common::problem(
-        mesh,
-        AnalysisKind::PlaneStrain { thickness: 1.0 },
-        Kinematics::MaterialNonlinearOnly,
-        1.0,
-        0.0,
-    );
-    p.materials[0].spec = von_mises();
+    let mut p = plastic_block(6);
     let base = common::nodes_where(&p.mesh, |_, y| y < 1e-12);
     let punch = common::nodes_where(&p.mesh, |x, y| y > 1.0 - 1e-12 && x < 0.5 + 1e-12);
     p.drivers = vec![
@@ -293,7 +279,7 @@ fn von_mises_punch_converges_quadratically() {
         // The estimate ln(r_k/r_k-1)/ln(r_k-1/r_k-2) of the last two
         // iterations, where the set of yielding points has settled (earlier
         // ones jump as points start or stop flowing): ~2, as in tests/newton.rs.
-        let rates = rates(&lines);
+        let rates = common::rates(&lines);
         let last = rates.iter().rev().take(2).fold(0.0f64, |m, &v| m.max(v));
         eprintln!(
             "punch t = {time}: {} iterations, rates {rates:.2?}",
