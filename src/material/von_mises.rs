@@ -139,12 +139,19 @@ impl VonMises {
         // sigma33 is converged when it is round-off against the stress scale.
         let scale = self.sigma_y + 3.0 * k * (strain[0].abs() + strain[1].abs() + strain[3].abs());
         let mut out = [0.0; HISTORY];
+        let mut converged = false;
         for _ in 0..50 {
             out = self.return_map(&eps, history, stress, tangent);
             if stress[2].abs() <= 1e-13 * scale {
+                converged = true;
                 break;
             }
             eps[2] -= stress[2] / tangent[2][2];
+        }
+        if !converged {
+            // Reported by the assembly as a non-finite stress: Newton bisects.
+            *stress = [f64::NAN; 4];
+            return out;
         }
         let d22 = tangent[2][2];
         let row2 = tangent[2];
@@ -237,6 +244,34 @@ mod tests {
                     err < 1e-5,
                     "{state:?} strain {e:?}: relative tangent error {err:e}"
                 );
+            }
+        }
+    }
+
+    #[test]
+    fn tangent_of_perfect_plasticity_matches_central_differences() {
+        // H = 0: the same check, in the states where the tangent is singular
+        // along the flow direction.
+        let ey = SY / E;
+        for state in [StressState::Prescribed33, StressState::PlaneStress] {
+            let m = VonMises::new(E, NU, SY, 0.0, state);
+            for e in [
+                [4.0 * ey, -ey, -1.5 * ey, ey],
+                [1.4 * ey, 0.0, 0.0, 2.0 * ey],
+            ] {
+                let h = [0.0; HISTORY];
+                assert!(eval(&m, &e, &h).2[4] > 0.0, "{state:?} {e:?} must flow");
+                // As above: h = 1e-7 eps_y, round-off ~ 1e-9 of the tangent.
+                let err = check_tangent(
+                    |e, s, t| {
+                        let mut hh = h;
+                        m.evaluate(e, &mut hh, s, t)
+                    },
+                    &e,
+                    1e-7 * ey,
+                );
+                eprintln!("von mises H = 0 {state:?} tangent vs FD at {e:?}: {err:.2e}");
+                assert!(err < 1e-5, "{state:?} {e:?}: {err:e}");
             }
         }
     }
