@@ -427,3 +427,60 @@ fn constants_by_name_and_their_range_checks() {
         .expect("von_mises under total Lagrangian");
     assert!(e.to_string().contains("von_mises needs"), "{e}");
 }
+
+#[test]
+fn von_mises_ring_in_equibiaxial_stress_axisymmetric() {
+    // A ring r in [1, 2], height 1, both faces moved by u_r = eps r, the base
+    // on rollers, the top free: eps_r = eps_theta = eps, sigma_zz = 0, so
+    // sigma_rr = sigma_thth = sigma and q = sigma. Elastic: sigma = E eps /
+    // (1 - nu). Plastic: d eps_p,r = d alpha (3/2)(sigma/3)/sigma = d alpha / 2,
+    // eps = (1 - nu) sigma / E + alpha / 2 with sigma = sigma_y + H alpha, so
+    // sigma = sigma_y + (eps - eps_y) / ((1 - nu)/E + 1/(2H)), eps_y = (1 - nu)
+    // sigma_y / E; unloading with slope E / (1 - nu). The outer face carries
+    // Rx = sigma 2 pi r_o h over the full circle.
+    let mesh = common::grid(ElementKind::Q8, [1.0, 0.0], [1.0, 1.0], 3, 2, |x, y| [x, y]);
+    let mut p = common::problem(
+        mesh,
+        AnalysisKind::Axisymmetric,
+        Kinematics::MaterialNonlinearOnly,
+        1.0,
+        0.0,
+    );
+    p.materials[0].spec = von_mises();
+    let inner = common::nodes_where(&p.mesh, |x, _| x < 1.0 + 1e-12);
+    let outer = common::nodes_where(&p.mesh, |x, _| x > 2.0 - 1e-12);
+    let base = common::nodes_where(&p.mesh, |_, y| y < 1e-12);
+    p.drivers = vec![
+        driver("inner", inner, follows(1.0), None),
+        driver("outer", outer, follows(2.0), None),
+        driver("base", base, None, fixed()),
+    ];
+    let ey = (1.0 - NU) * SY / E;
+    let slope = 1.0 / ((1.0 - NU) / E + 1.0 / (2.0 * H));
+    let peak = 8.0 * ey;
+    let sigma_peak = SY + slope * (peak - ey);
+    load_and_unload(&mut p, peak, 1.8 * sigma_peak * (1.0 - NU) / E, 16);
+    let times = p.times.clone();
+    let mut s = Solver::new(p).unwrap();
+    let mut worst = 0.0f64;
+    for &time in &times {
+        let step = s.advance(time, &mut common::silent()).unwrap();
+        let eps = s.problem().functions[0].value(time);
+        let sigma = if time <= 1.0 {
+            if eps <= ey {
+                E * eps / (1.0 - NU)
+            } else {
+                SY + slope * (eps - ey)
+            }
+        } else {
+            sigma_peak - E / (1.0 - NU) * (peak - eps)
+        };
+        let area = 2.0 * std::f64::consts::PI * 2.0 * 1.0;
+        worst = worst.max((rx(&step, "outer") / area - sigma).abs());
+    }
+    eprintln!(
+        "von mises axisymmetric ring Q8 3x2: max |Rx / (2 pi r_o h) - sigma| = {worst:.2e} (sigma_y = {SY})"
+    );
+    // Newton tolerance 1e-8 of loads ~ 100 (as above).
+    assert!(worst < 1e-6 * SY, "{worst:e}");
+}
