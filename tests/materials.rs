@@ -484,3 +484,32 @@ fn von_mises_ring_in_equibiaxial_stress_axisymmetric() {
     // Newton tolerance 1e-8 of loads ~ 100 (as above).
     assert!(worst < 1e-6 * SY, "{worst:e}");
 }
+
+#[test]
+fn linear_elastic_bodies_do_not_pay_for_the_nonlinear_laws() {
+    // No history, and small strain keeps its one factorization for all increments.
+    let plane_stress = AnalysisKind::PlaneStress { thickness: 1.0 };
+    let mut p = strip(
+        ElementKind::Q8,
+        (4, 2),
+        plane_stress,
+        Kinematics::SmallStrain,
+        MaterialSpec::LinearElastic { e: E, nu: NU },
+    );
+    p.times = vec![0.25, 0.5, 0.75, 1.0];
+    let mut s = Solver::new(p).unwrap();
+    for t in [0.25, 0.5, 0.75, 1.0] {
+        s.advance(t, &mut common::silent()).unwrap();
+    }
+    assert!(s.state().history.is_empty());
+    assert_eq!(s.factorizations(), 1);
+    // The plastic strip: 5 numbers at each of the 9 Gauss points of 8 Q8.
+    let p = strip(
+        ElementKind::Q8,
+        (4, 2),
+        plane_stress,
+        Kinematics::MaterialNonlinearOnly,
+        von_mises(),
+    );
+    assert_eq!(Solver::new(p).unwrap().state().history.len(), 5 * 9 * 8);
+}
