@@ -166,7 +166,7 @@ impl Model {
         }
         let follower = problem.pressures.iter().any(|p| p.follower);
         let tl = problem.kinematics == Kinematics::TotalLagrangian;
-        let linear_laws = laws.iter().all(|l| l.history_len() == 0);
+        let linear_laws = laws.iter().all(|l| l.is_linear());
         Model {
             analysis: problem.analysis,
             kinematics: problem.kinematics,

@@ -251,7 +251,14 @@ pub fn integrate(
                 }
             }
         }
-        // Cauchy stress sigma = F S F^T / det F (planar F33 taken as 1 in plane stress).
+        // Cauchy stress sigma = F S F^T / det F; in plane stress det F takes the
+        // law's thickness stretch where it defines one (1 otherwise).
+        let det_f = match (analysis, tl) {
+            (AnalysisKind::PlaneStress { .. }, true) => {
+                det_f * d.law.thickness_stretch(&strain).unwrap_or(1.0)
+            }
+            _ => det_f,
+        };
         let sigma = if tl {
             let sm = [[s[0], s[3]], [s[3], s[1]]];
             let mut fs = [[0.0; 2]; 2];

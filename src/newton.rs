@@ -62,6 +62,10 @@ impl Solver {
                 "element_material does not match the elements".into(),
             ));
         }
+        for m in &problem.materials {
+            crate::problem::check_model_analysis(&m.spec, problem.analysis, problem.kinematics)
+                .map_err(|e| SolveError::Invalid(format!("material '{}': {e}", m.name)))?;
+        }
         let mut is_prescribed = vec![false; ndof];
         let mut prescribed = Vec::new();
         for (d, driver) in problem.drivers.iter().enumerate() {

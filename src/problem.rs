@@ -29,7 +29,23 @@ pub enum Kinematics {
 /// Material constants as given in the scene.
 #[derive(Clone, Debug, PartialEq)]
 pub enum MaterialSpec {
-    LinearElastic { e: f64, nu: f64 },
+    LinearElastic {
+        e: f64,
+        nu: f64,
+    },
+    /// Incompressible rubber in plane stress, total Lagrangian only.
+    MooneyRivlin {
+        c1: f64,
+        c2: f64,
+    },
+    /// Von Mises plasticity with linear isotropic hardening modulus `h`
+    /// (small strain: materially-nonlinear-only analysis).
+    VonMises {
+        e: f64,
+        nu: f64,
+        sigma_y: f64,
+        h: f64,
+    },
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -316,6 +332,79 @@ pub fn check_poisson(kind: AnalysisKind, nu: f64) -> Result<(), String> {
     }
 }
 
+/// Mooney-Rivlin C1 (half the initial shear modulus when C2 = 0).
+pub fn check_c1(c1: f64) -> Result<(), String> {
+    if c1 > 0.0 && c1.is_finite() {
+        Ok(())
+    } else {
+        Err("C1 must be positive and finite".into())
+    }
+}
+
+/// Mooney-Rivlin C2.
+pub fn check_c2(c2: f64) -> Result<(), String> {
+    if c2 >= 0.0 && c2.is_finite() {
+        Ok(())
+    } else {
+        Err("C2 must be finite and not negative".into())
+    }
+}
+
+/// Poisson's ratio of the von Mises law: its elastic part is 3D (the plane
+/// stress condition is met by iteration), so nu = 0.5 is excluded everywhere.
+pub fn check_plastic_poisson(nu: f64) -> Result<(), String> {
+    if nu > -1.0 && nu < 0.5 {
+        Ok(())
+    } else {
+        Err("Poisson's ratio must satisfy -1 < nu < 0.5 for von_mises".into())
+    }
+}
+
+/// Initial yield stress of the von Mises law.
+pub fn check_yield_stress(sigma_y: f64) -> Result<(), String> {
+    if sigma_y > 0.0 && sigma_y.is_finite() {
+        Ok(())
+    } else {
+        Err("the yield stress must be positive and finite".into())
+    }
+}
+
+/// Linear isotropic hardening modulus (0: perfectly plastic).
+pub fn check_hardening(h: f64) -> Result<(), String> {
+    if h >= 0.0 && h.is_finite() {
+        Ok(())
+    } else {
+        Err("the hardening modulus must be finite and not negative".into())
+    }
+}
+
+/// The analysis a material model needs, if it is restricted.
+pub fn check_model_analysis(
+    spec: &MaterialSpec,
+    kind: AnalysisKind,
+    kinematics: Kinematics,
+) -> Result<(), String> {
+    match spec {
+        MaterialSpec::LinearElastic { .. } => Ok(()),
+        MaterialSpec::MooneyRivlin { .. } => {
+            if matches!(kind, AnalysisKind::PlaneStress { .. })
+                && kinematics == Kinematics::TotalLagrangian
+            {
+                Ok(())
+            } else {
+                Err("mooney_rivlin needs analysis.kind = \"plane_stress\" and analysis.kinematics = \"total_lagrangian\" (incompressible rubber thins freely only in plane stress; it is a large-strain law)".into())
+            }
+        }
+        MaterialSpec::VonMises { .. } => {
+            if kinematics == Kinematics::MaterialNonlinearOnly {
+                Ok(())
+            } else {
+                Err("von_mises needs analysis.kinematics = \"mno\" (a small-strain, nonlinear law: \"small_strain\" is for linear laws, and it is not a large-strain law for \"total_lagrangian\")".into())
+            }
+        }
+    }
+}
+
 /// A friction coefficient must be finite and not negative.
 pub fn check_coefficient(mu: f64) -> Result<(), String> {
     if mu >= 0.0 && mu.is_finite() {
@@ -330,6 +419,10 @@ impl Material {
     pub fn constants(&self) -> Vec<(&'static str, f64)> {
         match self.spec {
             MaterialSpec::LinearElastic { e, nu } => vec![("E", e), ("nu", nu)],
+            MaterialSpec::MooneyRivlin { c1, c2 } => vec![("C1", c1), ("C2", c2)],
+            MaterialSpec::VonMises { e, nu, sigma_y, h } => {
+                vec![("E", e), ("nu", nu), ("sigma_y", sigma_y), ("H", h)]
+            }
         }
     }
 
@@ -339,6 +432,12 @@ impl Material {
         match (&mut self.spec, name) {
             (MaterialSpec::LinearElastic { e, .. }, "E") => *e = value,
             (MaterialSpec::LinearElastic { nu, .. }, "nu") => *nu = value,
+            (MaterialSpec::MooneyRivlin { c1, .. }, "C1") => *c1 = value,
+            (MaterialSpec::MooneyRivlin { c2, .. }, "C2") => *c2 = value,
+            (MaterialSpec::VonMises { e, .. }, "E") => *e = value,
+            (MaterialSpec::VonMises { nu, .. }, "nu") => *nu = value,
+            (MaterialSpec::VonMises { sigma_y, .. }, "sigma_y") => *sigma_y = value,
+            (MaterialSpec::VonMises { h, .. }, "H") => *h = value,
             _ => return Err(format!("material '{}' has no constant '{name}'", self.name)),
         }
         Ok(())
@@ -355,6 +454,18 @@ impl Problem {
                     check_modulus(e).map_err(|msg| format!("{}.E = {e:?}: {msg}", m.name))?;
                     check_poisson(self.analysis, nu)
                         .map_err(|msg| format!("{}.nu = {nu:?}: {msg}", m.name))?;
+                }
+                MaterialSpec::MooneyRivlin { c1, c2 } => {
+                    check_c1(c1).map_err(|msg| format!("{}.C1 = {c1:?}: {msg}", m.name))?;
+                    check_c2(c2).map_err(|msg| format!("{}.C2 = {c2:?}: {msg}", m.name))?;
+                }
+                MaterialSpec::VonMises { e, nu, sigma_y, h } => {
+                    check_modulus(e).map_err(|msg| format!("{}.E = {e:?}: {msg}", m.name))?;
+                    check_plastic_poisson(nu)
+                        .map_err(|msg| format!("{}.nu = {nu:?}: {msg}", m.name))?;
+                    check_yield_stress(sigma_y)
+                        .map_err(|msg| format!("{}.sigma_y = {sigma_y:?}: {msg}", m.name))?;
+                    check_hardening(h).map_err(|msg| format!("{}.H = {h:?}: {msg}", m.name))?;
                 }
             }
         }

@@ -96,7 +96,9 @@ impl Closed {
     fn new(problem: &Problem, p: f64, q: f64) -> Self {
         // One material for both bodies.
         assert_eq!(problem.materials.len(), 1);
-        let MaterialSpec::LinearElastic { e, nu } = problem.materials[0].spec;
+        let MaterialSpec::LinearElastic { e, nu } = problem.materials[0].spec else {
+            panic!("the Cattaneo scene is linear elastic")
+        };
         let e_star = e / (2.0 * (1.0 - nu * nu));
         let a = (4.0 * p * R / (PI * e_star)).sqrt();
         let mu = problem.contacts[0].mu_s;
@@ -318,7 +320,9 @@ fn verify(label: &str, edits: &[(&str, &str)]) {
     // to the end Ft + Q moves by -1.67 N (shipped) and -1.77 N (refined);
     // the tilt with Johnson's p and q predicts -2.25 N.
     let ft_offset = pair(&steps[pressed]).ft.abs();
-    let MaterialSpec::LinearElastic { e, nu } = problem.materials[0].spec;
+    let MaterialSpec::LinearElastic { e, nu } = problem.materials[0].spec else {
+        panic!("the Cattaneo scene is linear elastic")
+    };
     for s in &steps[pressed + 1..] {
         let (p, q) = loads(s);
         let pr = pair(s);

@@ -43,18 +43,6 @@ fn cantilever(k: f64) -> (Solver, usize) {
     (Solver::new(p).unwrap(), tip[0])
 }
 
-/// Convergence rates printed in the Newton log lines of one increment.
-fn rates(lines: &[String]) -> Vec<f64> {
-    lines
-        .iter()
-        .filter_map(|l| {
-            l.split("rate ")
-                .nth(1)
-                .and_then(|r| r.trim().parse::<f64>().ok())
-        })
-        .collect()
-}
-
 #[test]
 fn newton_converges_quadratically_and_the_log_shows_it() {
     let (mut s, _) = cantilever(2.0);
@@ -77,7 +65,7 @@ fn newton_converges_quadratically_and_the_log_shows_it() {
         );
         // The asymptotic rate estimate ln(r_k/r_k-1)/ln(r_k-1/r_k-2) reaches ~2
         // before round-off; a tangent missing its geometric part gives ~1.
-        let best = rates(&lines).into_iter().fold(0.0f64, f64::max);
+        let best = common::rates(&lines).into_iter().fold(0.0f64, f64::max);
         assert!(
             best > 1.7,
             "increment {i}: best rate {best}\n{}",

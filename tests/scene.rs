@@ -526,7 +526,7 @@ fn unknown_word() {
     assert_error(
         &e,
         SceneErrorKind::InvalidValue,
-        r#"scenes/t.toml:8: material[0].model = "elastic": must be one of: linear_elastic"#,
+        r#"scenes/t.toml:8: material[0].model = "elastic": must be one of: linear_elastic, mooney_rivlin, von_mises"#,
     );
     let e = bad("generator = \"disk\"", "generator = \"circle\"");
     assert_error(
@@ -591,6 +591,146 @@ fn material_constants_out_of_range() {
         &e,
         SceneErrorKind::InvalidValue,
         "scenes/t.toml:9: material[0].E = 0: Young's modulus must be positive",
+    );
+}
+
+/// BASE's material as `material` (the lines after `model =`), under the
+/// analysis lines `analysis`, parsed.
+fn with_material(
+    analysis: &str,
+    model: &str,
+    constants: &str,
+) -> Result<contact2d::problem::Problem, SceneError> {
+    let old = "kind = \"plane_strain\"\n\n[[material]]\nname = \"steel\"\nmodel = \"linear_elastic\"\nE = 200000.0\nnu = 0.3\n";
+    assert!(BASE.contains(old));
+    let new =
+        format!("{analysis}\n\n[[material]]\nname = \"steel\"\nmodel = \"{model}\"\n{constants}\n");
+    scene::parse(&BASE.replacen(old, &new, 1), Path::new(FILE))
+}
+
+#[test]
+fn nonlinear_material_models() {
+    let rubber_analysis = "kind = \"plane_stress\"\nkinematics = \"total_lagrangian\"";
+    let rubber = "C1 = 0.3\nC2 = 0.1";
+    let p = with_material(rubber_analysis, "mooney_rivlin", rubber).unwrap();
+    assert_eq!(
+        p.materials[0].spec,
+        MaterialSpec::MooneyRivlin { c1: 0.3, c2: 0.1 }
+    );
+    assert_eq!(p.materials[0].constants(), vec![("C1", 0.3), ("C2", 0.1)]);
+    let plastic_analysis = "kind = \"plane_strain\"\nkinematics = \"mno\"";
+    let steel = "E = 200000.0\nnu = 0.3\nsigma_y = 250.0\nH = 1000.0";
+    let p = with_material(plastic_analysis, "von_mises", steel).unwrap();
+    assert_eq!(
+        p.materials[0].spec,
+        MaterialSpec::VonMises {
+            e: 200000.0,
+            nu: 0.3,
+            sigma_y: 250.0,
+            h: 1000.0
+        }
+    );
+    // Each law only where it applies, reported at the `model` line.
+    for (analysis, model, constants, rule) in [
+        (
+            "kind = \"plane_strain\"\nkinematics = \"total_lagrangian\"",
+            "mooney_rivlin",
+            rubber,
+            "mooney_rivlin needs",
+        ),
+        (
+            "kind = \"plane_stress\"\nkinematics = \"mno\"",
+            "mooney_rivlin",
+            rubber,
+            "mooney_rivlin needs",
+        ),
+        (
+            "kind = \"plane_strain\"",
+            "von_mises",
+            steel,
+            "von_mises needs",
+        ),
+        (
+            "kind = \"plane_strain\"\nkinematics = \"total_lagrangian\"",
+            "von_mises",
+            steel,
+            "von_mises needs",
+        ),
+    ] {
+        let e = with_material(analysis, model, constants).unwrap_err();
+        let line = 8 + analysis.lines().count() - 1;
+        let head =
+            format!("scenes/t.toml:{line}: material[0].model = \"{model}\": {rule} analysis.");
+        assert!(e.to_string().starts_with(&head), "{e}");
+        assert_eq!(e.kind, SceneErrorKind::InvalidValue);
+    }
+    // Constants out of range, at their own lines.
+    for (model, analysis, constants, old, new, expected) in [
+        (
+            "mooney_rivlin",
+            rubber_analysis,
+            rubber,
+            "C1 = 0.3",
+            "C1 = 0.0",
+            "10: material[0].C1 = 0.0: C1 must be positive and finite",
+        ),
+        (
+            "mooney_rivlin",
+            rubber_analysis,
+            rubber,
+            "C2 = 0.1",
+            "C2 = -0.1",
+            "11: material[0].C2 = -0.1: C2 must be finite and not negative",
+        ),
+        (
+            "von_mises",
+            plastic_analysis,
+            steel,
+            "nu = 0.3",
+            "nu = 0.5",
+            "11: material[0].nu = 0.5: Poisson's ratio must satisfy -1 < nu < 0.5 for von_mises",
+        ),
+        (
+            "von_mises",
+            plastic_analysis,
+            steel,
+            "sigma_y = 250.0",
+            "sigma_y = 0.0",
+            "12: material[0].sigma_y = 0.0: the yield stress must be positive and finite",
+        ),
+        (
+            "von_mises",
+            plastic_analysis,
+            steel,
+            "H = 1000.0",
+            "H = -1.0",
+            "13: material[0].H = -1.0: the hardening modulus must be finite and not negative",
+        ),
+    ] {
+        let e = with_material(analysis, model, &constants.replace(old, new)).unwrap_err();
+        assert_error(
+            &e,
+            SceneErrorKind::InvalidValue,
+            &format!("scenes/t.toml:{expected}"),
+        );
+    }
+    // A model's own keys, no others.
+    let e = with_material(
+        rubber_analysis,
+        "mooney_rivlin",
+        "C1 = 0.3\nC2 = 0.1\nE = 1.0",
+    )
+    .unwrap_err();
+    assert_error(
+        &e,
+        SceneErrorKind::UnknownKey,
+        "scenes/t.toml:12: material[0].E = 1.0: unknown key; allowed keys: name, model, C1, C2",
+    );
+    let e = with_material(plastic_analysis, "von_mises", "E = 1.0\nnu = 0.3\nH = 1.0").unwrap_err();
+    assert_eq!(e.kind, SceneErrorKind::MissingKey, "{e}");
+    assert!(
+        e.to_string().contains("material[0].sigma_y = (missing)"),
+        "{e}"
     );
 }
 

@@ -107,14 +107,6 @@ fn lame_cylinder_within_half_a_percent_and_converging() {
     );
 }
 
-/// Convergence rates printed in the Newton log lines.
-fn rates(lines: &[String]) -> Vec<f64> {
-    lines
-        .iter()
-        .filter_map(|l| l.split("rate ").nth(1)?.trim().parse::<f64>().ok())
-        .collect()
-}
-
 #[test]
 fn cantilever_matches_the_elastica() {
     let (s, lines) = solve("verification/cantilever_tip_load.toml", &[]);
@@ -133,6 +125,6 @@ fn cantilever_matches_the_elastica() {
     assert!((u / 0.05643 - 1.0).abs() < 2e-3, "u/L = {u}");
     // The log shows Newton's quadratic rate: some iteration's estimate
     // ln(r_k/r_k-1)/ln(r_k-1/r_k-2) is near 2 before round-off sets in.
-    let best = rates(&lines).into_iter().fold(0.0f64, f64::max);
+    let best = common::rates(&lines).into_iter().fold(0.0f64, f64::max);
     assert!(best > 1.7, "best rate {best}\n{}", lines.join("\n"));
 }

@@ -362,6 +362,12 @@ fn describe(scene: &Path, p: &Problem) -> String {
     for m in &p.materials {
         let law = match &m.spec {
             MaterialSpec::LinearElastic { e, nu } => format!("linear_elastic, E = {e}, nu = {nu}"),
+            MaterialSpec::MooneyRivlin { c1, c2 } => {
+                format!("mooney_rivlin (incompressible, plane stress), C1 = {c1}, C2 = {c2}")
+            }
+            MaterialSpec::VonMises { e, nu, sigma_y, h } => format!(
+                "von_mises (linear isotropic hardening), E = {e}, nu = {nu}, sigma_y = {sigma_y}, H = {h}"
+            ),
         };
         let _ = writeln!(o, "  {}: {law}", m.name);
     }

@@ -145,7 +145,21 @@ pub fn variables(problem: &Problem) -> Vec<Variable> {
     for (m, material) in problem.materials.iter().enumerate() {
         for (name, value) in material.constants() {
             let (quantity, what) = match (&material.spec, name) {
-                (MaterialSpec::LinearElastic { .. }, "E") => (Quantity::Stress, "Young's modulus"),
+                (MaterialSpec::LinearElastic { .. } | MaterialSpec::VonMises { .. }, "E") => {
+                    (Quantity::Stress, "Young's modulus")
+                }
+                (MaterialSpec::VonMises { .. }, "sigma_y") => {
+                    (Quantity::Stress, "initial yield stress")
+                }
+                (MaterialSpec::VonMises { .. }, "H") => {
+                    (Quantity::Stress, "linear isotropic hardening modulus")
+                }
+                (MaterialSpec::MooneyRivlin { .. }, "C1") => {
+                    (Quantity::Stress, "Mooney-Rivlin constant C1")
+                }
+                (MaterialSpec::MooneyRivlin { .. }, "C2") => {
+                    (Quantity::Stress, "Mooney-Rivlin constant C2")
+                }
                 _ => (Quantity::None, "Poisson's ratio"),
             };
             add(

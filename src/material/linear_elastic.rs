@@ -37,6 +37,9 @@ impl LinearElastic {
 }
 
 impl MaterialLaw for LinearElastic {
+    fn is_linear(&self) -> bool {
+        true
+    }
     fn evaluate(
         &self,
         strain: &Voigt,

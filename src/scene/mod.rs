@@ -9,7 +9,7 @@ mod raw;
 
 use crate::mesh::{Edge, Mesh};
 use crate::problem::{
-    AnalysisKind, Body, BodyForce, Driver, InitialStress, Kinematics, Material, MaterialSpec,
+    self, AnalysisKind, Body, BodyForce, Driver, InitialStress, Kinematics, Material, MaterialSpec,
     NodalForce, Pressure, Problem, Scaled, SolverSettings, TimeFunction, Units,
 };
 use locate::Source;
@@ -116,7 +116,7 @@ impl<'a> Resolver<'a> {
 
     fn resolve(mut self, scene: &raw::Scene) -> Result<Problem, SceneError> {
         let kinematics = self.analysis(scene.analysis.get_ref())?;
-        self.materials(&scene.material)?;
+        self.materials(&scene.material, kinematics)?;
         self.functions(&scene.function)?;
         self.bodies(&scene.body)?;
         self.node_sets(&scene.node_set)?;
@@ -250,7 +250,11 @@ impl<'a> Resolver<'a> {
         })
     }
 
-    fn materials(&mut self, list: &Spanned<Vec<serde::de::IgnoredAny>>) -> Result<(), SceneError> {
+    fn materials(
+        &mut self,
+        list: &Spanned<Vec<serde::de::IgnoredAny>>,
+        kinematics: Kinematics,
+    ) -> Result<(), SceneError> {
         if list.get_ref().is_empty() {
             return Err(self.invalid(
                 list.span(),
@@ -286,13 +290,50 @@ impl<'a> Resolver<'a> {
                         nu: self.poisson(&m.nu, format!("material[{i}].nu"))?,
                     }
                 }
+                ModelName::MooneyRivlin => {
+                    let m: raw::MooneyRivlin = self.table_at(&path)?;
+                    MaterialSpec::MooneyRivlin {
+                        c1: self.checked(&m.c1, format!("material[{i}].C1"), problem::check_c1)?,
+                        c2: self.checked(&m.c2, format!("material[{i}].C2"), problem::check_c2)?,
+                    }
+                }
+                ModelName::VonMises => {
+                    let m: raw::VonMises = self.table_at(&path)?;
+                    let key = |k: &str| format!("material[{i}].{k}");
+                    MaterialSpec::VonMises {
+                        e: self.checked(&m.e, key("E"), problem::check_modulus)?,
+                        nu: self.checked(&m.nu, key("nu"), problem::check_plastic_poisson)?,
+                        sigma_y: self.checked(
+                            &m.sigma_y,
+                            key("sigma_y"),
+                            problem::check_yield_stress,
+                        )?,
+                        h: self.checked(&m.h, key("H"), problem::check_hardening)?,
+                    }
+                }
             };
+            problem::check_model_analysis(&spec, self.analysis, kinematics).map_err(|msg| {
+                self.invalid(head.model.span(), format!("material[{i}].model"), msg)
+            })?;
             self.materials.push(Material {
                 name: head.name.into_inner(),
                 spec,
             });
         }
         Ok(())
+    }
+
+    /// A number that `check` accepts, or an error at its line.
+    fn checked(
+        &self,
+        value: &Spanned<f64>,
+        key: String,
+        check: fn(f64) -> Result<(), String>,
+    ) -> Result<f64, SceneError> {
+        let v = *value.get_ref();
+        check(v)
+            .map(|()| v)
+            .map_err(|message| self.invalid(value.span(), key, message))
     }
 
     /// Poisson's ratio; 0.5 (incompressible) only where the thickness is free

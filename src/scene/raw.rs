@@ -86,6 +86,8 @@ pub(super) struct MaterialHead {
 #[serde(rename_all = "snake_case")]
 pub(super) enum ModelName {
     LinearElastic,
+    MooneyRivlin,
+    VonMises,
 }
 
 #[derive(Deserialize)]
@@ -98,6 +100,34 @@ pub(super) struct LinearElastic {
     #[serde(rename = "E")]
     pub e: Spanned<f64>,
     pub nu: Spanned<f64>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct MooneyRivlin {
+    #[serde(rename = "name")]
+    _name: IgnoredAny,
+    #[serde(rename = "model")]
+    _model: IgnoredAny,
+    #[serde(rename = "C1")]
+    pub c1: Spanned<f64>,
+    #[serde(rename = "C2")]
+    pub c2: Spanned<f64>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct VonMises {
+    #[serde(rename = "name")]
+    _name: IgnoredAny,
+    #[serde(rename = "model")]
+    _model: IgnoredAny,
+    #[serde(rename = "E")]
+    pub e: Spanned<f64>,
+    pub nu: Spanned<f64>,
+    pub sigma_y: Spanned<f64>,
+    #[serde(rename = "H")]
+    pub h: Spanned<f64>,
 }
 
 #[derive(Deserialize)]

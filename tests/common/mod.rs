@@ -159,6 +159,14 @@ pub fn nodes_where(mesh: &Mesh, pred: impl Fn(f64, f64) -> bool) -> Vec<usize> {
         .collect()
 }
 
+/// Convergence rates printed in the Newton log lines.
+pub fn rates(lines: &[String]) -> Vec<f64> {
+    lines
+        .iter()
+        .filter_map(|l| l.split("rate ").nth(1)?.trim().parse::<f64>().ok())
+        .collect()
+}
+
 pub fn silent() -> impl FnMut(contact2d::results::LogCategory, &str) {
     |_, _| {}
 }
