@@ -1004,3 +1004,84 @@ fn output_dir_gets_one_vtk_file_per_step() {
     assert!(vtu.contains("displacement"));
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Every shipped scene through the FMU layer along its own load history
+/// (inputs set to the scene's driver values at the end of each step) gives
+/// the solver's own results: the FMU adds no physics and loses nothing.
+#[test]
+fn every_shipped_scene_steps_as_the_solver() {
+    use contact2d::fmi::instance::{Instance, Status};
+    use contact2d::fmi::variables::{Binding, Causality};
+    let mut scenes = Vec::new();
+    for dir in ["scenes", "scenes/verification"] {
+        for e in std::fs::read_dir(repo().join(dir)).unwrap() {
+            let p = e.unwrap().path();
+            if p.extension().is_some_and(|x| x == "toml") {
+                scenes.push(p);
+            }
+        }
+    }
+    scenes.sort();
+    for scene in &scenes {
+        let problem = contact2d::scene::load(scene).unwrap();
+        let vars = variables(&problem);
+        let times = problem.times.clone();
+        let mut inst =
+            Instance::new("all", scene, &guid(&problem), false, Box::new(|_, _, _| {})).unwrap();
+        assert_eq!(inst.enter_initialization(), Status::Ok);
+        assert_eq!(inst.exit_initialization(), Status::Ok);
+        let mut solver = Solver::new(problem.clone()).unwrap();
+        let mut t = 0.0;
+        for &t1 in &times {
+            for v in &vars {
+                let value = match v.binding {
+                    Binding::DriverInput { driver, component } => {
+                        let d = &problem.drivers[driver];
+                        let c = if component == 0 { &d.ux } else { &d.uy };
+                        c.as_ref().unwrap().at(t1, &problem.functions)
+                    }
+                    Binding::RigidInput { rigid, component } => {
+                        let r = &problem.rigids[rigid];
+                        [&r.ux, &r.uy, &r.theta][component].at(t1, &problem.functions)
+                    }
+                    _ => continue,
+                };
+                assert_eq!(inst.set_real(&[v.vr], &[value]), Status::Ok);
+            }
+            let name = scene.display();
+            let Ok(step) = solver.advance(t1, &mut |_, _| {}) else {
+                // A scene that runs past its limit (CGS-4 past slip onset):
+                // the FMU discards the same step.
+                assert_eq!(
+                    inst.do_step(t, t1 - t),
+                    Status::Discard,
+                    "{name} to t = {t1}"
+                );
+                break;
+            };
+            assert_eq!(inst.do_step(t, t1 - t), Status::Ok, "{name} to t = {t1}");
+            for v in vars.iter().filter(|v| v.causality == Causality::Output) {
+                let want = contact2d::fmi::variables::output(&v.binding, &step).unwrap();
+                let mut got = [f64::NAN];
+                let mut got_i = [0];
+                if v.ty == contact2d::fmi::variables::Type::Real {
+                    assert_eq!(inst.get_real(&[v.vr], &mut got), Status::Ok);
+                } else {
+                    assert_eq!(inst.get_integer(&[v.vr], &mut got_i), Status::Ok);
+                    got[0] = f64::from(got_i[0]);
+                }
+                // Inputs reached linearly from the converged state against
+                // the scene's piecewise linear functions: equal up to the
+                // last bits of the prescribed values, and Newton's tolerance.
+                let scale = want.abs().max(1.0);
+                assert!(
+                    (got[0] - want).abs() <= 1e-7 * scale,
+                    "{name} t = {t1}: {} FMU {} solver {want}",
+                    v.name,
+                    got[0]
+                );
+            }
+            t = t1;
+        }
+    }
+}
