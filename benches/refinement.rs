@@ -233,4 +233,63 @@ fn main() {
             &format!("max |u_r error| {:.3e}", lame_error(&r.solver)),
         );
     }
+    fmu_overhead();
+}
+
+/// The FMU layer against the solver alone: Hertz along its own load path
+/// through `fmi::instance::Instance` (what every fmi2 call reaches), run
+/// time and the largest output difference.
+fn fmu_overhead() {
+    use contact2d::fmi::instance::{Instance, Status};
+    use contact2d::fmi::variables::{Binding, variables};
+    let path =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/hertz_plane_strain.toml");
+    let problem = contact2d::scene::load(&path).unwrap();
+    let guid = contact2d::fmi::description::guid(&problem);
+    let vars = variables(&problem);
+    let times = problem.times.clone();
+
+    let start = std::time::Instant::now();
+    let mut solver = Solver::new(problem.clone()).unwrap();
+    let mut solver_steps = Vec::new();
+    for &t in &times {
+        solver_steps.push(solver.advance(t, &mut |_, _| {}).unwrap());
+    }
+    let solver_s = start.elapsed().as_secs_f64();
+
+    let start = std::time::Instant::now();
+    let mut inst = Instance::new("bench", &path, &guid, false, Box::new(|_, _, _| {})).unwrap();
+    assert_eq!(inst.enter_initialization(), Status::Ok);
+    assert_eq!(inst.exit_initialization(), Status::Ok);
+    let mut t0 = 0.0;
+    let mut diff: f64 = 0.0;
+    for (&t, step) in times.iter().zip(&solver_steps) {
+        let uy = problem.drivers[1]
+            .uy
+            .as_ref()
+            .unwrap()
+            .at(t, &problem.functions);
+        let vr = vars.iter().find(|v| v.name == "press.uy").unwrap().vr;
+        assert_eq!(inst.set_real(&[vr], &[uy]), Status::Ok);
+        assert_eq!(inst.do_step(t0, t - t0), Status::Ok);
+        t0 = t;
+        for v in vars.iter().filter(|v| {
+            matches!(
+                v.binding,
+                Binding::Node { .. } | Binding::Pair { .. } | Binding::Reaction { .. }
+            )
+        }) {
+            let want = contact2d::fmi::variables::output(&v.binding, step).unwrap();
+            if v.ty == contact2d::fmi::variables::Type::Real {
+                let mut got = [0.0];
+                inst.get_real(&[v.vr], &mut got);
+                diff = diff.max((got[0] - want).abs() / want.abs().max(1.0));
+            }
+        }
+    }
+    let fmu_s = start.elapsed().as_secs_f64();
+    println!(
+        "{:<12} {:<16} solver {:.3} s, through the FMU layer {:.3} s (instantiate and initialize included); largest relative output difference {:.1e}",
+        "fmu", "hertz q8 60/60", solver_s, fmu_s, diff
+    );
 }
