@@ -213,3 +213,27 @@ fn static_friction_rules_on_a_one_segment_block() {
         );
     }
 }
+
+/// A frictionless pair reports no tangential traction at any node, the
+/// contact edge included (its Q8 tractions are taken in the target's frame
+/// where each node touches it; the contactor's own frame tilts at the edge,
+/// where its next side lifts off, and showed 3.2 of tn 1479 there).
+#[test]
+fn frictionless_pair_reports_no_tangential_traction() {
+    for name in ["hertz_plane_strain.toml", "hertz_axisymmetric.toml"] {
+        let (_, steps, _) = solve(name);
+        for step in &steps {
+            let nodes = &step.pairs[0].1.nodes;
+            let tn_max = nodes.tn.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+            for (k, &tt) in nodes.tt.iter().enumerate() {
+                // Round-off of the recovered forces: 1e-12 of the largest
+                // traction (measured 4e-15 relative).
+                assert!(
+                    tt.abs() <= 1e-12 * tn_max,
+                    "{name} t = {}: node {k} tt = {tt} (tn max {tn_max})",
+                    step.time
+                );
+            }
+        }
+    }
+}

@@ -472,6 +472,10 @@ pub fn update(
             nodes: PairNodes::default(),
             ..Default::default()
         };
+        // Per contactor node in contact: the target's frame at its contact
+        // point, as the contactor sees it (tangent toward the next node,
+        // inward normal), for the reported nodal tractions.
+        let mut frames: Vec<Option<(Vector2<f64>, Vector2<f64>)>> = vec![None; m];
         // The force a node in contact reports: its out-of-balance force, which
         // at convergence is the contact force in every direction (the
         // multipliers take up what the recovered forces leave).
@@ -740,6 +744,7 @@ pub fn update(
                 let f = reported(k);
                 result.fn_ -= f.dot(&cp.segment().normal());
                 result.ft -= f.dot(&cp.segment().tangent());
+                frames[k] = Some((-cp.segment().tangent(), -cp.segment().normal()));
                 if let Target::Rigid(ri) = pair.target {
                     let (_, reference) = rigid_points(problem, ri, poses[ri]);
                     let xc = cp.point();
@@ -802,7 +807,11 @@ pub fn update(
                     if !closed_now[k] {
                         continue;
                     }
-                    let (tau, nu) = node_frame(&x, pair.closed, k);
+                    // The target's frame where the node touches it: the
+                    // contactor's own frame tilts at the contact edge,
+                    // where its next side lifts off, and would show a
+                    // normal force as a tangential traction.
+                    let (tau, nu) = frames[k].unwrap_or_else(|| node_frame(&x, pair.closed, k));
                     result.nodes.tn[k] = t[k].dot(&nu);
                     result.nodes.tt[k] = t[k].dot(&tau);
                 }
