@@ -562,6 +562,13 @@ pub fn update(
                     continue;
                 }
                 let (a, b) = (s, (s + 1) % m);
+                // Only a segment that slides as a whole: a node in contact at
+                // either end that is held by its other segment (Table 1)
+                // does not slide, and the friction's share at the free node
+                // alone says nothing of the segment's slip.
+                if [a, b].iter().any(|&k| active[k] && slips[k].is_none()) {
+                    continue;
+                }
                 let d = x[b] - x[a];
                 let tau = d / d.norm();
                 let slip: f64 = [a, b]
