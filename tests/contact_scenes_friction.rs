@@ -3,7 +3,8 @@
 //! coarse flexible strip, frictionless and with mu = 0.2) and
 //! scenes/verification/cgs4_inclined.toml (a block pushed up an incline under
 //! load control, after NAFEMS CGS-4); and
-//! scenes/verification/sliding_block.toml with large drag increments.
+//! scenes/verification/sliding_block.toml with large drag increments; and
+//! scenes/hertz_plane_strain.toml with friction (partial slip).
 //!
 //! Run with `cargo test --release --test contact_scenes_friction -- --nocapture`
 //! to see the measured numbers.
@@ -570,5 +571,123 @@ fn sliding_block_with_large_increments_slides_at_mu_d_every_increment() {
                 s.time
             );
         }
+    }
+}
+
+// Hertz with friction: scenes/hertz_plane_strain.toml (a quarter cylinder,
+// R = 10, 8-node elements, pressed onto a rigid flat in 4 increments, the
+// symmetry driver ux = 0 on the axis x = 0) with mu_s = 0.3, mu_d = 0.2.
+// Under the pressure the cylinder's surface contracts toward the axis; the
+// rigid flat resists, so the answer is partial slip: a central stick zone,
+// slip toward the contact edge, and friction on the cylinder pointing away
+// from the axis (it opposes the inward slip), carried back by the symmetry
+// plane. Before the segment-level return to sticking the nodes at the
+// stick-slip boundary alternated between sticking at their anchors and
+// sliding along their friction every other iteration (no convergence at
+// t = 0.75 and after 6 bisections). Asserted: every increment converges
+// without bisection; global equilibrium (the contact's Fx is the symmetry
+// plane's -Rx, its Fy the press's -Ry, to 1e-9 Fn); |Ft| <= mu_s Fn; the
+// friction on the cylinder points away from the axis (0 < Fx < mu_d Fn);
+// the closed nodes within 15 % of the contact half-width stick and the
+// outermost one slides. Not asserted (not met with these 4 increments):
+// one stick zone (sticking nodes that came into contact in the increment
+// sit between sliding ones toward the edge), |tt| = mu_d tn at sliding
+// nodes (the reported tractions on the 8-node sides alternate between
+// corner and mid-side nodes, see docs/contact.md).
+#[test]
+fn hertz_with_friction_partial_slip_converges_without_bisection() {
+    let (mu_s, mu_d) = (0.3, 0.2);
+    let mut problem = load(
+        "hertz_plane_strain.toml",
+        &[("mu_s = 0.0", "mu_s = 0.3\nmu_d = 0.2")],
+    );
+    problem.solver.max_bisections = 0;
+    let r = run(problem);
+    assert!(r.failed.is_none(), "{:?} {:?}", r.failed, r.warnings);
+    assert_eq!(r.steps.len(), 4);
+    for s in &r.steps {
+        let p = pair(s);
+        let driver = |name: &str| s.drivers.iter().find(|d| d.0 == name).unwrap().1.clone();
+        let (sym, press) = (driver("symmetry"), driver("press"));
+        let closed: Vec<usize> = (0..p.nodes.x.len())
+            .filter(|&k| p.nodes.state[k] != NodeState::Open)
+            .collect();
+        let stick_out = closed
+            .iter()
+            .filter(|&&k| p.nodes.state[k] == NodeState::Stick)
+            .map(|&k| p.nodes.x[k])
+            .fold(f64::NEG_INFINITY, f64::max);
+        let slip_in = closed
+            .iter()
+            .filter(|&&k| p.nodes.state[k] == NodeState::Slip)
+            .map(|&k| p.nodes.x[k])
+            .fold(f64::INFINITY, f64::min);
+        let contact_out = closed.iter().map(|&k| p.nodes.x[k]).fold(0.0, f64::max);
+        println!(
+            "t = {:.2}: {} iterations, stick/slip/open {}/{}/{}, Fn = {:.4}, Ft/Fn = {:.5}, \
+             Fx = {:.4}, symmetry Rx = {:.4}, stick zone x <= {stick_out:.4}, slip from \
+             {slip_in:.4}, contact to {contact_out:.4}",
+            s.time,
+            s.iterations,
+            p.n_stick,
+            p.n_slip,
+            p.n_open,
+            p.fn_,
+            p.ft / p.fn_,
+            p.fx,
+            sym.rx
+        );
+        assert_eq!(s.substeps, 0, "t = {}: bisected", s.time);
+        let scale = 1e-9 * p.fn_;
+        assert!(
+            (p.fx + sym.rx).abs() < scale,
+            "t = {}: Fx {} Rx {}",
+            s.time,
+            p.fx,
+            sym.rx
+        );
+        assert!(
+            (p.fy + press.ry).abs() < scale,
+            "t = {}: Fy {} Ry {}",
+            s.time,
+            p.fy,
+            press.ry
+        );
+        assert!(
+            p.ft.abs() <= mu_s * p.fn_,
+            "t = {}: Ft/Fn = {}",
+            s.time,
+            p.ft / p.fn_
+        );
+        // Friction on the cylinder away from the axis, below mu_d Fn overall.
+        assert!(
+            p.fx > 0.0 && p.fx < mu_d * p.fn_,
+            "t = {}: Fx = {}",
+            s.time,
+            p.fx
+        );
+        // Partial slip: a central stick zone (every closed node within 15 %
+        // of the contact half-width from the axis sticks) and slip at the
+        // contact edge (the outermost closed node slides).
+        for &k in &closed {
+            if p.nodes.x[k] <= 0.15 * contact_out {
+                assert_eq!(
+                    p.nodes.state[k],
+                    NodeState::Stick,
+                    "t = {}: node {k}",
+                    s.time
+                );
+            }
+        }
+        let edge = *closed
+            .iter()
+            .max_by(|&&a, &&b| p.nodes.x[a].total_cmp(&p.nodes.x[b]))
+            .unwrap();
+        assert_eq!(
+            p.nodes.state[edge],
+            NodeState::Slip,
+            "t = {}: edge node {edge}",
+            s.time
+        );
     }
 }

@@ -24,9 +24,10 @@ use serde::{Deserialize, Serialize};
 /// on scenes/verification/sliding_block.toml) it sent segments back to
 /// sticking at points they had slid to, and the converged states alternated
 /// between increments (2/7/0 and 8/1/0 stick/slip/open). A 0.3 hysteresis
-/// only hid this at small increments. A sliding node returns to sticking
-/// kinematically instead: when its slip from its anchor runs along its
-/// friction force, it sticks at the anchor.
+/// only hid this at small increments. A sliding segment returns to sticking
+/// kinematically instead: when the slip of its nodes from their anchors runs
+/// along its friction, it sticks (and Table 1 puts its nodes back at their
+/// anchors).
 const SLIDE_HYSTERESIS: f64 = 1.0;
 /// A node's contact force counts as tension above this fraction of the
 /// largest contact force of its pair (round-off at a node just touching).
@@ -534,6 +535,61 @@ pub fn update(
                 }
             }
         }
+        // Return to sticking, per segment: a segment that slides on in the
+        // direction it kept, while the slip of its nodes from their anchors
+        // runs along its friction (the uniform friction of Fig. 5 would do
+        // work over the increment: the drag has reversed), sticks; Table 1
+        // then puts its nodes back at their anchors, and the next decision
+        // checks the capacity and takes the new direction. Coulomb is applied
+        // over the segment (Section 3), and so is this check: the uniform
+        // friction loads a node next to a heavily loaded one with half the
+        // segment's friction whatever its own normal force, so a single
+        // node's slip may run along its share while the segment dissipates.
+        if !frictionless {
+            let slips: Vec<Option<Vector2<f64>>> = (0..m)
+                .map(|k| {
+                    let node = &mem.nodes[k];
+                    if !active[k] || node.state != NodeState::Slip {
+                        return None;
+                    }
+                    let (sa, ba) = node.anchor?;
+                    let (_, cp) = follow(&segments, node.segment, x[k], reach)?;
+                    (sa < segments.len()).then(|| cp.point() - segments[sa].seg.point_at(ba))
+                })
+                .collect();
+            for s in 0..nseg {
+                let seg = mem.segments[s];
+                if seg.state != NodeState::Slip
+                    || prev[s] != SegmentState::Slide
+                    || seg.direction == 0.0
+                {
+                    continue;
+                }
+                let (a, b) = (s, (s + 1) % m);
+                // Only a segment that slides as a whole: a node in contact at
+                // either end that is held by its other segment (Table 1)
+                // does not slide, and the friction's share at the free node
+                // alone says nothing of the segment's slip.
+                if [a, b].iter().any(|&k| active[k] && slips[k].is_none()) {
+                    continue;
+                }
+                let d = x[b] - x[a];
+                let tau = d / d.norm();
+                let slip: f64 = [a, b]
+                    .iter()
+                    .filter_map(|&k| slips[k])
+                    .map(|v| v.dot(&tau))
+                    .sum();
+                if slip * seg.direction > 0.0 && slip.abs() > 1e-12 * d.norm() {
+                    log(&format!(
+                        "pair '{}' segment {s}: slip {slip:.3e} along its friction, sticks",
+                        pair.name
+                    ));
+                    mem.segments[s].state = NodeState::Stick;
+                    mem.segments[s].direction = 0.0;
+                }
+            }
+        }
         // Table 1 on the segment states as they now are.
         let table1: Vec<NodeState> = (0..m)
             .map(|k| {
@@ -563,7 +619,6 @@ pub fn update(
             }
             // Where the node meets the target now.
             let mut point: Option<(usize, ContactPoint)> = None;
-            let mut stuck_at: Option<(usize, f64)> = None;
             match state {
                 NodeState::Stick if old.state == NodeState::Stick => {
                     point = Some((
@@ -597,46 +652,14 @@ pub fn update(
                         state = NodeState::Open;
                         lambda = Vector2::zeros();
                     }
-                    // A sliding node whose slip since it last stuck runs
-                    // along its friction force has reversed: friction must
-                    // dissipate, so it sticks where it is.
-                    if let (Some((j, cp)), Some((sa, ba)), false) =
-                        (point.as_ref(), old.anchor, frictionless)
-                        && state == NodeState::Slip
-                        && old.state == NodeState::Slip
-                        && sa < segments.len()
-                    {
-                        let tangent = segments[*j].seg.tangent();
-                        let slip = (cp.point() - segments[sa].seg.point_at(ba)).dot(&tangent);
-                        let friction = lambda.dot(&tangent);
-                        if slip * friction > 0.0 && slip.abs() > 1e-12 * segments[*j].seg.length() {
-                            log(&format!(
-                                "pair '{}' node {k}: slip {slip:.3e} along its friction force, sticks",
-                                pair.name
-                            ));
-                            state = NodeState::Stick;
-                            // Back to the material point where the slip
-                            // began: the slip against friction is undone.
-                            stuck_at = Some((sa, ba));
-                        }
-                    }
                     // A sliding node that Table 1 makes stick also goes
                     // back to its anchor: sticking means no slip over the
                     // increment (see `anchor_point`).
-                    let table1 = state == NodeState::Stick && stuck_at.is_none();
-                    if table1
+                    if state == NodeState::Stick
                         && point.is_some()
                         && let Some(at) = anchor_point(&segments, old.anchor, x[k], reach)
                     {
                         point = Some(at);
-                    }
-                    if let Some((sa, ba)) = stuck_at {
-                        point = Some((sa, segments[sa].seg.contact_at(x[k], ba)));
-                        // Its segments stick too: the next decision checks
-                        // the capacity instead of keeping the old slide.
-                        for j in adjoining(k).into_iter().flatten() {
-                            mem.segments[j].state = NodeState::Stick;
-                        }
                     }
                 }
                 // A node released in this iteration still sits on the target

@@ -665,7 +665,7 @@ pub struct SegmentDecision {
 ///   sticking on force grounds: after an iteration its `T_t` is the friction it applied
 ///   itself (its nodes are free along the target), so the test of Section 3.4 compares
 ///   `mu_d T_n` of two iterations; the caller then decides the return to sticking
-///   kinematically (a slip that runs along the friction force).
+///   kinematically (its nodes' slip runs along its friction).
 ///
 /// `ever_slid` becomes true when the segment slides now.
 pub fn decide_segment(
@@ -1095,8 +1095,9 @@ pub struct Evaluation {
 /// before sliding). Its recovered `T_t` is, after an iteration, the friction it applied
 /// itself plus what its neighbours' changes spilled onto its nodes; with large increments
 /// the latter can flip its sign for an iteration, and friction that follows it would push
-/// the node along its slip. A reversal is caught kinematically (the node sticks at its
-/// anchor and the next sticking-to-sliding decision takes the new sign).
+/// the node along its slip. A reversal is caught kinematically by the caller (the
+/// segment whose nodes' slip runs along its friction sticks, its nodes at their anchors,
+/// and the next sticking-to-sliding decision takes the new sign).
 pub fn evaluate(
     geometry: Geometry,
     recovery: Recovery,
