@@ -180,7 +180,10 @@ mod tests {
         let (rows, _) = tie_rows(&points, &[3], &[[0, 1], [1, 2]], TieKind::Normal).unwrap();
         assert_eq!(rows.len(), 1);
         let d = rows[0].direction;
-        let expected = [-(std::f64::consts::PI / 8.0).sin(), (std::f64::consts::PI / 8.0).cos()];
+        let expected = [
+            -(std::f64::consts::PI / 8.0).sin(),
+            (std::f64::consts::PI / 8.0).cos(),
+        ];
         assert!((d[0] - expected[0]).abs() < 1e-12 && (d[1] - expected[1]).abs() < 1e-12);
         // u_3 . n - u_1 . n = 0
         assert_eq!(rows[0].dofs.len(), 4);

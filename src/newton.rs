@@ -538,9 +538,7 @@ impl Solver {
             if it == 0 {
                 last_du.copy_from_slice(&rhs);
             }
-            let contact = contact
-                .as_ref()
-                .filter(|c| c.neqc() > 0 || !c.k.is_empty());
+            let contact = contact.as_ref().filter(|c| c.neqc() > 0 || !c.k.is_empty());
             if contact.is_none() && !with_ties {
                 if need_k {
                     self.linear.factorize(&self.k).map_err(|e| e.to_string())?;

@@ -42,8 +42,8 @@ impl Resolver<'_> {
                 TieKindName::Normal => TieKind::Normal,
                 TieKindName::Full => TieKind::Full,
             };
-            let (rows, normals) = tie_rows(&self.mesh.nodes, &nodes, &segments, kind)
-                .map_err(|m| {
+            let (rows, normals) =
+                tie_rows(&self.mesh.nodes, &nodes, &segments, kind).map_err(|m| {
                     self.invalid(
                         t.nodes.span(),
                         key("nodes"),
