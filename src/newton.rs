@@ -442,6 +442,9 @@ impl Solver {
                 rnorm2 += v * v;
             }
             let rnorm = rnorm2.sqrt();
+            if !rnorm.is_finite() {
+                return Err(format!("non-finite residual at iteration {it}"));
+            }
             // Round-off floor: the residual sums element forces of size
             // force_scale; below ~1e-14 of that nothing is meaningful.
             let floor = 1e-14 * self.ws.force_scale.max(react2.sqrt()).max(r0);
