@@ -14,6 +14,14 @@ name = "interface"
 contactor = "pipe.outer"
 target = "soil.hole"
 mu_s = 0.3"#;
+/// mu = 0 with the soil's hole as the contactor: with the pipe as the
+/// contactor a springline node alternates between the two target segments
+/// meeting under it and the increment does not converge.
+const FRICTIONLESS: &str = r#"[[contact]]
+name = "interface"
+contactor = "soil.hole"
+target = "pipe.outer"
+mu_s = 0.0"#;
 /// Overburden pressure and the loaded width of the half model.
 const P0: f64 = 100.0e3;
 const WIDTH: f64 = 3.0;
@@ -83,19 +91,146 @@ fn tie(kind: &str) -> String {
     )
 }
 
+/// |a - b| relative to the spread of the two tie solutions.
+fn share(a: f64, b: f64, normal: f64, full: f64) -> f64 {
+    (a - b).abs() / (normal - full).abs()
+}
+
+/// Largest difference of the crown, invert and springline displacements
+/// over the crown settlement of `reference`.
+fn point_gap(a: &Pipe, reference: &Pipe) -> f64 {
+    let pairs = [
+        (a.crown, reference.crown),
+        (a.invert, reference.invert),
+        (a.springline, reference.springline),
+    ];
+    pairs
+        .iter()
+        .flat_map(|(p, q)| [(p[0] - q[0]).abs(), (p[1] - q[1]).abs()])
+        .fold(0.0, f64::max)
+        / reference.crown[1].abs()
+}
+
 #[test]
 fn contact_solutions_against_the_constraint_equations() {
     let normal = run(&[(CONTACT, &tie("normal"))]);
     let full = run(&[(CONTACT, &tie("full"))]);
+    let free = run(&[(CONTACT, FRICTIONLESS)]);
     let mid = run(&[]);
     let stuck = run(&[("mu_s = 0.3", "mu_s = 1000.0")]);
-    for (name, r) in [("normal", &normal), ("full", &full), ("0.3", &mid), ("1000", &stuck)] {
+    let all = [
+        ("normal tie", &normal),
+        ("full tie", &full),
+        ("mu = 0", &free),
+        ("mu = 0.3", &mid),
+        ("mu = 1000", &stuck),
+    ];
+    for (name, r) in all {
         eprintln!(
             "{name}: crown {:?} invert {:?} springline {:?} dV {:.6e} dH {:.6e} Ry {:.6e}",
-            r.crown, r.invert, r.springline, r.vertical(), r.horizontal(), r.base_ry
+            r.crown,
+            r.invert,
+            r.springline,
+            r.vertical(),
+            r.horizontal(),
+            r.base_ry
         );
         assert_eq!(r.steps, 4);
-        // Equilibrium: the base carries the overburden on the loaded width.
-        assert!((r.base_ry - P0 * WIDTH).abs() <= 1e-6 * P0 * WIDTH, "{name}: {r:?}");
+        // Equilibrium: the base carries the overburden on the loaded width
+        // (the sides and the axis are rollers); measured to round-off.
+        assert!(
+            (r.base_ry - P0 * WIDTH).abs() <= 1e-9 * P0 * WIDTH,
+            "{name}: {r:?}"
+        );
+    }
+    // The ties bracket the response: free slip lets the soil load the crown
+    // and the flexible ring ovalises more (measured dV -1.981e-3 m against
+    // -1.680e-3 m, dH 1.963e-3 m against 1.662e-3 m).
+    assert!(normal.vertical() < full.vertical() && normal.horizontal() > full.horizontal());
+
+    // The paper: the contact solutions are "slightly different" from the
+    // constraint-equation ones, because the contact forces come from
+    // tractions recovered over the segments (Eqs. 26/27) and act on the
+    // updated positions, while the constraint equations act node by node on
+    // the undeformed geometry. Measured with mu = 0 against the normal tie:
+    // ovalisation within 5.3 % (dV) and 3.8 % (dH) of the spread between
+    // the two ties, point displacements within 0.16 % of the crown
+    // settlement.
+    let (dv, dh) = (
+        share(
+            free.vertical(),
+            normal.vertical(),
+            normal.vertical(),
+            full.vertical(),
+        ),
+        share(
+            free.horizontal(),
+            normal.horizontal(),
+            normal.horizontal(),
+            full.horizontal(),
+        ),
+    );
+    eprintln!(
+        "mu = 0 vs normal tie: dV {dv:.3} dH {dh:.3} of the spread, points {:.2e}",
+        point_gap(&free, &normal)
+    );
+    assert!(dv <= 0.10 && dh <= 0.10, "{dv} {dh}");
+    assert!(point_gap(&free, &normal) <= 3e-3);
+    // mu = 1000 against the full tie: further apart, 25 % (dV) and 17 % (dH)
+    // of the spread, points within 0.42 % of the crown settlement. Besides
+    // the recovery and the geometry, the contact algorithm releases the two
+    // contactor nodes next to the axis at the crown and at the invert (the
+    // traction recovered there is tensile when they stick), which the full
+    // tie holds; it is stuck everywhere else, as the paper's footnote says a
+    // large mu models mu = infinity.
+    let (sv, sh) = (
+        share(
+            stuck.vertical(),
+            full.vertical(),
+            normal.vertical(),
+            full.vertical(),
+        ),
+        share(
+            stuck.horizontal(),
+            full.horizontal(),
+            normal.horizontal(),
+            full.horizontal(),
+        ),
+    );
+    eprintln!(
+        "mu = 1000 vs full tie: dV {sv:.3} dH {sh:.3} of the spread, points {:.2e}",
+        point_gap(&stuck, &full)
+    );
+    assert!(sv <= 0.30 && sh <= 0.30, "{sv} {sh}");
+    assert!(point_gap(&stuck, &full) <= 6e-3);
+    // Each contact solution is nearer its own tie than the other tie.
+    assert!(
+        share(
+            free.vertical(),
+            full.vertical(),
+            normal.vertical(),
+            full.vertical()
+        ) > 0.5
+    );
+    assert!(
+        share(
+            stuck.vertical(),
+            normal.vertical(),
+            normal.vertical(),
+            full.vertical()
+        ) > 0.5
+    );
+
+    // An intermediate mu lies between: both diameter changes and the crown
+    // settlement between the two tie solutions, and between mu = 0 and
+    // mu = 1000 (measured dV -1.756e-3 m, dH 1.747e-3 m).
+    let between = |x: f64, a: f64, b: f64| x > a.min(b) && x < a.max(b);
+    for (what, f) in [
+        ("dV", Pipe::vertical as fn(&Pipe) -> f64),
+        ("dH", Pipe::horizontal),
+        ("crown", |p: &Pipe| p.crown[1]),
+    ] {
+        assert!(between(f(&mid), f(&normal), f(&full)), "{what}: {mid:?}");
+        assert!(between(f(&mid), f(&free), f(&stuck)), "{what}: {mid:?}");
     }
 }
