@@ -206,3 +206,22 @@ fn normal_tie_transfers_no_shear_and_a_full_tie_does() {
         "{glue:?}"
     );
 }
+
+#[test]
+fn a_tie_names_what_is_wrong() {
+    let off =
+        scene("normal", 4, PRESSED).replace(r#"nodes = "upper.bottom""#, r#"nodes = "upper.top""#);
+    let e = contact2d::scene::parse(&off, Path::new("tie.toml")).unwrap_err();
+    assert!(e.to_string().contains("tie[0].nodes"), "{e}");
+    assert!(
+        e.to_string()
+            .contains("is not on the surface it is tied to `lower.top`"),
+        "{e}"
+    );
+    let same = scene("normal", 4, PRESSED).replace(r#"to = "lower.top""#, r#"to = "upper.top""#);
+    let e = contact2d::scene::parse(&same, Path::new("tie.toml")).unwrap_err();
+    assert!(
+        e.to_string().contains("another body than the tied nodes"),
+        "{e}"
+    );
+}
