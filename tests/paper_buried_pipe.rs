@@ -36,6 +36,10 @@ struct Pipe {
     invert: [f64; 2],
     springline: [f64; 2],
     base_ry: f64,
+    /// Horizontal reactions of the pipe's symmetry supports, summed.
+    pipe_axis_rx: f64,
+    /// The tie's resultant on the pipe, when the interface is tied.
+    tie: Option<[f64; 2]>,
     steps: usize,
 }
 
@@ -75,8 +79,11 @@ fn run(edits: &[(&str, &str)]) -> Pipe {
         solver.state().displacement(n)
     };
     let last = last.unwrap();
-    let base = &last.drivers.iter().find(|d| d.0 == "base").unwrap().1;
+    let reaction = |name: &str| last.drivers.iter().find(|d| d.0 == name).unwrap().1.clone();
+    let base = reaction("base");
     Pipe {
+        pipe_axis_rx: reaction("pipe_axis_bottom").rx + reaction("pipe_axis_top").rx,
+        tie: solver.tie_results().first().map(|t| t.1.force),
         crown: at([0.0, R]),
         invert: at([0.0, -R]),
         springline: at([R, 0.0]),
@@ -141,6 +148,22 @@ fn contact_solutions_against_the_constraint_equations() {
         assert!(
             (r.base_ry - P0 * WIDTH).abs() <= 1e-9 * P0 * WIDTH,
             "{name}: {r:?}"
+        );
+    }
+    // The pipe is held by the tie and its symmetry supports only: the tie's
+    // resultant on it is horizontal and balances their reactions (measured
+    // Fx = -8.56e4 N with the normal tie).
+    for (name, r) in [("normal tie", &normal), ("full tie", &full)] {
+        let [fx, fy] = r.tie.unwrap();
+        eprintln!(
+            "{name}: tie Fx {fx:.6e} Fy {fy:.6e}, pipe supports Rx {:.6e}",
+            r.pipe_axis_rx
+        );
+        assert!(fy.abs() <= 1e-9 * P0 * WIDTH, "{name}: {fy}");
+        assert!(
+            (fx + r.pipe_axis_rx).abs() <= 1e-9 * P0 * WIDTH,
+            "{name}: {fx} {}",
+            r.pipe_axis_rx
         );
     }
     // The ties bracket the response: free slip lets the soil load the crown
