@@ -44,9 +44,9 @@ pub struct TieResult {
     /// Resultant [Fx, Fy] on the tied nodes.
     pub force: [f64; 2],
     /// Per tied node, in `Tie::nodes` order: the force along the surface
-    /// normal (into the surface's body, positive in compression of the
-    /// interface) and the total force vector.
+    /// normal, positive in compression of the interface.
     pub normal: Vec<f64>,
+    /// Per tied node: the force vector [Fx, Fy].
     pub nodal: Vec<[f64; 2]>,
 }
 
