@@ -3,6 +3,7 @@
 //! scene -> problem (mesh, materials, loads) -> assembly -> Newton -> results.
 
 pub mod assembly;
+pub mod constraint;
 pub mod contact;
 pub mod element;
 pub mod fmi;

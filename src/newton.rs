@@ -4,6 +4,7 @@
 //! converged state untouched.
 
 use crate::assembly::{Model, PRESCRIBED, Workspace};
+use crate::constraint::TieResult;
 use crate::contact::pairs::{self, ContactSystem, Flips, PairMemory};
 use crate::linsolve::{Augmented, LinearSolver};
 use crate::problem::Problem;
@@ -104,6 +105,7 @@ impl Solver {
             history: vec![0.0; model.history_len],
             contact: problem.contacts.iter().map(PairMemory::new).collect(),
             rigid: pairs::scene_poses(&problem, 0.0),
+            ties: vec![0.0; problem.ties.iter().map(|t| t.rows.len()).sum()],
         };
         let inputs = vec![[None, None]; problem.drivers.len()];
         let rigid_inputs = vec![[None; 3]; problem.rigids.len()];
@@ -300,6 +302,20 @@ impl Solver {
         out
     }
 
+    /// Forces of each tie on its tied nodes in the converged state, by name.
+    pub fn tie_results(&self) -> Vec<(String, TieResult)> {
+        let mut offset = 0;
+        self.problem
+            .ties
+            .iter()
+            .map(|t| {
+                let lambda = &self.state.ties[offset..offset + t.rows.len()];
+                offset += t.rows.len();
+                (t.name.clone(), t.result(lambda))
+            })
+            .collect()
+    }
+
     /// Contact pair results of the last converged increment.
     pub fn last_pairs(&self) -> Vec<(String, crate::results::PairResult)> {
         self.pair_results()
@@ -351,6 +367,9 @@ impl Solver {
         pairs::begin_increment(&mut memory);
         let mut flips = Flips::default();
         let mut extra: Vec<(usize, usize, f64)> = Vec::new();
+        // Tie multipliers, total: their forces C^T lambda act as loads.
+        let mut lambda = self.state.ties.clone();
+        let with_ties = !lambda.is_empty();
         for it in 0..=settings.max_iterations {
             history.copy_from_slice(&self.state.history);
             let need_k = with_contact || !(self.model.constant_tangent && self.factor_valid);
@@ -373,6 +392,12 @@ impl Solver {
                     &mut self.ws,
                 )
                 .map_err(|e| e.to_string())?;
+            let tie_rows = self.problem.ties.iter().flat_map(|t| &t.rows);
+            for (row, &l) in tie_rows.zip(&lambda) {
+                for &(d, v) in &row.dofs {
+                    self.r[d] -= v * l;
+                }
+            }
             let contact = if with_contact {
                 let mut clog =
                     |m: &str| log(LogCategory::Contact, &format!("t = {t:.6e} it {it}: {m}"));
@@ -437,7 +462,7 @@ impl Solver {
                         LogCategory::Newton,
                         &format!("t = {t:.6e}: nothing changed, in equilibrium"),
                     );
-                    self.commit(t, u, history, memory, poses.clone(), contact);
+                    self.commit(t, u, history, memory, poses.clone(), contact, lambda);
                     return Ok(Converged {
                         iterations: 0,
                         residual: 0.0,
@@ -501,7 +526,7 @@ impl Solver {
                     );
                 }
                 if converged {
-                    self.commit(t, u, history, memory, poses.clone(), contact);
+                    self.commit(t, u, history, memory, poses.clone(), contact, lambda);
                     return Ok(Converged {
                         iterations: it,
                         residual: rho,
@@ -517,54 +542,67 @@ impl Solver {
             if it == 0 {
                 last_du.copy_from_slice(&rhs);
             }
-            match contact.as_ref().filter(|c| c.neqc() > 0 || !c.k.is_empty()) {
-                None => {
-                    if need_k {
-                        self.linear.factorize(&self.k).map_err(|e| e.to_string())?;
-                        self.factor_valid = self.model.constant_tangent;
-                    }
-                    self.linear.solve(&mut rhs).map_err(|e| e.to_string())?;
+            let contact = contact.as_ref().filter(|c| c.neqc() > 0 || !c.k.is_empty());
+            if contact.is_none() && !with_ties {
+                if need_k {
+                    self.linear.factorize(&self.k).map_err(|e| e.to_string())?;
+                    self.factor_valid = self.model.constant_tangent;
                 }
-                Some(c) => {
-                    // Eq. (18): [K + K_c, C^T; C, 0] [du; dlambda] = [r; overlap].
-                    let eq = &self.model.eq;
-                    extra.clear();
+                self.linear.solve(&mut rhs).map_err(|e| e.to_string())?;
+            } else {
+                // Eq. (18): [K + K_c, C^T; C, 0] [du; dlambda] = [r; overlap],
+                // the contact rows first, then the tie rows (C u = 0).
+                let eq = &self.model.eq;
+                extra.clear();
+                let mut full = rhs.clone();
+                let contact_rows = contact.map_or(&[][..], |c| &c.rows[..]);
+                if let Some(c) = contact {
                     for &(a, b, v) in &c.k {
                         if eq[a] != PRESCRIBED && eq[b] != PRESCRIBED {
                             extra.push((eq[a] as usize, eq[b] as usize, v));
                         }
                     }
-                    let mut full = rhs.clone();
-                    for (i, row) in c.rows.iter().enumerate() {
-                        let mut b = row.rhs;
-                        let mut free = false;
-                        for &(d, v) in &row.dofs {
-                            if eq[d] == PRESCRIBED {
-                                if it == 0 {
-                                    b -= v * dup[d];
-                                }
-                            } else {
-                                free |= v != 0.0;
-                                extra.push((n + i, eq[d] as usize, v));
-                                extra.push((eq[d] as usize, n + i, v));
-                            }
-                        }
-                        if !free {
-                            // Every dof the row acts on is prescribed (a
-                            // sticking node on a symmetry plane against a
-                            // fixed target): the drivers already hold it; its
-                            // multiplier gets an identity row.
-                            extra.push((n + i, n + i, 1.0));
-                            b = 0.0;
-                        }
-                        full.push(b);
-                    }
-                    self.augmented
-                        .solve(&self.model.pattern, &self.k, &mut extra, &mut full)
-                        .map_err(|e| format!("contact system (NEQC {}): {e}", c.neqc()))?;
-                    rhs.copy_from_slice(&full[..n]);
-                    self.factor_valid = false;
                 }
+                let ties = self.problem.ties.iter().flat_map(|t| &t.rows);
+                let tie_rows = ties.map(|r| {
+                    let violation: f64 = r.dofs.iter().map(|&(d, v)| v * u[d]).sum();
+                    (&r.dofs[..], -violation)
+                });
+                let rows = contact_rows.iter().map(|r| (&r.dofs[..], r.rhs));
+                for (i, (dofs, rhs_i)) in rows.chain(tie_rows).enumerate() {
+                    let mut b = rhs_i;
+                    let mut free = false;
+                    for &(d, v) in dofs {
+                        if eq[d] == PRESCRIBED {
+                            if it == 0 {
+                                b -= v * dup[d];
+                            }
+                        } else {
+                            free |= v != 0.0;
+                            extra.push((n + i, eq[d] as usize, v));
+                            extra.push((eq[d] as usize, n + i, v));
+                        }
+                    }
+                    if !free {
+                        // Every dof the row acts on is prescribed (a
+                        // sticking node on a symmetry plane against a
+                        // fixed target): the drivers already hold it; its
+                        // multiplier gets an identity row.
+                        extra.push((n + i, n + i, 1.0));
+                        b = 0.0;
+                    }
+                    full.push(b);
+                }
+                self.augmented
+                    .solve(&self.model.pattern, &self.k, &mut extra, &mut full)
+                    .map_err(|e| format!("constraint system (NEQC {}): {e}", contact_rows.len()))?;
+                rhs.copy_from_slice(&full[..n]);
+                // The system's multipliers are the change that removes the
+                // tie forces' out-of-balance: K du = r + C^T lambda - C^T x.
+                for (l, x) in lambda.iter_mut().zip(&full[n + contact_rows.len()..]) {
+                    *l -= x;
+                }
+                self.factor_valid = false;
             }
             if it == 0 {
                 // Energy of the first correction, |du_1 . r_0| (last_du holds -r_0).
@@ -605,12 +643,14 @@ impl Solver {
         memory: Vec<PairMemory>,
         poses: Vec<[f64; 3]>,
         contact: Option<ContactSystem>,
+        ties: Vec<f64>,
     ) {
         self.state.time = t;
         self.state.u = u;
         self.state.history = history;
         self.state.contact = memory;
         self.state.rigid = poses;
+        self.state.ties = ties;
         self.contact = contact;
     }
 

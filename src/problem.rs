@@ -263,6 +263,8 @@ pub struct Problem {
     pub drivers: Vec<Driver>,
     pub rigids: Vec<Rigid>,
     pub contacts: Vec<ContactPair>,
+    /// Multi-point constraints tying one body's nodes to another's surface.
+    pub ties: Vec<crate::constraint::Tie>,
     pub pressures: Vec<Pressure>,
     pub forces: Vec<NodalForce>,
     pub body_forces: Vec<BodyForce>,

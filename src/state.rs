@@ -16,6 +16,10 @@ pub struct State {
     pub contact: Vec<crate::contact::PairMemory>,
     /// Pose [ux, uy, theta] of each rigid target at `time`, in scene order.
     pub rigid: Vec<[f64; 3]>,
+    /// Lagrange multipliers of the tie rows (`Problem::ties` in order, each
+    /// tie's rows in order): the tie forces.
+    #[serde(default)]
+    pub ties: Vec<f64>,
 }
 
 impl State {

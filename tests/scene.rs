@@ -413,7 +413,7 @@ fn unknown_key_lists_the_allowed_keys() {
         &e,
         SceneErrorKind::UnknownKey,
         "scenes/t.toml:49: gap = [[gap]]: unknown key; allowed keys: title, analysis, material, body, \
-         node_set, function, driver, rigid, contact, pressure, force, body_force, initial_stress, \
+         node_set, function, driver, rigid, contact, tie, pressure, force, body_force, initial_stress, \
          steps, solver, units",
     );
     let e = bad(

@@ -219,7 +219,12 @@ fn run(scene: &Path, summary_path: Option<&Path>, vtk_dir: Option<&Path>) -> Exi
                 break;
             }
         };
-        say(&bar, &step_line(i + 1, times.len(), &step));
+        let mut line = step_line(i + 1, times.len(), &step);
+        for (name, tie) in solver.tie_results() {
+            let [fx, fy] = tie.force;
+            line.push_str(&format!("  {name}: tie Fx = {fx:.6e} Fy = {fy:.6e}"));
+        }
+        say(&bar, &line);
         summary.steps.push(step);
         if let Some(dir) = vtk_dir {
             let file = format!("{stem}_{:04}.vtu", i + 1);

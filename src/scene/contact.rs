@@ -231,7 +231,7 @@ impl Resolver<'_> {
     }
 
     /// The index of the body a set reference `<body>.<set>` names.
-    fn set_body(&self, set: &Spanned<String>, key: &str) -> Result<usize, SceneError> {
+    pub(super) fn set_body(&self, set: &Spanned<String>, key: &str) -> Result<usize, SceneError> {
         let (name, _) = self.set_ref(set, key)?;
         Ok(self
             .bodies
@@ -411,7 +411,7 @@ impl Resolver<'_> {
 
 /// An edge's nodes in walking order: start, (mid-side,) end. `Edge::nodes`
 /// holds the mid-side node of a Q8 face last.
-fn walk(e: &Edge) -> Vec<usize> {
+pub(super) fn walk(e: &Edge) -> Vec<usize> {
     match e.nodes[..] {
         [a, b, m] => vec![a, m, b],
         _ => e.nodes.clone(),

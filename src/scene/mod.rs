@@ -6,6 +6,7 @@ mod contact;
 mod locate;
 mod mesh;
 mod raw;
+mod tie;
 
 use crate::mesh::{Edge, Mesh};
 use crate::problem::{
@@ -123,6 +124,7 @@ impl<'a> Resolver<'a> {
         let drivers = self.drivers(&scene.driver)?;
         let rigids = self.rigids(&scene.rigid, &drivers)?;
         let contacts = self.contacts(&scene.contact, &rigids)?;
+        let ties = self.ties(&scene.tie)?;
         let pressures = self.pressures(&scene.pressure)?;
         let forces = self.forces(&scene.force)?;
         let body_forces = self.body_forces(&scene.body_force)?;
@@ -149,6 +151,7 @@ impl<'a> Resolver<'a> {
             drivers,
             rigids,
             contacts,
+            ties,
             pressures,
             forces,
             body_forces,

@@ -29,6 +29,8 @@ pub(super) struct Scene {
     #[serde(default)]
     pub contact: Vec<Contact>,
     #[serde(default)]
+    pub tie: Vec<Tie>,
+    #[serde(default)]
     pub pressure: Vec<Pressure>,
     #[serde(default)]
     pub force: Vec<Spanned<Force>>,
@@ -260,6 +262,22 @@ pub(super) struct Contact {
     pub mu_d: Option<Spanned<f64>>,
     pub rule: Option<RuleName>,
     pub recovery: Option<RecoveryName>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct Tie {
+    pub name: Spanned<String>,
+    pub nodes: Spanned<String>,
+    pub to: Spanned<String>,
+    pub kind: TieKindName,
+}
+
+#[derive(Deserialize, Clone, Copy)]
+#[serde(rename_all = "snake_case")]
+pub(super) enum TieKindName {
+    Normal,
+    Full,
 }
 
 #[derive(Deserialize, Clone, Copy)]

@@ -54,6 +54,7 @@ pub fn problem(
         drivers: vec![],
         rigids: vec![],
         contacts: vec![],
+        ties: vec![],
         pressures: vec![],
         forces: vec![],
         body_forces: vec![],
