@@ -268,6 +268,21 @@ impl Drop for Inst {
     }
 }
 
+/// Every shipped scene file, sorted.
+fn shipped_scenes() -> Vec<PathBuf> {
+    let mut scenes = Vec::new();
+    for dir in ["scenes", "scenes/verification"] {
+        for e in std::fs::read_dir(repo().join(dir)).unwrap() {
+            let p = e.unwrap().path();
+            if p.extension().is_some_and(|x| x == "toml") {
+                scenes.push(p);
+            }
+        }
+    }
+    scenes.sort();
+    scenes
+}
+
 fn hertz() -> Unpacked {
     unpack(&repo().join("scenes/hertz_plane_strain.toml"), "hertz")
 }
@@ -867,16 +882,7 @@ fn log_categories() {
 /// `modelDescription/` holds what `export` writes for each shipped scene.
 #[test]
 fn committed_model_descriptions_are_current() {
-    let mut scenes = Vec::new();
-    for dir in ["scenes", "scenes/verification"] {
-        for e in std::fs::read_dir(repo().join(dir)).unwrap() {
-            let p = e.unwrap().path();
-            if p.extension().is_some_and(|x| x == "toml") {
-                scenes.push(p);
-            }
-        }
-    }
-    scenes.sort();
+    let scenes = shipped_scenes();
     let bless = std::env::var_os("CONTACT2D_BLESS").is_some();
     let mut stale = Vec::new();
     for scene in &scenes {
@@ -1012,16 +1018,7 @@ fn output_dir_gets_one_vtk_file_per_step() {
 fn every_shipped_scene_steps_as_the_solver() {
     use contact2d::fmi::instance::{Instance, Status};
     use contact2d::fmi::variables::{Binding, Causality};
-    let mut scenes = Vec::new();
-    for dir in ["scenes", "scenes/verification"] {
-        for e in std::fs::read_dir(repo().join(dir)).unwrap() {
-            let p = e.unwrap().path();
-            if p.extension().is_some_and(|x| x == "toml") {
-                scenes.push(p);
-            }
-        }
-    }
-    scenes.sort();
+    let scenes = shipped_scenes();
     for scene in &scenes {
         let problem = contact2d::scene::load(scene).unwrap();
         let vars = variables(&problem);

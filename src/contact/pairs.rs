@@ -387,22 +387,26 @@ pub fn update(
             .collect();
         let ever: Vec<bool> = mem.segments.iter().map(|s| s.ever_slid).collect();
         let directions: Vec<f64> = mem.segments.iter().map(|s| s.direction).collect();
-        let ev = traction::evaluate(
-            geometry,
-            pair.recovery,
-            pair.mu_s,
-            pair.mu_d,
-            pair.rule,
-            pair.closed,
-            &xs,
-            &active,
-            &force,
-            &prev,
-            &ever,
-            &directions,
-            SLIDE_HYSTERESIS,
-        )
-        .map_err(|e| format!("pair '{}': {e}", pair.name))?;
+        // Section 3 on the contactor at positions `at`.
+        let evaluate = |at: &[[f64; 2]]| {
+            traction::evaluate(
+                geometry,
+                pair.recovery,
+                pair.mu_s,
+                pair.mu_d,
+                pair.rule,
+                pair.closed,
+                at,
+                &active,
+                &force,
+                &prev,
+                &ever,
+                &directions,
+                SLIDE_HYSTERESIS,
+            )
+            .map_err(|e| format!("pair '{}': {e}", pair.name))
+        };
+        let ev = evaluate(&xs)?;
         // Reported tractions are per unit area of the geometry the element
         // stresses live on: the reference one under small-strain kinematics
         // (linear theory, as Hertz's), the current one under total
@@ -422,22 +426,7 @@ pub fn update(
         };
         let (node_tn, node_tt) = if reference_area {
             let xs: Vec<[f64; 2]> = x_area.iter().map(|v| [v.x, v.y]).collect();
-            let out = traction::evaluate(
-                geometry,
-                pair.recovery,
-                pair.mu_s,
-                pair.mu_d,
-                pair.rule,
-                pair.closed,
-                &xs,
-                &active,
-                &force,
-                &prev,
-                &ever,
-                &directions,
-                SLIDE_HYSTERESIS,
-            )
-            .map_err(|e| format!("pair '{}': {e}", pair.name))?;
+            let out = evaluate(&xs)?;
             // Magnitude per reference area, direction from the current
             // surface (the reference surface is turned against the current
             // one where the contact flattens it, by about a/R at the edge:
