@@ -19,27 +19,7 @@ fn a_node_flipping_open_and_closed_is_reported() {
         1000.0,
         0.3,
     );
-    let mut bottom = p.mesh.node_sets["bottom"].clone();
-    bottom.sort_by(|&a, &b| p.mesh.nodes[a][0].total_cmp(&p.mesh.nodes[b][0]));
-    p.rigids.push(Rigid {
-        name: "flat".into(),
-        points: vec![[5.0, 0.0], [-5.0, 0.0]],
-        reference: [0.0, 0.0],
-        ux: Scaled::constant(0.0),
-        uy: Scaled::constant(0.0),
-        theta: Scaled::constant(0.0),
-    });
-    p.contacts.push(ContactPair {
-        name: "base".into(),
-        body: 0,
-        contactor: bottom.clone(),
-        closed: false,
-        target: Target::Rigid(0),
-        mu_s: 0.0,
-        mu_d: 0.0,
-        rule: FrictionRule::MuDAfterSlip,
-        recovery: Recovery::Consistent,
-    });
+    let bottom = common::bottom_on_flat(&mut p, 0.0);
     let ndof = 2 * p.mesh.nodes.len();
     let mut u = vec![0.0; ndof];
     for &n in &bottom {

@@ -27,27 +27,7 @@ fn squeeze(kind: ElementKind, kinematics: Kinematics) -> (f64, f64, f64, Vec<f64
         E,
         NU,
     );
-    let mut bottom = p.mesh.node_sets["bottom"].clone();
-    bottom.sort_by(|&a, &b| p.mesh.nodes[a][0].total_cmp(&p.mesh.nodes[b][0]));
-    p.rigids.push(Rigid {
-        name: "flat".into(),
-        points: vec![[5.0, -GAP], [-5.0, -GAP]],
-        reference: [0.0, 0.0],
-        ux: Scaled::constant(0.0),
-        uy: Scaled::constant(0.0),
-        theta: Scaled::constant(0.0),
-    });
-    p.contacts.push(ContactPair {
-        name: "base".into(),
-        body: 0,
-        contactor: bottom.clone(),
-        closed: false,
-        target: Target::Rigid(0),
-        mu_s: 0.0,
-        mu_d: 0.0,
-        rule: FrictionRule::MuDAfterSlip,
-        recovery: Recovery::Consistent,
-    });
+    common::bottom_on_flat(&mut p, -GAP);
     p.drivers.push(Driver {
         name: "symmetry".into(),
         nodes: p.mesh.node_sets["left"].clone(),

@@ -306,3 +306,31 @@ impl std::fmt::Display for Hertz {
         )
     }
 }
+
+/// A frictionless pair "base": the problem's node set "bottom" (sorted by
+/// x, so the body is on its left) against a rigid flat at y = `level`
+/// (the first rigid target). Returns the contactor nodes.
+pub fn bottom_on_flat(p: &mut Problem, level: f64) -> Vec<usize> {
+    let mut bottom = p.mesh.node_sets["bottom"].clone();
+    bottom.sort_by(|&a, &b| p.mesh.nodes[a][0].total_cmp(&p.mesh.nodes[b][0]));
+    p.rigids.push(Rigid {
+        name: "flat".into(),
+        points: vec![[5.0, level], [-5.0, level]],
+        reference: [0.0, 0.0],
+        ux: Scaled::constant(0.0),
+        uy: Scaled::constant(0.0),
+        theta: Scaled::constant(0.0),
+    });
+    p.contacts.push(ContactPair {
+        name: "base".into(),
+        body: 0,
+        contactor: bottom.clone(),
+        closed: false,
+        target: Target::Rigid(0),
+        mu_s: 0.0,
+        mu_d: 0.0,
+        rule: FrictionRule::MuDAfterSlip,
+        recovery: Recovery::Consistent,
+    });
+    bottom
+}
