@@ -199,6 +199,10 @@ pub struct Hertz {
     /// surface), for comparison.
     pub rms_current: f64,
     pub centre_current: f64,
+    /// RMS over the contact zone of (tn - p(x)) / p0 with tn as reported and
+    /// x the node's CURRENT coordinate: the measure for total Lagrangian
+    /// runs, whose tractions are Cauchy tractions on the deformed surface.
+    pub rms_deformed: f64,
 }
 
 /// Hertz's pressure at x (zero beyond a).
@@ -271,6 +275,12 @@ pub fn hertz(s: &contact2d::newton::Solver, radius: f64, e_star: f64) -> Hertz {
         r
     };
     let per_current = |k: usize| n.tn[k] / stretch(k);
+    let rms_deformed = (zone
+        .iter()
+        .map(|&k| ((n.tn[k] - hertz_pressure(p0, a, current[k][0])) / p0).powi(2))
+        .sum::<f64>()
+        / zone.len() as f64)
+        .sqrt();
     Hertz {
         p,
         a,
@@ -283,6 +293,7 @@ pub fn hertz(s: &contact2d::newton::Solver, radius: f64, e_star: f64) -> Hertz {
         centre: error(0, n.tn[0]),
         rms_current: rms(&zone, &per_current),
         centre_current: error(0, per_current(0)),
+        rms_deformed,
     }
 }
 
@@ -291,7 +302,7 @@ impl std::fmt::Display for Hertz {
         write!(
             f,
             "P {:.1}  a {:.4}  p0 {:.1}  zone {} nodes (last closed X {:.4}, first open {:.4})  \
-             rms {:.2e}  X<0.8a {:.2e}  centre {:+.2e}  | per current area: rms {:.2e} centre {:+.2e}",
+             rms {:.2e}  X<0.8a {:.2e}  centre {:+.2e}  | per current area: rms {:.2e} centre {:+.2e}  | at current x: rms {:.2e}",
             self.p,
             self.a,
             self.p0,
@@ -302,7 +313,8 @@ impl std::fmt::Display for Hertz {
             self.rms_interior,
             self.centre,
             self.rms_current,
-            self.centre_current
+            self.centre_current,
+            self.rms_deformed
         )
     }
 }
