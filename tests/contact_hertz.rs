@@ -170,7 +170,12 @@ fn mno_and_total_lagrangian(name: &str, radius: f64) {
         // The geometry does act: the same top displacement gives a smaller
         // load (measured -2.2 % cylinder, -1.0 % sphere at the last step),
         // by less than the strain order.
-        assert!(t.p < s.p && s.p - t.p < strain * s.p, "P {} vs {}", t.p, s.p);
+        assert!(
+            t.p < s.p && s.p - t.p < strain * s.p,
+            "P {} vs {}",
+            t.p,
+            s.p
+        );
     }
 }
 

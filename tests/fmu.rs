@@ -1017,7 +1017,7 @@ fn output_dir_gets_one_vtk_file_per_step() {
 #[test]
 fn every_shipped_scene_steps_as_the_solver() {
     use contact2d::fmi::instance::{Instance, Status};
-    use contact2d::fmi::variables::{Binding, Causality};
+    use contact2d::fmi::variables::Causality;
     let scenes = shipped_scenes();
     for scene in &scenes {
         let problem = contact2d::scene::load(scene).unwrap();
@@ -1031,17 +1031,8 @@ fn every_shipped_scene_steps_as_the_solver() {
         let mut t = 0.0;
         for &t1 in &times {
             for v in &vars {
-                let value = match v.binding {
-                    Binding::DriverInput { driver, component } => {
-                        let d = &problem.drivers[driver];
-                        let c = if component == 0 { &d.ux } else { &d.uy };
-                        c.as_ref().unwrap().at(t1, &problem.functions)
-                    }
-                    Binding::RigidInput { rigid, component } => {
-                        let r = &problem.rigids[rigid];
-                        [&r.ux, &r.uy, &r.theta][component].at(t1, &problem.functions)
-                    }
-                    _ => continue,
+                let Some(value) = contact2d::fmi::variables::input(&v.binding, &problem, t1) else {
+                    continue;
                 };
                 assert_eq!(inst.set_real(&[v.vr], &[value]), Status::Ok);
             }

@@ -60,6 +60,16 @@ enum Command {
         #[arg(long, value_name = "FILE")]
         library: Option<PathBuf>,
     },
+    /// Print the scene's load history as the FMU's inputs: a CSV table
+    /// (time, then one column per input variable) at t = 0 and at the end of
+    /// every increment, as a master (e.g. fmpy's simulate_fmu) feeds them.
+    Inputs {
+        /// The scene file (TOML).
+        scene: PathBuf,
+        /// Write the table to FILE instead of standard output.
+        #[arg(short, long, value_name = "FILE")]
+        output: Option<PathBuf>,
+    },
     /// Validate a scene and print what it contains.
     Check {
         /// The scene file (TOML).
@@ -76,6 +86,7 @@ fn main() -> ExitCode {
             vtk,
         } => run(&scene, summary.as_deref(), vtk.as_deref()),
         Command::Check { scene } => check(&scene),
+        Command::Inputs { scene, output } => inputs(&scene, output.as_deref()),
         Command::Export {
             scene,
             output,
@@ -314,6 +325,42 @@ fn step_line(i: usize, n: usize, s: &StepResult) -> String {
         );
     }
     line
+}
+
+fn inputs(scene: &Path, output: Option<&Path>) -> ExitCode {
+    use contact2d::fmi::variables::{Causality, input, variables};
+    let problem = match contact2d::scene::load(scene) {
+        Ok(p) => p,
+        Err(e) => return scene_failure(e),
+    };
+    let vars: Vec<_> = variables(&problem)
+        .into_iter()
+        .filter(|v| v.causality == Causality::Input)
+        .collect();
+    let mut text = std::iter::once("time".to_string())
+        .chain(vars.iter().map(|v| v.name.clone()))
+        .collect::<Vec<_>>()
+        .join(",");
+    text.push('\n');
+    for t in std::iter::once(0.0).chain(problem.times.iter().copied()) {
+        let row = std::iter::once(t)
+            .chain(vars.iter().filter_map(|v| input(&v.binding, &problem, t)))
+            .map(|x| format!("{x:e}"))
+            .collect::<Vec<_>>()
+            .join(",");
+        text.push_str(&row);
+        text.push('\n');
+    }
+    let written = match output {
+        Some(path) => std::fs::write(path, &text).map_err(|e| format!("{}: {e}", path.display())),
+        None => std::io::stdout()
+            .write_all(text.as_bytes())
+            .map_err(|e| format!("standard output: {e}")),
+    };
+    match written {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => failure(&e),
+    }
 }
 
 fn check(scene: &Path) -> ExitCode {

@@ -479,6 +479,25 @@ pub fn base_unit(unit: &str) -> ([i32; 4], f64) {
     }
 }
 
+/// The value an input takes at scene time `t` along the scene's own load
+/// history (what a master feeds the FMU to replay the scene); `None` for a
+/// binding that is not an input.
+pub fn input(binding: &Binding, problem: &Problem, t: f64) -> Option<f64> {
+    let f = &problem.functions;
+    match *binding {
+        Binding::DriverInput { driver, component } => {
+            let d = &problem.drivers[driver];
+            let c = if component == 0 { &d.ux } else { &d.uy };
+            c.as_ref().map(|c| c.at(t, f))
+        }
+        Binding::RigidInput { rigid, component } => {
+            let r = &problem.rigids[rigid];
+            Some([&r.ux, &r.uy, &r.theta][component].at(t, f))
+        }
+        _ => None,
+    }
+}
+
 /// Value of an output variable in a step result (Real and Integer outputs;
 /// None for a binding that is not an output).
 pub fn output(binding: &Binding, result: &StepResult) -> Option<f64> {
