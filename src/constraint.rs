@@ -39,7 +39,7 @@ pub struct Tie {
 }
 
 /// Forces of a tie on its tied nodes' body, from the multipliers.
-#[derive(Clone, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct TieResult {
     /// Resultant [Fx, Fy] on the tied nodes.
     pub force: [f64; 2],
@@ -48,6 +48,12 @@ pub struct TieResult {
     pub normal: Vec<f64>,
     /// Per tied node: the force vector [Fx, Fy].
     pub nodal: Vec<[f64; 2]>,
+    /// Per tied node: the force along the surface tangent, the normal into
+    /// the other body turned by +90 degrees (`[-n_y, n_x]`).
+    pub tangential: Vec<f64>,
+    /// Per tied node: its current position (filled by the solver; empty
+    /// from [`Tie::result`]).
+    pub position: Vec<[f64; 2]>,
 }
 
 /// A node closer to a segment than this fraction of the segment's length
@@ -152,6 +158,8 @@ impl Tie {
             force: [0.0; 2],
             normal: vec![0.0; m],
             nodal: vec![[0.0; 2]; m],
+            tangential: vec![0.0; m],
+            position: Vec::new(),
         };
         for (row, &l) in self.rows.iter().zip(lambda) {
             let f = [l * row.direction[0], l * row.direction[1]];
@@ -164,6 +172,9 @@ impl Tie {
         // pulls the interface apart: compression pushes the node away.
         for ((t, f), n) in out.normal.iter_mut().zip(&out.nodal).zip(&self.normals) {
             *t = -(f[0] * n[0] + f[1] * n[1]);
+        }
+        for ((t, f), n) in out.tangential.iter_mut().zip(&out.nodal).zip(&self.normals) {
+            *t = -f[0] * n[1] + f[1] * n[0];
         }
         out
     }

@@ -260,6 +260,7 @@ impl Solver {
             neqc: self.contact.as_ref().map_or(0, |c| c.neqc()),
             drivers: self.driver_results(),
             pairs: self.pair_results(),
+            ties: self.tie_results(),
         })
     }
 
@@ -311,7 +312,15 @@ impl Solver {
             .map(|t| {
                 let lambda = &self.state.ties[offset..offset + t.rows.len()];
                 offset += t.rows.len();
-                (t.name.clone(), t.result(lambda))
+                let mut result = t.result(lambda);
+                let mesh = &self.problem.mesh;
+                let u = &self.state.u;
+                result.position = t
+                    .nodes
+                    .iter()
+                    .map(|&n| [mesh.nodes[n][0] + u[2 * n], mesh.nodes[n][1] + u[2 * n + 1]])
+                    .collect();
+                (t.name.clone(), result)
             })
             .collect()
     }

@@ -97,6 +97,9 @@ pub struct StepResult {
     pub drivers: Vec<(String, DriverResult)>,
     /// Per contact pair, by name, in scene order.
     pub pairs: Vec<(String, PairResult)>,
+    /// Per tie, by name, in scene order: its forces on the tied nodes.
+    #[serde(default)]
+    pub ties: Vec<(String, crate::constraint::TieResult)>,
 }
 
 /// Log categories; they are the FMU logger's categories.

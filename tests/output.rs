@@ -216,6 +216,7 @@ fn converged_step() -> StepResult {
             ("mid".into(), r(-3.5, 0.125)),
         ],
         pairs: vec![],
+        ties: vec![],
     }
 }
 
@@ -273,6 +274,33 @@ fn summary_has_the_spec_shape() {
     // Scene order, not alphabetical.
     let at = |k: &str| text.find(&format!("\"{k}\"")).unwrap();
     assert!(at("zeta") < at("alpha") && at("alpha") < at("mid"));
+}
+
+#[test]
+fn summary_has_the_ties_of_a_scene_with_ties() {
+    let mut step = converged_step();
+    step.ties = vec![(
+        "interface".into(),
+        contact2d::constraint::TieResult {
+            force: [0.5, -3.0],
+            normal: vec![1.0, 2.0],
+            nodal: vec![[0.5, -1.0], [0.0, -2.0]],
+            tangential: vec![0.5, 0.0],
+            position: vec![[0.0, 1.0], [1.0, 1.0]],
+        },
+    )];
+    let mut summary = Summary::new("s.toml", "S", 10);
+    summary.steps.push(step);
+    let v: serde_json::Value = serde_json::from_str(&summary.to_json()).unwrap();
+    assert_eq!(
+        v["steps"][0]["ties"],
+        serde_json::json!({
+            "interface": {
+                "Fx": 0.5, "Fy": -3.0,
+                "nodes": { "x": [0.0, 1.0], "y": [1.0, 1.0], "fn": [1.0, 2.0], "ft": [0.5, 0.0] }
+            }
+        })
+    );
 }
 
 #[test]
@@ -376,6 +404,7 @@ fn summary_of_a_step_with_a_pair_and_a_rigid_target() {
                 },
             },
         )],
+        ties: vec![],
     });
     let expected = r#"{
   "scene": "scenes/punch.toml",

@@ -205,6 +205,23 @@ fn normal_tie_transfers_no_shear_and_a_full_tie_does() {
         (glue.force[0] + drag.rx).abs() <= 1e-10 * drag.rx,
         "{glue:?}"
     );
+    // The normal into the lower block is -y, the tangent (turned +90
+    // degrees) +x: the tangential forces are the nodes' x forces, the
+    // normal ones their y forces (compression positive, none here).
+    let ft: f64 = glue.tangential.iter().sum();
+    assert!((ft + drag.rx).abs() <= 1e-10 * drag.rx, "{glue:?}");
+    for (k, f) in glue.nodal.iter().enumerate() {
+        assert_eq!(glue.tangential[k], f[0]);
+        assert_eq!(glue.normal[k], f[1]);
+    }
+    // The step result carries the same tie, with the nodes' current
+    // positions (the upper block's bottom, dragged with it).
+    assert_eq!(&step.ties[0].1, glue);
+    let nodes = &solver.problem().mesh.nodes;
+    for (k, &n) in glue.position.iter().zip(&solver.problem().ties[0].nodes) {
+        let u = solver.state().displacement(n);
+        assert_eq!(*k, [nodes[n][0] + u[0], nodes[n][1] + u[1]]);
+    }
 }
 
 #[test]

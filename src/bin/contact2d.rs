@@ -662,6 +662,7 @@ mod tests {
                     ..PairResult::default()
                 },
             )],
+            ties: vec![],
         };
         assert_eq!(
             step_line(1, 2, &step),

@@ -4,6 +4,7 @@
 //! objects written in that order); a failed increment is the last entry,
 //! `converged: false`. A value that is not known is written as `null`.
 
+use crate::constraint::TieResult;
 use crate::results::{DriverResult, PairResult, StepResult};
 use serde::Serialize;
 use serde::ser::{SerializeMap, SerializeStruct, Serializer};
@@ -88,6 +89,7 @@ impl Summary {
             neqc: 0,
             drivers,
             pairs,
+            ties: Vec::new(),
         }
     }
 
@@ -123,6 +125,9 @@ impl Serialize for StepJson<'_> {
         st.serialize_field("neqc", &r.neqc)?;
         st.serialize_field("drivers", &Named(&r.drivers, |d| d))?;
         st.serialize_field("pairs", &Named(&r.pairs, PairJson))?;
+        if !r.ties.is_empty() {
+            st.serialize_field("ties", &Named(&r.ties, TieJson))?;
+        }
         st.end()
     }
 }
@@ -139,6 +144,39 @@ impl<'a, T, W: Serialize> Serialize for Named<'a, T, W> {
         }
         m.end()
     }
+}
+
+/// A tie in the summary's shape: its resultant on the tied nodes and, per
+/// tied node (the tie's node order), the current position and the forces
+/// along the surface normal (`fn`, compression positive) and tangent (`ft`).
+struct TieJson<'a>(&'a TieResult);
+
+impl Serialize for TieJson<'_> {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        let t = self.0;
+        let mut st = s.serialize_struct("Tie", 3)?;
+        st.serialize_field("Fx", &t.force[0])?;
+        st.serialize_field("Fy", &t.force[1])?;
+        st.serialize_field(
+            "nodes",
+            &TieNodes {
+                x: t.position.iter().map(|p| p[0]).collect(),
+                y: t.position.iter().map(|p| p[1]).collect(),
+                fn_: &t.normal,
+                ft: &t.tangential,
+            },
+        )?;
+        st.end()
+    }
+}
+
+#[derive(Serialize)]
+struct TieNodes<'a> {
+    x: Vec<f64>,
+    y: Vec<f64>,
+    #[serde(rename = "fn")]
+    fn_: &'a [f64],
+    ft: &'a [f64],
 }
 
 /// A pair in the summary's shape. Its node counts are `null` when nothing is
