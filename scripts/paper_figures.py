@@ -3,7 +3,7 @@ with the command line and plots them beside what they are compared with.
 
     .venv/bin/python scripts/paper_figures.py [--bin target/release/contact2d] [--out docs/figures]
 
-So far: Hertz (Section 4.1, Figs. 6-9), plane strain (R = 10) and
+Hertz (Section 4.1, Figs. 6-9) here, plane strain (R = 10) and
 axisymmetric (R = 100), small strain, materially-nonlinear-only and total
 Lagrangian, normal tractions against Hertz at each load step; and the
 contactor refined, to show the extra solution points its extra segments
@@ -13,6 +13,7 @@ them.
 """
 
 import argparse
+import importlib
 import json
 import math
 import re
@@ -27,6 +28,8 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 REPO = Path(__file__).resolve().parents[1]
+# Section 4.4 (and, as they land, 4.2 and 4.3): modules of scripts/paper/.
+PROBLEMS = ["buried_pipe"]
 E, NU = 200000.0, 0.3
 E_STAR = E / (1 - NU * NU)
 
@@ -180,6 +183,14 @@ def main():
     ax.legend(fontsize=7)
     fig.tight_layout()
     fig.savefig(out / "hertz_refinement.png", dpi=100)
+    plt.close(fig)
+
+    # The other problems, one module each in scripts/paper/: figure(binary,
+    # out_dir, work_dir) runs its scene's cases, writes its PNG and returns
+    # the lines to print.
+    for module in PROBLEMS:
+        for line in importlib.import_module(f"paper.{module}").figure(args.bin, out, work):
+            print(line)
     print(f"figures: {out}")
 
 

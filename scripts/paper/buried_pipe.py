@@ -1,0 +1,143 @@
+"""The buried pipe (Section 4.4, Fig. 17): tractions on the pipe-soil
+interface after the four load increments (P0 = 100 kPa), from the contact
+algorithm with mu = 0, an intermediate mu and a very large mu, beside the
+constraint-equation solutions (pipe and soil tied normally, free
+tangentially: mu = 0; tied in both directions: mu = infinity).
+
+Contact tractions are the pair's reported nodal tractions (Section 3's
+recovery). The ties report nodal forces; their tractions are recovered here
+by the consistent projection on the interface's 3-node (Q8) edges,
+M t = f with M_ij = integral of N_i N_j ds, the same kind of recovery as the
+contact algorithm's Eq. (26)-(27) system.
+"""
+
+import json
+import math
+import subprocess
+import time
+from pathlib import Path
+
+import numpy as np
+
+REPO = Path(__file__).resolve().parents[2]
+SCENE = REPO / "scenes" / "buried_pipe.toml"
+CONTACT = """[[contact]]
+name = "interface"
+contactor = "pipe.outer"
+target = "soil.hole"
+mu_s = 0.3"""
+# mu = 0 with the hole as contactor (the scene's header says why).
+FRICTIONLESS = CONTACT.replace('contactor = "pipe.outer"\ntarget = "soil.hole"', 'contactor = "soil.hole"\ntarget = "pipe.outer"').replace(
+    "mu_s = 0.3", "mu_s = 0.0"
+)
+
+
+def tie(kind):
+    return f'[[tie]]\nname = "interface"\nnodes = "pipe.outer"\nto = "soil.hole"\nkind = "{kind}"'
+
+
+CASES = [
+    ("tie, normal (mu = 0)", [(CONTACT, tie("normal"))], "k--"),
+    ("tie, full (mu = inf)", [(CONTACT, tie("full"))], "r--"),
+    ("contact, mu = 0", [(CONTACT, FRICTIONLESS)], "ko"),
+    ("contact, mu = 0.3", [], "bs"),
+    ("contact, mu = 1000", [("mu_s = 0.3", "mu_s = 1000.0")], "r^"),
+]
+
+
+def run(binary, edits, name, work):
+    text = SCENE.read_text()
+    for old, new in edits:
+        assert text.count(old) == 1, old
+        text = text.replace(old, new)
+    scene = work / f"{name}.toml"
+    scene.write_text(text)
+    summary = work / f"{name}.json"
+    start = time.perf_counter()
+    done = subprocess.run([str(binary), "run", str(scene), "--summary", str(summary)], capture_output=True, text=True)
+    wall = time.perf_counter() - start
+    if not summary.exists():
+        raise RuntimeError(f"{name}: {done.stderr.strip()}")
+    return json.loads(summary.read_text()), wall
+
+
+def angle(x, y):
+    """Degrees from the crown (pipe centre at the origin)."""
+    return np.degrees(np.arctan2(np.asarray(x), np.asarray(y)))
+
+
+def recover(theta_deg, radius, forces):
+    """Tractions from nodal forces on quadratic edges (nodes ordered from the
+    crown: corner, mid, corner, ...): the consistent projection."""
+    n = len(forces)
+    assert n % 2 == 1, "quadratic edges: an odd number of nodes"
+    s = np.radians(theta_deg) * radius
+    m = np.zeros((n, n))
+    for e in range(0, n - 1, 2):
+        length = s[e + 2] - s[e]
+        local = length / 30.0 * np.array([[4.0, 2.0, -1.0], [2.0, 16.0, 2.0], [-1.0, 2.0, 4.0]])
+        idx = [e, e + 1, e + 2]
+        m[np.ix_(idx, idx)] += local
+    return np.linalg.solve(m, np.asarray(forces))
+
+
+def figure(binary, out_dir, work_dir):
+    import matplotlib.pyplot as plt
+
+    out_dir, work_dir = Path(out_dir), Path(work_dir)
+    fig, (an, at) = plt.subplots(1, 2, figsize=(12, 4.5), sharex=True)
+    lines = []
+    radius = 0.5
+    for k, (label, edits, style) in enumerate(CASES):
+        try:
+            summary, wall = run(binary, edits, f"pipe_{k}", work_dir)
+        except RuntimeError as e:
+            lines.append(f"buried pipe  {label:<22} FAILED: {e}")
+            continue
+        last = summary["steps"][-1]
+        if not last["converged"]:
+            lines.append(f"buried pipe  {label:<22} no convergence at t = {last['time']}")
+            continue
+        iters = sum(s["iterations"] for s in summary["steps"])
+        if "ties" in last:
+            t = last["ties"]["interface"]
+            nodes = t["nodes"]
+            th = angle(nodes["x"], nodes["y"])
+            order = np.argsort(th)
+            th = th[order]
+            tn = recover(th, radius, np.asarray(nodes["fn"])[order])
+            # The tie's tangent is its normal into the soil (outward from the
+            # pipe) turned by +90 degrees: counter-clockwise, -theta.
+            tt = -recover(th, radius, np.asarray(nodes["ft"])[order])
+            an.plot(th, tn / 1e3, style, lw=1.2, label=label)
+            at.plot(th, tt / 1e3, style, lw=1.2, label=label)
+            fn = float(np.sum(nodes["fn"]))
+        else:
+            p = last["pairs"]["interface"]
+            nodes = p["nodes"]
+            th = angle(nodes["x"], nodes["y"])
+            order = np.argsort(th)
+            tn = np.asarray(nodes["tn"])[order]
+            tt = np.asarray(nodes["tt"])[order]
+            # tt is along the contactor's walking direction (the body on its
+            # left): the pipe's outer edge runs counter-clockwise (-theta),
+            # the hole's clockwise (+theta) with the traction on the soil.
+            # Either way the shear on the pipe along +theta is -tt.
+            th = th[order]
+            an.plot(th, tn / 1e3, style, ms=4, mfc="none", label=label)
+            at.plot(th, -tt / 1e3, style, ms=4, mfc="none", label=label)
+            fn = p["Fn"]
+        lines.append(
+            f"buried pipe  {label:<22} Fn {fn / 1e3:9.3f} kN/m  iterations {iters:3d}  run {wall:6.2f} s"
+        )
+    for ax, what in ((an, "normal traction tn (kPa, compression)"), (at, "shear on the pipe (kPa, along +theta)")):
+        ax.set_xlabel("angle from the crown (degrees)")
+        ax.set_ylabel(what)
+        ax.set_xlim(0, 180)
+        ax.grid(True)
+    an.legend(fontsize=8)
+    fig.suptitle("Buried pipe, P0 = 100 kPa after 4 increments: contact against constraint equations (Fig. 17)")
+    fig.tight_layout()
+    fig.savefig(out_dir / "buried_pipe.png", dpi=100)
+    plt.close(fig)
+    return lines
