@@ -11,6 +11,11 @@ use crate::problem::Problem;
 use crate::results::{DriverResult, LogCategory, StepResult};
 use crate::state::State;
 
+/// A constraint row whose coefficients on free dofs are below this fraction
+/// of those on prescribed dofs (root sum of squares) acts on prescribed dofs
+/// only: the contact search's own tolerance on `beta` (pairs.rs).
+const NEGLIGIBLE_ROW: f64 = 1e-6;
+
 #[derive(Debug, thiserror::Error)]
 pub enum SolveError {
     #[error("invalid problem: {0}")]
@@ -580,14 +585,25 @@ impl Solver {
                 let rows = contact_rows.iter().map(|r| (&r.dofs[..], r.rhs));
                 for (i, (dofs, rhs_i)) in rows.chain(tie_rows).enumerate() {
                     let mut b = rhs_i;
-                    let mut free = false;
+                    // A row whose free coefficients are round-off beside its
+                    // prescribed ones (a node held at a target node on a
+                    // symmetry plane, its contact point a hair inside the
+                    // next segment: `beta` = 1e-8) would fix its tiny free
+                    // part with a huge multiplier; it is a row on
+                    // prescribed dofs.
+                    let square = |free: bool| -> f64 {
+                        (dofs.iter())
+                            .filter(|&&(d, _)| (eq[d] != PRESCRIBED) == free)
+                            .map(|&(_, v)| v * v)
+                            .sum()
+                    };
+                    let free = square(true) > NEGLIGIBLE_ROW * NEGLIGIBLE_ROW * square(false);
                     for &(d, v) in dofs {
                         if eq[d] == PRESCRIBED {
                             if it == 0 {
                                 b -= v * dup[d];
                             }
-                        } else {
-                            free |= v != 0.0;
+                        } else if free {
                             extra.push((n + i, eq[d] as usize, v));
                             extra.push((eq[d] as usize, n + i, v));
                         }

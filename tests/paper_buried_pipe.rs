@@ -126,7 +126,7 @@ fn point_gap(a: &Pipe, reference: &Pipe) -> f64 {
 }
 
 #[test]
-#[ignore = "since the per-segment return to sticking (docs/contact.md item 9) the shipped mu = 0.3 case does not converge in its first increment (node 19 alternates between open and contact); it passed before that change with the figures in docs/contact.md"]
+
 fn contact_solutions_against_the_constraint_equations() {
     let normal = run(&[(CONTACT, &tie("normal"))]);
     let full = run(&[(CONTACT, &tie("full"))]);
@@ -213,13 +213,15 @@ fn contact_solutions_against_the_constraint_equations() {
     // 1.5657e5 N against 1.5743e5 N (0.55 %).
     let gap_n = (free.normal_force - normal.normal_force).abs() / normal.normal_force;
     assert!(gap_n <= 0.01, "{gap_n}");
-    // mu = 1000 against the full tie: further apart, 25 % (dV) and 17 % (dH)
-    // of the spread, points within 0.42 % of the crown settlement. Besides
-    // the recovery and the geometry, the contact algorithm releases the two
-    // contactor nodes next to the axis at the crown and at the invert (the
-    // traction recovered there is tensile when they stick), which the full
-    // tie holds; it is stuck everywhere else, as the paper's footnote says a
-    // large mu models mu = infinity.
+    // mu = 1000 against the full tie: every contactor node sticks at the
+    // target node it started on (the meshes match), which is what the full
+    // tie holds, so the displacements differ only by what the 1e-8 m initial
+    // overlap and the contact's updated geometry add: measured 2.6e-7 of the
+    // crown settlement (points) and below 1e-4 of the spread (dV, dH); the
+    // bounds are ten times the initial overlap over the settlement (1e-6).
+    // Until the stick rows of the nodes on the symmetry plane were fixed
+    // (docs/contact.md item 10) the crown and invert pairs of nodes were
+    // released and the solutions 25 % of the spread apart.
     let (sv, sh) = (
         share(
             stuck.vertical(),
@@ -235,12 +237,15 @@ fn contact_solutions_against_the_constraint_equations() {
         ),
     );
     eprintln!(
-        "mu = 1000 vs full tie: dV {sv:.3} dH {sh:.3} of the spread, points {:.2e}",
+        "mu = 1000 vs full tie: dV {sv:.3e} dH {sh:.3e} of the spread, points {:.2e}",
         point_gap(&stuck, &full)
     );
-    assert!(sv <= 0.30 && sh <= 0.30, "{sv} {sh}");
-    assert!(point_gap(&stuck, &full) <= 6e-3);
-    // Total normal force 1.5531e5 N against 1.5630e5 N (0.63 %).
+    assert!(sv <= 1e-3 && sh <= 1e-3, "{sv} {sh}");
+    assert!(point_gap(&stuck, &full) <= 1e-5);
+    // Total normal force: the recovered segment tractions (Eqs. 26/27)
+    // against the tie's nodal forces, 1.5683e5 N against 1.5630e5 N
+    // (0.34 %), although the displacements agree: the recovery is what
+    // differs.
     let gap_n = (stuck.normal_force - full.normal_force).abs() / full.normal_force;
     assert!(gap_n <= 0.01, "{gap_n}");
     // Each contact solution is nearer its own tie than the other tie.
@@ -263,7 +268,7 @@ fn contact_solutions_against_the_constraint_equations() {
 
     // An intermediate mu lies between: both diameter changes and the crown
     // settlement between the two tie solutions, and between mu = 0 and
-    // mu = 1000 (measured dV -1.756e-3 m, dH 1.747e-3 m).
+    // mu = 1000 (measured dV -1.759e-3 m, dH 1.749e-3 m).
     let between = |x: f64, a: f64, b: f64| x > a.min(b) && x < a.max(b);
     for (what, f) in [
         ("dV", Pipe::vertical as fn(&Pipe) -> f64),

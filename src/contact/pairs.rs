@@ -217,35 +217,66 @@ fn target_segments(
 /// The segment a free node at `x` has penetrated, with its projection: the
 /// candidate (bounding box within `reach`) whose projection falls on the
 /// segment with a positive overlap smaller than `reach`, nearest first.
+///
+/// Where the target turns toward the contactor (a concave corner seen from
+/// the penetrating side, or the end of a target on a symmetry plane), a node
+/// that has penetrated near the corner projects just outside both segments
+/// meeting there: the wedge between their normals. If no segment takes the
+/// node, the one it misses by the least is taken when it misses it by no
+/// more than its overlap (`excess(beta) * length <= overlap`: the wedge of
+/// corners up to 45 degrees), with the contact point at the corner.
 fn search(
     segments: &[TargetSegment],
     x: Vector2<f64>,
     reach: f64,
 ) -> Option<(usize, ContactPoint)> {
     let mut best: Option<(usize, ContactPoint)> = None;
-    for (j, s) in segments.iter().enumerate() {
-        if x.x < s.lo[0] - reach
-            || x.x > s.hi[0] + reach
-            || x.y < s.lo[1] - reach
-            || x.y > s.hi[1] + reach
-        {
-            continue;
-        }
+    let mut wedge: Option<(usize, ContactPoint, f64)> = None;
+    for (j, s) in near(segments, x, reach) {
         let cp = s.seg.project(x);
         let d = cp.normal_overlap();
-        if !cp.is_within(BETA_TOLERANCE) || d <= 0.0 || d > reach {
+        if d <= 0.0 || d > reach {
             continue;
         }
-        if best.as_ref().is_none_or(|(_, b)| d < b.normal_overlap()) {
-            best = Some((j, cp));
+        if cp.is_within(BETA_TOLERANCE) {
+            if best.as_ref().is_none_or(|(_, b)| d < b.normal_overlap()) {
+                best = Some((j, cp));
+            }
+        } else {
+            let miss = outside(&cp) * s.seg.length();
+            if miss <= d && wedge.as_ref().is_none_or(|w| miss < w.2) {
+                wedge = Some((j, s.seg.contact_at(x, cp.beta().clamp(0.0, 1.0)), miss));
+            }
         }
     }
-    best
+    best.or(wedge.map(|(j, cp, _)| (j, cp)))
+}
+
+/// The target segments whose bounding box, grown by `reach`, holds `x`.
+fn near(
+    segments: &[TargetSegment],
+    x: Vector2<f64>,
+    reach: f64,
+) -> impl Iterator<Item = (usize, &TargetSegment)> {
+    segments.iter().enumerate().filter(move |(_, s)| {
+        x.x >= s.lo[0] - reach
+            && x.x <= s.hi[0] + reach
+            && x.y >= s.lo[1] - reach
+            && x.y <= s.hi[1] + reach
+    })
+}
+
+/// How far (in beta) a contact point lies outside its segment; 0 on it.
+fn outside(cp: &ContactPoint) -> f64 {
+    (-cp.beta()).max(cp.beta() - 1.0).max(0.0)
 }
 
 /// A sliding node's new contact point: the projection on its segment, or on
 /// the segment it has slid onto (any segment whose projection contains it,
-/// nearest in |overlap|). None when it has slid off the target.
+/// nearest in |overlap|). None when it has slid off the target. A node in
+/// the wedge at a corner that turns toward the contactor (see [`search`])
+/// stays on the segment it misses by the least, when that is no more than
+/// its overlap.
 fn follow(
     segments: &[TargetSegment],
     j: usize,
@@ -257,26 +288,28 @@ fn follow(
         return Some((j, cp));
     }
     let mut best: Option<(usize, ContactPoint)> = None;
-    for (i, s) in segments.iter().enumerate() {
-        if x.x < s.lo[0] - reach
-            || x.x > s.hi[0] + reach
-            || x.y < s.lo[1] - reach
-            || x.y > s.hi[1] + reach
-        {
-            continue;
-        }
+    let mut wedge: Option<(usize, ContactPoint, f64)> = None;
+    for (i, s) in near(segments, x, reach) {
         let c = s.seg.project(x);
-        if !c.is_within(BETA_TOLERANCE) || c.normal_overlap().abs() > reach {
+        let d = c.normal_overlap();
+        if d.abs() > reach {
             continue;
         }
-        if best
-            .as_ref()
-            .is_none_or(|(_, b)| c.normal_overlap().abs() < b.normal_overlap().abs())
-        {
-            best = Some((i, c));
+        if c.is_within(BETA_TOLERANCE) {
+            if best
+                .as_ref()
+                .is_none_or(|(_, b)| d.abs() < b.normal_overlap().abs())
+            {
+                best = Some((i, c));
+            }
+        } else {
+            let miss = outside(&c) * s.seg.length();
+            if d > 0.0 && miss <= d && wedge.as_ref().is_none_or(|w| miss < w.2) {
+                wedge = Some((i, s.seg.contact_at(x, c.beta().clamp(0.0, 1.0)), miss));
+            }
         }
     }
-    best
+    best.or(wedge.map(|(i, c, _)| (i, c)))
 }
 
 /// The contact point of a node at its anchor (the material point of the
@@ -951,4 +984,55 @@ fn quadratic_tractions(
 pub fn touches_prescribed(rows: &[Row], eq: &[u32]) -> bool {
     rows.iter()
         .any(|r| r.dofs.iter().any(|&(d, _)| eq[d] == PRESCRIBED))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn target(points: &[[f64; 2]]) -> Vec<TargetSegment> {
+        points
+            .windows(2)
+            .map(|w| {
+                let (a, b) = (
+                    Vector2::new(w[0][0], w[0][1]),
+                    Vector2::new(w[1][0], w[1][1]),
+                );
+                TargetSegment {
+                    seg: Segment::new(a, b).unwrap(),
+                    nodes: None,
+                    lo: [a.x.min(b.x), a.y.min(b.y)],
+                    hi: [a.x.max(b.x), a.y.max(b.y)],
+                }
+            })
+            .collect()
+    }
+
+    #[test]
+    fn a_node_in_the_wedge_of_a_concave_corner_is_found_at_the_corner() {
+        // A valley (the target body below, walked from +x to -x): a node
+        // 0.01 below its bottom projects beyond the end of both segments
+        // (beta = 1.001 and -0.001).
+        let valley = target(&[[1.0, 0.1], [0.0, 0.0], [-1.0, 0.1]]);
+        let x = Vector2::new(0.0, -0.01);
+        for s in &valley {
+            assert!(!s.seg.project(x).is_within(BETA_TOLERANCE));
+        }
+        // Either segment, the contact point at the corner.
+        let (_, cp) = search(&valley, x, 1.0).expect("penetrated node not found");
+        assert_eq!(cp.point(), Vector2::zeros());
+        assert!(cp.normal_overlap() > 0.0099 && cp.normal_overlap() <= 0.01);
+        let (j, cp) = follow(&valley, 1, x, 1.0).expect("sliding node lost");
+        assert_eq!((j, cp.beta()), (1, 0.0));
+    }
+
+    #[test]
+    fn a_node_past_the_end_of_a_target_by_more_than_its_overlap_is_not_found() {
+        let flat = target(&[[1.0, 0.0], [0.0, 0.0]]);
+        assert!(search(&flat, Vector2::new(-0.05, -0.01), 1.0).is_none());
+        assert!(follow(&flat, 0, Vector2::new(-0.05, -0.01), 1.0).is_none());
+        // Within its overlap of the end it is held at the end.
+        let (_, cp) = search(&flat, Vector2::new(-0.005, -0.01), 1.0).unwrap();
+        assert_eq!(cp.beta(), 1.0);
+    }
 }
