@@ -12,7 +12,6 @@ contact algorithm's Eq. (26)-(27) system.
 """
 
 import json
-import math
 import subprocess
 import time
 from pathlib import Path
@@ -56,8 +55,7 @@ def run(binary, edits, name, work):
     start = time.perf_counter()
     done = subprocess.run([str(binary), "run", str(scene), "--summary", str(summary)], capture_output=True, text=True)
     wall = time.perf_counter() - start
-    if not summary.exists():
-        raise RuntimeError(f"{name}: {done.stderr.strip()}")
+    assert summary.exists(), f"{name}: {done.stderr.strip()}"
     return json.loads(summary.read_text()), wall
 
 
@@ -81,55 +79,73 @@ def recover(theta_deg, radius, forces):
     return np.linalg.solve(m, np.asarray(forces))
 
 
+def tractions(step, radius=0.5):
+    """(angle from the crown in degrees, tn, shear on the pipe along +theta)
+    at the interface nodes, sorted by angle: the pair's reported tractions,
+    or the tie's nodal forces recovered on its quadratic edges."""
+    if "ties" in step:
+        nodes = step["ties"]["interface"]["nodes"]
+        th = angle(nodes["x"], nodes["y"])
+        order = np.argsort(th)
+        th = th[order]
+        tn = recover(th, radius, np.asarray(nodes["fn"])[order])
+        # The tie's tangent is its normal into the soil (outward from the
+        # pipe) turned by +90 degrees: counter-clockwise, -theta.
+        tt = -recover(th, radius, np.asarray(nodes["ft"])[order])
+        return th, tn, tt
+    nodes = step["pairs"]["interface"]["nodes"]
+    th = angle(nodes["x"], nodes["y"])
+    order = np.argsort(th)
+    # tt is along the contactor's walking direction (the body on its left):
+    # the pipe's outer edge runs counter-clockwise (-theta), the hole's
+    # clockwise (+theta) with the traction on the soil. Either way the shear
+    # on the pipe along +theta is -tt.
+    return th[order], np.asarray(nodes["tn"])[order], -np.asarray(nodes["tt"])[order]
+
+
+def solve_all(binary, work_dir):
+    """Every case: label -> (last step, total iterations, run seconds), or
+    label -> None when it does not converge."""
+    out = {}
+    for k, (label, edits, _) in enumerate(CASES):
+        summary, wall = run(binary, edits, f"pipe_{k}", Path(work_dir))
+        last = summary["steps"][-1]
+        iters = sum(s["iterations"] for s in summary["steps"])
+        out[label] = (last, iters, wall) if last["converged"] else None
+    return out
+
+
+def rms(a, b, scale):
+    return float(np.sqrt(np.mean((np.asarray(a) - np.asarray(b)) ** 2)) / scale)
+
+
 def figure(binary, out_dir, work_dir):
     import matplotlib.pyplot as plt
 
-    out_dir, work_dir = Path(out_dir), Path(work_dir)
+    out_dir = Path(out_dir)
+    solved = solve_all(binary, work_dir)
     fig, (an, at) = plt.subplots(1, 2, figsize=(12, 4.5), sharex=True)
     lines = []
-    radius = 0.5
-    for k, (label, edits, style) in enumerate(CASES):
-        try:
-            summary, wall = run(binary, edits, f"pipe_{k}", work_dir)
-        except RuntimeError as e:
-            lines.append(f"buried pipe  {label:<22} FAILED: {e}")
+    curves = {}
+    for label, _, style in CASES:
+        if solved[label] is None:
+            lines.append(f"buried pipe  {label:<22} no convergence")
             continue
-        last = summary["steps"][-1]
-        if not last["converged"]:
-            lines.append(f"buried pipe  {label:<22} no convergence at t = {last['time']}")
-            continue
-        iters = sum(s["iterations"] for s in summary["steps"])
-        if "ties" in last:
-            t = last["ties"]["interface"]
-            nodes = t["nodes"]
-            th = angle(nodes["x"], nodes["y"])
-            order = np.argsort(th)
-            th = th[order]
-            tn = recover(th, radius, np.asarray(nodes["fn"])[order])
-            # The tie's tangent is its normal into the soil (outward from the
-            # pipe) turned by +90 degrees: counter-clockwise, -theta.
-            tt = -recover(th, radius, np.asarray(nodes["ft"])[order])
-            an.plot(th, tn / 1e3, style, lw=1.2, label=label)
-            at.plot(th, tt / 1e3, style, lw=1.2, label=label)
-            fn = float(np.sum(nodes["fn"]))
-        else:
-            p = last["pairs"]["interface"]
-            nodes = p["nodes"]
-            th = angle(nodes["x"], nodes["y"])
-            order = np.argsort(th)
-            tn = np.asarray(nodes["tn"])[order]
-            tt = np.asarray(nodes["tt"])[order]
-            # tt is along the contactor's walking direction (the body on its
-            # left): the pipe's outer edge runs counter-clockwise (-theta),
-            # the hole's clockwise (+theta) with the traction on the soil.
-            # Either way the shear on the pipe along +theta is -tt.
-            th = th[order]
-            an.plot(th, tn / 1e3, style, ms=4, mfc="none", label=label)
-            at.plot(th, -tt / 1e3, style, ms=4, mfc="none", label=label)
-            fn = p["Fn"]
-        lines.append(
-            f"buried pipe  {label:<22} Fn {fn / 1e3:9.3f} kN/m  iterations {iters:3d}  run {wall:6.2f} s"
-        )
+        last, iters, wall = solved[label]
+        th, tn, tt = curves[label] = tractions(last)
+        tie = "ties" in last
+        kw = dict(lw=1.2) if tie else dict(ms=4, mfc="none")
+        an.plot(th, tn / 1e3, style, label=label, **kw)
+        at.plot(th, tt / 1e3, style, label=label, **kw)
+        lines.append(f"buried pipe  {label:<22} iterations {iters:3d}  run {wall:6.2f} s")
+    p0 = 100e3
+    for contact, tie in (("contact, mu = 0", "tie, normal (mu = 0)"), ("contact, mu = 1000", "tie, full (mu = inf)")):
+        if contact in curves and tie in curves:
+            (_, tn_c, tt_c), (_, tn_t, tt_t) = curves[contact], curves[tie]
+            lines.append(
+                f"buried pipe  {contact} against {tie}: RMS tn {100 * rms(tn_c, tn_t, p0):.1f} % of P0, "
+                f"shear {100 * rms(tt_c, tt_t, p0):.1f} % of P0"
+            )
     for ax, what in ((an, "normal traction tn (kPa, compression)"), (at, "shear on the pipe (kPa, along +theta)")):
         ax.set_xlabel("angle from the crown (degrees)")
         ax.set_ylabel(what)
