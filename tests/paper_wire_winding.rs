@@ -125,7 +125,9 @@ fn slip_zone_end(nodes: &PairNodes) -> f64 {
 /// Least-squares line through the points: (slope, value at x = 0).
 fn fit(points: &[(f64, f64)]) -> (f64, f64) {
     let n = points.len() as f64;
-    let (sx, sy) = points.iter().fold((0.0, 0.0), |a, p| (a.0 + p.0, a.1 + p.1));
+    let (sx, sy) = points
+        .iter()
+        .fold((0.0, 0.0), |a, p| (a.0 + p.0, a.1 + p.1));
     let (mx, my) = (sx / n, sy / n);
     let sxy: f64 = points.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
     let sxx: f64 = points.iter().map(|p| (p.0 - mx).powi(2)).sum();
@@ -143,12 +145,23 @@ fn snapped_wire_recovers_its_tension_by_friction() {
     // the initial ones, in every element and in both runs; every node sticks.
     // Tolerance 1e-5 sigma0 (7.5e-3 MPa): the rigid's 1e-8 mm overlap is
     // pushed out next to the node held in y, a strain of ~2e-8 there.
-    let wound = |st: &[f64; 4]| (st[0] - SIGMA0).abs().max((st[1] + P).abs()).max(st[3].abs());
+    let wound = |st: &[f64; 4]| {
+        (st[0] - SIGMA0)
+            .abs()
+            .max((st[1] + P).abs())
+            .max(st[3].abs())
+    };
     for run in [&snapped, &intact] {
         for st in &run[0].stress {
             assert!(wound(st) < 1e-5 * SIGMA0, "step 1: {st:?}");
         }
-        assert!(run[0].interface.state.iter().all(|s| *s == NodeState::Stick));
+        assert!(
+            run[0]
+                .interface
+                .state
+                .iter()
+                .all(|s| *s == NodeState::Stick)
+        );
     }
     // The intact run stays there.
     for st in &intact[2].stress {
@@ -208,12 +221,18 @@ fn snapped_wire_recovers_its_tension_by_friction() {
             "t = {t}: build-up {at_break:.3} + {slope:.4} x MPa (mu p / h = {}), back to the intact stress at x = {reached:.3}",
             MU * P / H
         );
-        assert!((slope / (MU * P / H) - 1.0).abs() < 0.01, "t = {t}: slope {slope}");
+        assert!(
+            (slope / (MU * P / H) - 1.0).abs() < 0.01,
+            "t = {t}: slope {slope}"
+        );
         assert!(
             (at_break - (SIGMA0 - released)).abs() < 0.01 * released,
             "t = {t}: {at_break} at the break"
         );
-        assert!((reached / recovery - 1.0).abs() < 0.01, "t = {t}: {reached}");
+        assert!(
+            (reached / recovery - 1.0).abs() < 0.01,
+            "t = {t}: {reached}"
+        );
 
         // Just below the contact surface the interface row carries the same
         // build-up: with the shear varying linearly through the thickness
