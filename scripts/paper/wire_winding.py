@@ -51,15 +51,16 @@ def read_vtu(path):
 
 
 def columns(centres, stresses):
-    """Per column of elements along x: x, thickness-mean sigma_xx, sigma_xx
-    of the element on the interface (just below the contact surface)."""
+    """Per column of elements along x: x, thickness-mean sigma_xx, and the
+    stress [xx, yy, zz, xy] of the element on the interface (just below the
+    contact surface)."""
     cols = {}
     for (x, y), s in zip(centres, stresses):
-        cols.setdefault(round(x, 9), []).append((y, s[0]))
+        cols.setdefault(round(x, 9), []).append((y, s))
     out = []
     for x in sorted(cols):
-        v = sorted(cols[x])
-        out.append((x, sum(c[1] for c in v) / len(v), v[0][1]))
+        v = sorted(cols[x], key=lambda c: c[0])
+        out.append((x, sum(c[1][0] for c in v) / len(v), v[0][1]))
     return out
 
 
@@ -84,7 +85,7 @@ def figure(binary, out_dir, work_dir):
     summary = json.loads(summary_path.read_text())
     steps = summary["steps"]
 
-    fig, (ax_s, ax_t) = plt.subplots(2, 1, figsize=(8, 7.5), sharex=True)
+    fig, (ax_s, ax_b, ax_t) = plt.subplots(3, 1, figsize=(8, 10), sharex=True)
     lines = [
         f"wire winding: {len(steps)} increments, {summary['dofs']} unknowns, "
         f"run {wall:.2f} s (solve {summary['wall_s']:.3f} s)"
@@ -97,7 +98,9 @@ def figure(binary, out_dir, work_dir):
         cols = columns(*read_vtu(vtk / f"wire_winding_{i + 1:04d}.vtu"))
         xs = [x for x, _, _ in cols]
         ax_s.plot(xs, [m for _, m, _ in cols], "o", ms=3, color=c, label=f"t = {t:g}: thickness mean")
-        ax_s.plot(xs, [b for _, _, b in cols], "-", lw=1, color=c, label=f"t = {t:g}: just below the contact surface")
+        ax_s.plot(xs, [b[0] for _, _, b in cols], "-", lw=1, color=c, label=f"t = {t:g}: just below the contact surface")
+        ax_b.plot(xs, [b[1] for _, _, b in cols], "-", color=c, label=f"t = {t:g}: sigma_yy")
+        ax_b.plot(xs, [b[3] for _, _, b in cols], "--", color=c, label=f"t = {t:g}: tau_xy")
         ax_s.plot(xs, [shear_lag(x, released) for x in xs], "k--", lw=0.8)
 
         nodes = step["pairs"]["interface"]["nodes"]
@@ -137,6 +140,10 @@ def figure(binary, out_dir, work_dir):
     ax_s.set_title("Snapped wire: axial stress in the layer (h = 1 mm, mu = 0.1, p = 300 MPa)")
     ax_s.legend(fontsize=7, loc="lower right")
     ax_s.grid(alpha=0.3)
+    ax_b.set_ylabel("stress (MPa)")
+    ax_b.set_title("Just below the contact surface (the interface row of elements, centres at y = h/4)")
+    ax_b.legend(fontsize=7, loc="center right", ncol=2)
+    ax_b.grid(alpha=0.3)
     ax_t.set_xlabel("x, distance from the break (mm)")
     ax_t.set_ylabel("interface traction (MPa)")
     ax_t.set_title("Interface: tangential traction and mu t_n; zones at the top: | slip, . stick")
