@@ -258,16 +258,36 @@ fn rubber_sheet_tractions_as_the_paper_describes() {
     }
 
     // The experiment (mu_s = 0.20 kept): at 8, 14 and 24 every segment
-    // slides, at mu_d, as with mu_s = mu_d; at 18 it differs (reported,
-    // see docs/paper/rubber_sheet.md).
+    // slides, at mu_d, as with mu_s = mu_d, so the tractions are the same
+    // (measured to 3e-14 of the largest t_n; 1e-6 asserted). The paper:
+    // "relatively small differences", except the tangential tractions at
+    // 18, which "more drastically changed sign". Here too the resultants
+    // at 18 differ little (measured Fn +0.14 %, Ft -0.27 %), but where the
+    // tractions change sign the sticking segments now hold up to mu_s:
+    // the largest reversed t_t, at the node where the sign changes, is
+    // 0.104 against 0.063 (|t_t| / t_n 0.30 against 0.18), and t_t drops
+    // from there to the old direction over one segment instead of two.
+    // Asserted: the largest reversed t_t at least 30 % above mu_s = mu_d's.
     for i in 0..4 {
         let gap = traction_gap(&equal.pairs[i], &kept.pairs[i]);
         eprintln!(
-            "t = {}: mu_s kept vs mu_s = mu_d: tractions differ by {gap:.2e} of max t_n, Ft {:+.4} vs {:+.4}",
-            TIMES[i], kept.pairs[i].ft, equal.pairs[i].ft
+            "t = {}: mu_s kept vs mu_s = mu_d: tractions differ by {gap:.2e} of max t_n, \
+             Fn {:+.3} %, Ft {:.4} vs {:.4}",
+            TIMES[i],
+            100.0 * (kept.pairs[i].fn_ / equal.pairs[i].fn_ - 1.0),
+            kept.pairs[i].ft,
+            equal.pairs[i].ft
         );
         if i != 2 {
             assert!(gap <= 1e-6, "t = {}: {gap}", TIMES[i]);
         }
     }
+    let peak = |p: &PairResult| p.nodes.tt.iter().fold(0.0_f64, |m, &t| m.max(t));
+    let (peak_kept, peak_equal) = (peak(&kept.pairs[2]), peak(&equal.pairs[2]));
+    eprintln!(
+        "t = 18: largest reversed t_t {peak_kept:.4} (mu_s kept), {peak_equal:.4} (mu_s = mu_d)"
+    );
+    assert!(peak_kept >= 1.3 * peak_equal, "{peak_kept} {peak_equal}");
+    let fn_change = (kept.pairs[2].fn_ / equal.pairs[2].fn_ - 1.0).abs();
+    assert!(fn_change <= 0.01, "t = 18: Fn {fn_change}");
 }
