@@ -139,7 +139,9 @@ fn rubber_sheet_tractions_as_the_paper_describes() {
         // (its kept direction +1, the others' -1: the sign of the T_t
         // recovered in the iteration after the touch). The kinematic check
         // of docs/contact.md item 9 does not turn it within the increment
-        // (it does in the next one, when the zone has grown past it). So
+        // (it does in the next one, when the zone has grown past it): the
+        // node is anchored where iteration 1 caught it, ahead of where it
+        // converges, so its slip from there runs against that friction. So
         // the first closed node's |t_t| / t_n is 0.06 and 0.03 at 8 and 14,
         // and |Ft| is below mu_d Fn by 0.52 %, 0.23 %, 0.05 % at 8, 14, 24.
         // Asserted: |Ft| <= mu_d Fn to round-off, and within 1 %.
