@@ -28,8 +28,8 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 REPO = Path(__file__).resolve().parents[1]
-# Section 4.4 (and, as they land, 4.2 and 4.3): modules of scripts/paper/.
-PROBLEMS = ["buried_pipe"]
+# Sections 4.2, 4.3 and 4.4: modules of scripts/paper/.
+PROBLEMS = ["rubber_sheet", "wire_winding", "buried_pipe"]
 E, NU = 200000.0, 0.3
 E_STAR = E / (1 - NU * NU)
 

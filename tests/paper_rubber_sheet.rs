@@ -224,7 +224,7 @@ fn rubber_sheet_tractions_as_the_paper_describes() {
     // channel: friction holds the front back (at 14 it is 11 mm behind the
     // frictionless one) and the axial compression it causes thickens the
     // sheet, so at equal current x the frictional t_n is the larger at 8
-    // and 14 (and the smaller at 24); docs/paper/rubber_sheet.md.
+    // and 14 (and the smaller at 24); docs/paper-problems.md, rubber sheet.
     for i in 0..4 {
         let front = |p: &PairResult| {
             closed(p)

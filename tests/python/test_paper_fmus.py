@@ -22,6 +22,8 @@ from test_fmu import assert_matches_summary
 PAPER = {
     "hertz_plane_strain": REPO / "scenes" / "hertz_plane_strain.toml",
     "hertz_axisymmetric": REPO / "scenes" / "hertz_axisymmetric.toml",
+    "rubber_sheet": REPO / "scenes" / "rubber_sheet.toml",
+    "wire_winding": REPO / "scenes" / "wire_winding.toml",
     "buried_pipe": REPO / "scenes" / "buried_pipe.toml",
 }
 
