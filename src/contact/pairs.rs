@@ -214,6 +214,20 @@ fn target_segments(
     }
 }
 
+/// The contact point of a node at `x` on target segment `seg`: the foot of the normal,
+/// when it falls on the segment to `BETA_TOLERANCE`; a foot just beyond an end is
+/// referred to that end node (beta clamped to [0, 1]). The normal overlap is the same
+/// either way (the point moves along the segment's line); what the clamp removes is a
+/// contact point off the target: a node referred to beta = 1 + 1e-8 ties its row to A
+/// with the weight -1e-8, and where the other dofs of the row are prescribed (a node on
+/// a symmetry plane against the target node there) that weight is all the row has, so
+/// the row moves A by (overlap / 1e-8): docs/contact.md item 10.
+fn on_segment(seg: &Segment, x: Vector2<f64>) -> Option<ContactPoint> {
+    let cp = seg.project(x);
+    cp.is_within(BETA_TOLERANCE)
+        .then(|| seg.contact_at(x, cp.beta().clamp(0.0, 1.0)))
+}
+
 /// The segment a free node at `x` has penetrated, with its projection: the
 /// candidate (bounding box within `reach`) whose projection falls on the
 /// segment with a positive overlap smaller than `reach`, nearest first.
@@ -231,9 +245,11 @@ fn search(
         {
             continue;
         }
-        let cp = s.seg.project(x);
+        let Some(cp) = on_segment(&s.seg, x) else {
+            continue;
+        };
         let d = cp.normal_overlap();
-        if !cp.is_within(BETA_TOLERANCE) || d <= 0.0 || d > reach {
+        if d <= 0.0 || d > reach {
             continue;
         }
         if best.as_ref().is_none_or(|(_, b)| d < b.normal_overlap()) {
@@ -252,8 +268,7 @@ fn follow(
     x: Vector2<f64>,
     reach: f64,
 ) -> Option<(usize, ContactPoint)> {
-    let cp = segments[j].seg.project(x);
-    if cp.is_within(BETA_TOLERANCE) {
+    if let Some(cp) = on_segment(&segments[j].seg, x) {
         return Some((j, cp));
     }
     let mut best: Option<(usize, ContactPoint)> = None;
@@ -265,8 +280,10 @@ fn follow(
         {
             continue;
         }
-        let c = s.seg.project(x);
-        if !c.is_within(BETA_TOLERANCE) || c.normal_overlap().abs() > reach {
+        let Some(c) = on_segment(&s.seg, x) else {
+            continue;
+        };
+        if c.normal_overlap().abs() > reach {
             continue;
         }
         if best
