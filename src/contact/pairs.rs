@@ -50,6 +50,12 @@ pub struct NodeMemory {
     /// here, to catch a slip against its friction force.
     #[serde(default)]
     pub anchor: Option<(usize, f64)>,
+    /// Frictionless, held at a reflex corner of the target (see `corner`).
+    #[serde(default)]
+    pub corner: bool,
+    /// The last target segment switch in this increment (from, to).
+    #[serde(default)]
+    pub crossed: Option<(usize, usize)>,
 }
 
 /// A contactor segment's memory (segment j joins contactor nodes j, j+1).
@@ -87,6 +93,7 @@ impl PairMemory {
 pub fn begin_increment(memory: &mut [PairMemory]) {
     for node in memory.iter_mut().flat_map(|m| m.nodes.iter_mut()) {
         node.anchor = (node.state != NodeState::Open).then_some((node.segment, node.beta));
+        node.crossed = None;
     }
 }
 
@@ -294,6 +301,78 @@ fn follow(
         }
     }
     best
+}
+
+/// The segment meeting segment `j` at its end `end_j` (beta 0 or 1) when the
+/// target body's angle there exceeds 180 degrees (a reflex corner, as round
+/// a hole): `(i, end_i)`. The body lies to the left of the segments, so
+/// walking along the surface a reflex corner turns right.
+fn reflex(segments: &[TargetSegment], j: usize, end_j: f64) -> Option<(usize, f64)> {
+    let s = &segments[j].seg;
+    let (at, end_i) = if end_j == 1.0 {
+        (s.xb(), 0.0)
+    } else {
+        (s.xa(), 1.0)
+    };
+    let i = (0..segments.len()).find(|&i| {
+        i != j && {
+            let o = &segments[i].seg;
+            (if end_i == 0.0 { o.xa() } else { o.xb() }) == at
+        }
+    })?;
+    let o = &segments[i].seg;
+    let (t_in, t_out) = if end_j == 1.0 {
+        (s.tangent(), o.tangent())
+    } else {
+        (o.tangent(), s.tangent())
+    };
+    let turn = t_in.x * t_out.y - t_in.y * t_out.x;
+    (turn < -1e-6).then_some((i, end_i))
+}
+
+/// A frictionless sliding node at a reflex corner of the target: it slides
+/// back across a corner it crossed in this increment (from segment `from`
+/// onto segment `j`, having crossed from `j` onto `from` before), or it is
+/// held at the corner and still lies beyond the corner's end of both
+/// segments (to `BETA_TOLERANCE`), where neither segment's normal reaches it.
+/// Returns `(end_j, i, end_i)`: the corner is the end `end_j` of `j` and
+/// `end_i` of the other segment `i`. A node crossing a corner once (sliding
+/// along a dented flat target) is not held.
+fn corner(
+    segments: &[TargetSegment],
+    from: usize,
+    j: usize,
+    x: Vector2<f64>,
+    node: &NodeMemory,
+) -> Option<(f64, usize, f64)> {
+    if from != j && from < segments.len() && node.crossed == Some((j, from)) {
+        for end_j in [0.0, 1.0] {
+            if let Some((i, end_i)) = reflex(segments, j, end_j)
+                && i == from
+            {
+                return Some((end_j, i, end_i));
+            }
+        }
+    }
+    if !node.corner {
+        return None;
+    }
+    let beta = segments[j].seg.project(x).beta();
+    let end_j = if beta >= 1.0 - BETA_TOLERANCE {
+        1.0
+    } else if beta <= BETA_TOLERANCE {
+        0.0
+    } else {
+        return None;
+    };
+    let (i, end_i) = reflex(segments, j, end_j)?;
+    let beta_i = segments[i].seg.project(x).beta();
+    let beyond = if end_i == 0.0 {
+        beta_i <= BETA_TOLERANCE
+    } else {
+        beta_i >= 1.0 - BETA_TOLERANCE
+    };
+    beyond.then_some((end_j, i, end_i))
 }
 
 /// The contact point of a node at its anchor (the material point of the
@@ -620,6 +699,7 @@ pub fn update(
             let old = mem.nodes[k];
             let mut lambda = Vector2::zeros();
             let mut state = table1[k];
+            let mut at_corner = false;
             if active[k] && state != NodeState::Open {
                 lambda = Vector2::new(ev.forces[k][0], ev.forces[k][1]);
             }
@@ -634,6 +714,30 @@ pub fn update(
                 }
                 NodeState::Stick | NodeState::Slip => {
                     point = follow(&segments, old.segment, x[k], reach);
+                    // Frictionless at a reflex corner of the target: held at
+                    // the corner while its force lies in the cone of the two
+                    // segments' normals, else sliding on the segment that can
+                    // carry it (docs/contact.md item 10).
+                    if frictionless
+                        && state == NodeState::Slip
+                        && let Some((j, _)) = point
+                        && let Some((end_j, i, end_i)) =
+                            corner(&segments, old.segment, j, x[k], &old)
+                    {
+                        let (nj, ni) = (segments[j].seg.normal(), segments[i].seg.normal());
+                        let f = Vector2::new(force[k][0], force[k][1]);
+                        // f = -(a n_j + b n_i): the target pushes the node out.
+                        let det = nj.x * ni.y - nj.y * ni.x;
+                        let a = -(f.x * ni.y - f.y * ni.x) / det;
+                        let b = -(nj.x * f.y - nj.y * f.x) / det;
+                        let tol = TENSION_TOLERANCE * force_scale;
+                        if a >= -tol && b >= -tol {
+                            point = Some((j, segments[j].seg.contact_at(x[k], end_j)));
+                            at_corner = true;
+                        } else if a < -tol && b >= -tol {
+                            point = Some((i, segments[i].seg.contact_at(x[k], end_i)));
+                        }
+                    }
                     // Beyond the segment release of Section 3.2: a node
                     // whose own contact force pulls it into the target
                     // (tension) is released.
@@ -688,12 +792,20 @@ pub fn update(
                     ));
                 }
             }
-            if state != old.state {
+            at_corner &= state != NodeState::Open;
+            if state != old.state || at_corner != old.corner {
                 out.changes += 1;
             }
             let n = pair.contactor[k];
-            let mut node = NodeMemory { state, ..old };
+            let mut node = NodeMemory {
+                state,
+                corner: at_corner,
+                ..old
+            };
             if let Some((j, cp)) = point.filter(|_| state != NodeState::Open) {
+                if old.state != NodeState::Open && j != old.segment {
+                    node.crossed = Some((old.segment, j));
+                }
                 node.segment = j;
                 node.beta = cp.beta();
                 // The anchor moves only when an increment begins: a node
@@ -714,7 +826,11 @@ pub fn update(
                 };
                 let overlap = cp.overlap();
                 let first_row = out.rows.len();
-                if state == NodeState::Stick {
+                if state == NodeState::Stick || at_corner {
+                    if at_corner && active[k] {
+                        // Held in both directions: its whole force.
+                        lambda = Vector2::new(force[k][0], force[k][1]);
+                    }
                     let c = cp.sticking(lambda);
                     for l in 0..6 {
                         if let Some(d) = dofs[l] {
