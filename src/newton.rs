@@ -724,3 +724,39 @@ fn equilibrium_residual(c: &ContactSystem, eq: &[u32], rhs: &[f64]) -> Vec<f64> 
     }
     out
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A sliding node on a symmetry plane (x prescribed) against a target
+    /// segment whose normal is tilted against the plane: the multiplier
+    /// takes up the free component, and a force it can carry leaves no
+    /// residual at the node or at the target.
+    #[test]
+    fn equilibrium_residual_on_a_symmetry_plane() {
+        let (nx, ny) = (0.0654f64, 0.9979f64);
+        let m = 300.0;
+        let c = ContactSystem {
+            rows: vec![pairs::Row {
+                dofs: vec![(0, nx), (1, ny), (2, -nx), (3, -ny)],
+                rhs: 0.0,
+            }],
+            groups: vec![(0, 0..1)],
+            ..Default::default()
+        };
+        let eq = [PRESCRIBED, 0, 1, 2];
+        // The free entries of C^T m: node y, target x and y.
+        let rhs = [ny * m, -nx * m, -ny * m];
+        let out = equilibrium_residual(&c, &eq, &rhs);
+        assert!(out.iter().all(|v| v.abs() <= 1e-12 * m), "{out:?}");
+        // A force the row cannot carry (along the target, at the target
+        // node) stays.
+        let rhs = [ny * m, -nx * m + 5.0, -ny * m];
+        let out = equilibrium_residual(&c, &eq, &rhs);
+        assert!(
+            (out[1] - 5.0).abs() <= 1e-9 && out[0].abs() <= 1e-9,
+            "{out:?}"
+        );
+    }
+}

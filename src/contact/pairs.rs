@@ -1085,3 +1085,77 @@ pub fn touches_prescribed(rows: &[Row], eq: &[u32]) -> bool {
     rows.iter()
         .any(|r| r.dofs.iter().any(|&(d, _)| eq[d] == PRESCRIBED))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn seg(a: [f64; 2], b: [f64; 2]) -> TargetSegment {
+        let (xa, xb) = (Vector2::new(a[0], a[1]), Vector2::new(b[0], b[1]));
+        TargetSegment {
+            seg: Segment::new(xa, xb).unwrap(),
+            nodes: None,
+            lo: [a[0].min(b[0]), a[1].min(b[1])],
+            hi: [a[0].max(b[0]), a[1].max(b[1])],
+        }
+    }
+
+    /// A foot of the normal just beyond an end is referred to the end node:
+    /// beta exactly 1, the same normal overlap; beyond the tolerance, none.
+    #[test]
+    fn contact_point_beyond_an_end_is_the_end_node() {
+        let s = seg([0.0, 0.0], [1.0, 0.0]);
+        let x = Vector2::new(1.0 + 1e-8, 1e-8);
+        let raw = s.seg.project(x);
+        let cp = on_segment(&s.seg, x).unwrap();
+        assert_eq!(cp.beta(), 1.0);
+        assert!(raw.beta() > 1.0);
+        assert_eq!(cp.normal_overlap(), raw.normal_overlap());
+        assert_eq!(cp.point(), s.seg.xb());
+        assert!(on_segment(&s.seg, Vector2::new(1.0 + 1e-3, 0.0)).is_none());
+        let inside = on_segment(&s.seg, Vector2::new(0.25, 0.1)).unwrap();
+        assert_eq!(inside.beta(), 0.25);
+    }
+
+    /// Reflex corners: the body lies to the left of A -> B, so a surface
+    /// that turns right (round a hole) has reflex corners, one that turns
+    /// left (round a disk) does not; a straight one has no corner.
+    #[test]
+    fn reflex_corners_turn_right() {
+        // Turning right: (0,0) -> (1,0) -> (2,-0.1), body above.
+        let right = [seg([0.0, 0.0], [1.0, 0.0]), seg([1.0, 0.0], [2.0, -0.1])];
+        assert_eq!(reflex(&right, 0, 1.0), Some((1, 0.0)));
+        assert_eq!(reflex(&right, 1, 0.0), Some((0, 1.0)));
+        assert_eq!(reflex(&right, 0, 0.0), None);
+        let left = [seg([0.0, 0.0], [1.0, 0.0]), seg([1.0, 0.0], [2.0, 0.1])];
+        assert_eq!(reflex(&left, 0, 1.0), None);
+        let straight = [seg([0.0, 0.0], [1.0, 0.0]), seg([1.0, 0.0], [2.0, 0.0])];
+        assert_eq!(reflex(&straight, 0, 1.0), None);
+    }
+
+    /// A node is at a corner when it slides back across one it crossed in
+    /// the increment, or when it is held there and lies beyond both
+    /// segments' ends; not when it crosses once.
+    #[test]
+    fn corner_after_crossing_back_or_while_held() {
+        let s = [seg([0.0, 0.0], [1.0, 0.0]), seg([1.0, 0.0], [2.0, -0.1])];
+        // Penetrated 1e-7 into the body (above) at the corner: beyond the
+        // end of both segments.
+        let x = Vector2::new(1.0, 1e-7);
+        assert!(s[0].seg.project(x).beta() >= 1.0 && s[1].seg.project(x).beta() < 0.0);
+        let fresh = NodeMemory::default();
+        assert_eq!(corner(&s, 1, 0, x, &fresh), None, "crossing once");
+        let back = NodeMemory {
+            crossed: Some((0, 1)),
+            ..fresh
+        };
+        assert_eq!(corner(&s, 1, 0, x, &back), Some((1.0, 1, 0.0)));
+        let held = NodeMemory {
+            corner: true,
+            ..fresh
+        };
+        assert_eq!(corner(&s, 0, 0, x, &held), Some((1.0, 1, 0.0)));
+        // Held, but now inside segment 0: it has left the corner.
+        assert_eq!(corner(&s, 0, 0, Vector2::new(0.5, 1e-7), &held), None);
+    }
+}
