@@ -705,14 +705,20 @@ impl Solver {
 /// The residual left once each constrained node's multipliers take up its
 /// out-of-balance force in the constrained directions (least squares at the
 /// contactor node, the reactions spread to the target as the rows say).
+/// Only the node's free components count: on a symmetry plane the prescribed
+/// component is a reaction, and a row along a target normal tilted against
+/// the plane takes up the free component alone (docs/contact.md item 10).
 fn equilibrium_residual(c: &ContactSystem, eq: &[u32], rhs: &[f64]) -> Vec<f64> {
     let mut out = rhs.to_vec();
     let free = |d: usize| (eq[d] != PRESCRIBED).then(|| eq[d] as usize);
     for (node, rows) in &c.groups {
-        let (dx, dy) = (2 * node, 2 * node + 1);
-        let (Some(qx), Some(qy)) = (free(dx), free(dy)) else {
+        let comps: Vec<(usize, usize)> = [2 * node, 2 * node + 1]
+            .into_iter()
+            .filter_map(|d| free(d).map(|q| (d, q)))
+            .collect();
+        if comps.is_empty() {
             continue;
-        };
+        }
         let coeff = |row: &pairs::Row, d: usize| {
             row.dofs
                 .iter()
@@ -720,34 +726,20 @@ fn equilibrium_residual(c: &ContactSystem, eq: &[u32], rhs: &[f64]) -> Vec<f64> 
                 .map(|e| e.1)
                 .sum::<f64>()
         };
-        let rk = nalgebra::Vector2::new(rhs[qx], rhs[qy]);
         let rs = &c.rows[rows.clone()];
-        // C_k: rows x 2 block at the contactor node; mu = (C_k C_k^T)^-1 C_k r_k.
-        let mu: Vec<f64> = match rs.len() {
-            1 => {
-                let ck = nalgebra::Vector2::new(coeff(&rs[0], dx), coeff(&rs[0], dy));
-                let n2 = ck.norm_squared();
-                if n2 == 0.0 {
-                    continue;
-                }
-                vec![ck.dot(&rk) / n2]
-            }
-            2 => {
-                let ck = nalgebra::Matrix2::new(
-                    coeff(&rs[0], dx),
-                    coeff(&rs[0], dy),
-                    coeff(&rs[1], dx),
-                    coeff(&rs[1], dy),
-                );
-                let Some(inv) = (ck * ck.transpose()).try_inverse() else {
-                    continue;
-                };
-                let m = inv * ck * rk;
-                vec![m.x, m.y]
-            }
-            _ => continue,
+        // C_k: the rows' coefficients at the node's free components
+        // (components x rows); mu = pinv(C_k) r_k.
+        let ck =
+            nalgebra::DMatrix::from_fn(comps.len(), rs.len(), |i, j| coeff(&rs[j], comps[i].0));
+        let rk = nalgebra::DVector::from_iterator(comps.len(), comps.iter().map(|&(_, q)| rhs[q]));
+        let scale = ck.abs().max();
+        if scale == 0.0 {
+            continue;
+        }
+        let Ok(mu) = ck.svd(true, true).solve(&rk, 1e-12 * scale) else {
+            continue;
         };
-        for (row, m) in rs.iter().zip(mu) {
+        for (row, m) in rs.iter().zip(mu.iter()) {
             for &(d, v) in &row.dofs {
                 if let Some(q) = free(d) {
                     out[q] -= v * m;
@@ -756,4 +748,40 @@ fn equilibrium_residual(c: &ContactSystem, eq: &[u32], rhs: &[f64]) -> Vec<f64> 
         }
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A sliding node on a symmetry plane (x prescribed) against a target
+    /// segment whose normal is tilted against the plane: the multiplier
+    /// takes up the free component, and a force it can carry leaves no
+    /// residual at the node or at the target.
+    #[test]
+    fn equilibrium_residual_on_a_symmetry_plane() {
+        let (nx, ny) = (0.0654f64, 0.9979f64);
+        let m = 300.0;
+        let c = ContactSystem {
+            rows: vec![pairs::Row {
+                dofs: vec![(0, nx), (1, ny), (2, -nx), (3, -ny)],
+                rhs: 0.0,
+            }],
+            groups: vec![(0, 0..1)],
+            ..Default::default()
+        };
+        let eq = [PRESCRIBED, 0, 1, 2];
+        // The free entries of C^T m: node y, target x and y.
+        let rhs = [ny * m, -nx * m, -ny * m];
+        let out = equilibrium_residual(&c, &eq, &rhs);
+        assert!(out.iter().all(|v| v.abs() <= 1e-12 * m), "{out:?}");
+        // A force the row cannot carry (along the target, at the target
+        // node) stays.
+        let rhs = [ny * m, -nx * m + 5.0, -ny * m];
+        let out = equilibrium_residual(&c, &eq, &rhs);
+        assert!(
+            (out[1] - 5.0).abs() <= 1e-9 && out[0].abs() <= 1e-9,
+            "{out:?}"
+        );
+    }
 }

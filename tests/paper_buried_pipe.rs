@@ -14,9 +14,10 @@ name = "interface"
 contactor = "pipe.outer"
 target = "soil.hole"
 mu_s = 0.3"#;
-/// mu = 0 with the soil's hole as the contactor: with the pipe as the
-/// contactor a springline node alternates between the two target segments
-/// meeting under it and the increment does not converge.
+/// mu = 0 with the soil's hole as the contactor (the paper's choice for
+/// mu = 0); with the pipe as the contactor (the shipped pair, mu_s edited to
+/// 0) the springline node is held at the hole's corner under it
+/// (docs/contact.md item 10).
 const FRICTIONLESS: &str = r#"[[contact]]
 name = "interface"
 contactor = "soil.hole"
@@ -43,6 +44,9 @@ struct Pipe {
     /// The interface's total normal force (compression): the contact pair's
     /// Fn, or the sum of the tie's nodal normal forces.
     normal_force: f64,
+    /// Contactor nodes sticking, sliding and open after the last increment
+    /// (None when the interface is tied).
+    states: Option<[usize; 3]>,
     steps: usize,
 }
 
@@ -95,6 +99,10 @@ fn run(edits: &[(&str, &str)]) -> Pipe {
         invert: at([0.0, -R]),
         springline: at([R, 0.0]),
         base_ry: base.ry,
+        states: last
+            .pairs
+            .first()
+            .map(|(_, p)| [p.n_stick, p.n_slip, p.n_open]),
         steps: times.len(),
     }
 }
@@ -126,30 +134,32 @@ fn point_gap(a: &Pipe, reference: &Pipe) -> f64 {
 }
 
 #[test]
-
 fn contact_solutions_against_the_constraint_equations() {
     let normal = run(&[(CONTACT, &tie("normal"))]);
     let full = run(&[(CONTACT, &tie("full"))]);
     let free = run(&[(CONTACT, FRICTIONLESS)]);
+    let free_pipe = run(&[("mu_s = 0.3", "mu_s = 0.0")]);
     let mid = run(&[]);
     let stuck = run(&[("mu_s = 0.3", "mu_s = 1000.0")]);
     let all = [
         ("normal tie", &normal),
         ("full tie", &full),
         ("mu = 0", &free),
+        ("mu = 0, pipe contactor", &free_pipe),
         ("mu = 0.3", &mid),
         ("mu = 1000", &stuck),
     ];
     for (name, r) in all {
         eprintln!(
-            "{name}: crown {:?} invert {:?} springline {:?} dV {:.6e} dH {:.6e} Ry {:.6e} Fn {:.6e}",
+            "{name}: crown {:?} invert {:?} springline {:?} dV {:.6e} dH {:.6e} Ry {:.6e} Fn {:.6e} stick/slip/open {:?}",
             r.crown,
             r.invert,
             r.springline,
             r.vertical(),
             r.horizontal(),
             r.base_ry,
-            r.normal_force
+            r.normal_force,
+            r.states
         );
         assert_eq!(r.steps, 4);
         // Equilibrium: the base carries the overburden on the loaded width
@@ -213,15 +223,52 @@ fn contact_solutions_against_the_constraint_equations() {
     // 1.5657e5 N against 1.5743e5 N (0.55 %).
     let gap_n = (free.normal_force - normal.normal_force).abs() / normal.normal_force;
     assert!(gap_n <= 0.01, "{gap_n}");
-    // mu = 1000 against the full tie: every contactor node sticks at the
-    // target node it started on (the meshes match), which is what the full
-    // tie holds, so the displacements differ only by what the 1e-8 m initial
-    // overlap and the contact's updated geometry add: measured 2.6e-7 of the
-    // crown settlement (points) and below 1e-4 of the spread (dV, dH); the
-    // bounds are ten times the initial overlap over the settlement (1e-6).
-    // Until the stick rows of the nodes on the symmetry plane were fixed
-    // (docs/contact.md item 10) the crown and invert pairs of nodes were
-    // released and the solutions 25 % of the spread apart.
+    // The same with the pipe as the contactor: measured 11.6 % (dV) and
+    // 9.8 % (dH) of the spread, points within 0.26 % of the crown
+    // settlement, total normal force 0.60 % above the tie's. A little
+    // stiffer than with the hole as the contactor: the springline node is
+    // held at the hole's corner under it (its force lies between the two
+    // segments' normals), which a normal tie does not do.
+    let (pv, ph) = (
+        share(
+            free_pipe.vertical(),
+            normal.vertical(),
+            normal.vertical(),
+            full.vertical(),
+        ),
+        share(
+            free_pipe.horizontal(),
+            normal.horizontal(),
+            normal.horizontal(),
+            full.horizontal(),
+        ),
+    );
+    let gap_n = (free_pipe.normal_force - normal.normal_force).abs() / normal.normal_force;
+    eprintln!(
+        "mu = 0, pipe contactor, vs normal tie: dV {pv:.3} dH {ph:.3} of the spread, points {:.2e}, Fn {gap_n:.2e}",
+        point_gap(&free_pipe, &normal)
+    );
+    assert!(pv <= 0.15 && ph <= 0.15, "{pv} {ph}");
+    assert!(point_gap(&free_pipe, &normal) <= 4e-3);
+    assert!(gap_n <= 0.01, "{gap_n}");
+    assert!(
+        share(
+            free_pipe.vertical(),
+            full.vertical(),
+            normal.vertical(),
+            full.vertical()
+        ) > 0.5
+    );
+    // mu = 1000 against the full tie: every contactor node sticks, as the
+    // paper's footnote says a large mu models mu = infinity, and the
+    // displacements are the tie's (measured: dV and dH within 1.6e-6 of the
+    // spread, points within 2.5e-7 of the crown settlement; the contact rows
+    // act on the updated positions, the tie on the undeformed ones). Before
+    // docs/contact.md item 10 the crown's contact row was degenerate, the
+    // first iteration was 0.5 m off, and the two nodes next to the axis at
+    // the crown and the invert ended open: 25 % (dV) and 17 % (dH) of the
+    // spread.
+    assert_eq!(stuck.states, Some([49, 0, 0]));
     let (sv, sh) = (
         share(
             stuck.vertical(),
@@ -237,17 +284,16 @@ fn contact_solutions_against_the_constraint_equations() {
         ),
     );
     eprintln!(
-        "mu = 1000 vs full tie: dV {sv:.3e} dH {sh:.3e} of the spread, points {:.2e}",
+        "mu = 1000 vs full tie: dV {sv:.2e} dH {sh:.2e} of the spread, points {:.2e}",
         point_gap(&stuck, &full)
     );
-    assert!(sv <= 1e-3 && sh <= 1e-3, "{sv} {sh}");
+    assert!(sv <= 1e-4 && sh <= 1e-4, "{sv} {sh}");
     assert!(point_gap(&stuck, &full) <= 1e-5);
-    // Total normal force: the recovered segment tractions (Eqs. 26/27)
-    // against the tie's nodal forces, 1.5683e5 N against 1.5630e5 N
-    // (0.34 %), although the displacements agree: the recovery is what
-    // differs.
+    // Total normal force 1.5609e5 N against 1.5630e5 N (0.13 %): the
+    // recovered segment tractions against the tie's nodal forces.
     let gap_n = (stuck.normal_force - full.normal_force).abs() / full.normal_force;
-    assert!(gap_n <= 0.01, "{gap_n}");
+    eprintln!("mu = 1000 vs full tie: Fn {gap_n:.2e}");
+    assert!(gap_n <= 0.005, "{gap_n}");
     // Each contact solution is nearer its own tie than the other tie.
     assert!(
         share(
@@ -268,7 +314,11 @@ fn contact_solutions_against_the_constraint_equations() {
 
     // An intermediate mu lies between: both diameter changes and the crown
     // settlement between the two tie solutions, and between mu = 0 and
-    // mu = 1000 (measured dV -1.759e-3 m, dH 1.749e-3 m).
+    // mu = 1000 (measured dV -1.759e-3 m, dH 1.749e-3 m; 10/39/0
+    // contactor nodes stick/slide/open).
+    // Partial slip: some contactor nodes stick, some slide.
+    let [stick, slip, _] = mid.states.unwrap();
+    assert!(stick > 0 && slip > 0, "{:?}", mid.states);
     let between = |x: f64, a: f64, b: f64| x > a.min(b) && x < a.max(b);
     for (what, f) in [
         ("dV", Pipe::vertical as fn(&Pipe) -> f64),
