@@ -209,7 +209,7 @@ fn snapped_wire_recovers_its_tension_by_friction() {
     // Step 1 is the intact wound state: no displacement, so the stresses are
     // the initial ones, in every element and in both runs; every node sticks.
     // Tolerance 1e-5 sigma0 (7.5e-3 MPa): the rigid's 1e-8 mm overlap is
-    // pushed out next to the node held in y, a strain of ~2e-8 there.
+    // pushed out, a strain of ~1e-8 over the layer.
     let wound = |st: &[f64; 4]| {
         (st[0] - SIGMA0)
             .abs()
