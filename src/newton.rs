@@ -419,6 +419,7 @@ impl Solver {
                     &self.problem,
                     &poses,
                     &u,
+                    (&self.state.u, &self.state.rigid),
                     &self.r,
                     &self.model.eq,
                     &mut memory,
