@@ -419,7 +419,6 @@ impl Solver {
                     &self.problem,
                     &poses,
                     &u,
-                    (&self.state.u, &self.state.rigid),
                     &self.r,
                     &self.model.eq,
                     &mut memory,

@@ -489,12 +489,10 @@ fn check(kind: ElementKind, rigid: bool, wanted: &[NodeState], r_nodes: &[V2], s
     let eq: Vec<u32> = (0..ndof as u32).collect();
     let mut mem = vec![memory];
     let mut log = Vec::new();
-    let poses = pairs::scene_poses(&p.problem, 1.0);
     let sys = pairs::update(
         &p.problem,
-        &poses,
+        &pairs::scene_poses(&p.problem, 1.0),
         &p.u,
-        (&p.u, &poses),
         &r,
         &eq,
         &mut mem,

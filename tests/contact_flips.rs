@@ -36,14 +36,11 @@ fn a_node_flipping_open_and_closed_is_reported() {
     let mut flips = Flips::default();
     let mut log = Vec::new();
     let mut states = Vec::new();
-    let start = vec![0.0; ndof];
-    let poses = pairs::scene_poses(&p, 0.0);
     let error = loop {
         match pairs::update(
             &p,
-            &poses,
+            &pairs::scene_poses(&p, 0.0),
             &u,
-            (&start, &poses),
             &r,
             &eq,
             &mut memory,

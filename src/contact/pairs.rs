@@ -56,10 +56,6 @@ pub struct NodeMemory {
     /// The last target segment switch in this increment (from, to).
     #[serde(default)]
     pub crossed: Option<(usize, usize)>,
-    /// Open at the start of the increment: in contact, new to it in this
-    /// increment (its anchor is where an iteration caught it).
-    #[serde(default)]
-    pub fresh: bool,
 }
 
 /// A contactor segment's memory (segment j joins contactor nodes j, j+1).
@@ -98,7 +94,6 @@ pub fn begin_increment(memory: &mut [PairMemory]) {
     for node in memory.iter_mut().flat_map(|m| m.nodes.iter_mut()) {
         node.anchor = (node.state != NodeState::Open).then_some((node.segment, node.beta));
         node.crossed = None;
-        node.fresh = node.state == NodeState::Open;
     }
 }
 
@@ -444,12 +439,10 @@ fn from_segment_state(s: SegmentState) -> NodeState {
 /// the out-of-balance forces `r` (F_int - R_ext, contact excluded) and the
 /// memory after the previous iteration, which it updates. `eq` maps dofs to
 /// equations (PRESCRIBED for prescribed dofs).
-#[allow(clippy::too_many_arguments)]
 pub fn update(
     problem: &Problem,
     poses: &[[f64; 3]],
     u: &[f64],
-    start: (&[f64], &[[f64; 3]]),
     r: &[f64],
     eq: &[u32],
     memory: &mut [PairMemory],
@@ -507,46 +500,9 @@ pub fn update(
             .collect();
         let ever: Vec<bool> = mem.segments.iter().map(|s| s.ever_slid).collect();
         let directions: Vec<f64> = mem.segments.iter().map(|s| s.direction).collect();
-        // A segment with a node new to contact in this increment that starts
-        // to slide takes its friction against the slip of its nodes over the
-        // increment (each node's motion relative to the target material point
-        // it is in contact with, from the start of the increment), not the
-        // sign of its recovered T_t: that node's anchor is where an iteration
-        // caught it, and the T_t that holds it there is the catch's, not the
-        // friction's (docs/contact.md item 12).
-        let segments0 = target_segments(problem, pair, start.0, start.1)?;
-        let motion: Vec<Option<Vector2<f64>>> = (0..m)
-            .map(|k| {
-                let node = &mem.nodes[k];
-                if !active[k] || (pair.mu_s == 0.0 && pair.mu_d == 0.0) {
-                    return None;
-                }
-                let j = node.segment;
-                let (s1, s0) = (segments.get(j)?, segments0.get(j)?);
-                let n = pair.contactor[k];
-                let x0 = position(problem, start.0, n);
-                let target = s1.seg.point_at(node.beta) - s0.seg.point_at(node.beta);
-                Some(x[k] - x0 - target)
-            })
-            .collect();
-        let start_dirs: Vec<f64> = (0..mem.segments.len())
-            .map(|s| {
-                let (a, b) = (s, (s + 1) % m);
-                if ![a, b].iter().any(|&k| active[k] && mem.nodes[k].fresh) {
-                    return 0.0;
-                }
-                let tau = x[b] - x[a];
-                let slip: f64 = [a, b]
-                    .iter()
-                    .filter_map(|&k| motion[k])
-                    .map(|v| v.dot(&tau))
-                    .sum();
-                -slip.signum()
-            })
-            .collect();
         // Section 3 on the contactor at positions `at`.
         let evaluate = |at: &[[f64; 2]]| {
-            traction::evaluate_with_start(
+            traction::evaluate(
                 geometry,
                 pair.recovery,
                 pair.mu_s,
@@ -559,7 +515,6 @@ pub fn update(
                 &prev,
                 &ever,
                 &directions,
-                &start_dirs,
                 SLIDE_HYSTERESIS,
             )
             .map_err(|e| format!("pair '{}': {e}", pair.name))
@@ -733,9 +688,6 @@ pub fn update(
                     || prev[s] != SegmentState::Slide
                     || seg.direction == 0.0
                     || fresh[s]
-                    || [s, (s + 1) % m]
-                        .iter()
-                        .any(|&k| active[k] && mem.nodes[k].fresh)
                 {
                     continue;
                 }
@@ -835,11 +787,7 @@ pub fn update(
                             .seg
                             .normal()
                             .dot(&Vector2::new(force[k][0], force[k][1]));
-                        // Not a node new to contact in this increment that
-                        // slides (experiment, docs/contact.md item 12).
-                        if pull > TENSION_TOLERANCE * force_scale
-                            && !(old.fresh && state == NodeState::Slip)
-                        {
+                        if pull > TENSION_TOLERANCE * force_scale {
                             log(&format!(
                                 "pair '{}' node {k}: contact force in tension ({pull:.3e}), released",
                                 pair.name

@@ -1098,7 +1098,6 @@ pub struct Evaluation {
 /// the node along its slip. A reversal is caught kinematically by the caller (the
 /// segment whose nodes' slip runs along its friction sticks, its nodes at their anchors,
 /// and the next sticking-to-sliding decision takes the new sign).
-#[allow(clippy::too_many_arguments)]
 pub fn evaluate(
     geometry: Geometry,
     recovery: Recovery,
@@ -1112,34 +1111,6 @@ pub fn evaluate(
     previous: &[SegmentState],
     ever_slid: &[bool],
     directions: &[f64],
-    eta: f64,
-) -> Result<Evaluation, TractionError> {
-    let start = vec![0.0; directions.len()];
-    evaluate_with_start(
-        geometry, recovery, mu_s, mu_d, rule, closed, x, active, force, previous, ever_slid,
-        directions, &start, eta,
-    )
-}
-
-/// [`evaluate`], where a segment that starts to slide takes the direction
-/// `start[j]` when it is not zero instead of the sign of its recovered `T_t`
-/// (a segment with a node new to contact in the increment: the caller gives
-/// the direction against the slip of its nodes over the increment).
-#[allow(clippy::too_many_arguments)]
-pub fn evaluate_with_start(
-    geometry: Geometry,
-    recovery: Recovery,
-    mu_s: f64,
-    mu_d: f64,
-    rule: FrictionRule,
-    closed: bool,
-    x: &[[f64; 2]],
-    active: &[bool],
-    force: &[[f64; 2]],
-    previous: &[SegmentState],
-    ever_slid: &[bool],
-    directions: &[f64],
-    start: &[f64],
     eta: f64,
 ) -> Result<Evaluation, TractionError> {
     let friction = Friction::new(mu_s, mu_d, rule)?;
@@ -1168,12 +1139,6 @@ pub fn evaluate_with_start(
         &tractions,
         &mut decisions,
     )?;
-    check_len("start directions", tractions.len(), start.len())?;
-    for (j, d) in decisions.iter_mut().enumerate() {
-        if previous[j] != SegmentState::Slide && d.state == SegmentState::Slide && start[j] != 0.0 {
-            d.sign = start[j].signum();
-        }
-    }
     let forces = contact_forces(&chain, &tractions, &decisions)?;
     let states: Vec<SegmentState> = decisions.iter().map(|d| d.state).collect();
     let node_states = node_states(&chain, active, &states)?;
