@@ -610,21 +610,7 @@ pub fn update(
             };
             [before, (k < nseg).then_some(k)]
         };
-        // The slip of each sliding node in contact from its anchor (None for
-        // the others): the segments' kinematic checks below.
-        let slips: Vec<Option<Vector2<f64>>> = (0..m)
-            .map(|k| {
-                let node = &mem.nodes[k];
-                if frictionless || !active[k] || node.state != NodeState::Slip {
-                    return None;
-                }
-                let (sa, ba) = node.anchor?;
-                let (_, cp) = follow(&segments, node.segment, x[k], reach)?;
-                (sa < segments.len()).then(|| cp.point() - segments[sa].seg.point_at(ba))
-            })
-            .collect();
         let mut recontact: Vec<Option<((usize, ContactPoint), bool)>> = vec![None; m];
-        let mut free_slip: Vec<Option<Vector2<f64>>> = vec![None; m];
         for k in (0..m).filter(|&k| mem.nodes[k].state == NodeState::Open) {
             let Some((j, cp)) = search(&segments, x[k], reach) else {
                 continue;
@@ -637,35 +623,17 @@ pub fn update(
             };
             let slid = slip.norm() > 1e-9 * segments[j].seg.length();
             recontact[k] = Some(((j, cp), slid));
-            if slid {
-                free_slip[k] = Some(slip);
+            if !slid {
+                continue;
             }
-        }
-        // The segments of a node that comes back having slid take a friction
-        // against the slip of the segment: the sum over its nodes of the
-        // slip while free (coming back) or from the anchor (sliding in
-        // contact), as in the return to sticking below (item 9). The slip of
-        // the returning node alone can run against the segment's: a node
-        // caught at the contact edge in an early iteration, released and
-        // caught again a little behind, beside a node that has slid with the
-        // sheet over the whole increment.
-        let mut fresh = vec![false; nseg];
-        for k in (0..m).filter(|&k| free_slip[k].is_some()) {
             for s in adjoining(k).into_iter().flatten() {
                 // Contactor segment s runs from node s to node s + 1.
-                let (a, b) = (s, (s + 1) % m);
-                let tau = x[b] - x[a];
-                let slip: f64 = [a, b]
-                    .iter()
-                    .filter_map(|&i| free_slip[i].or(slips[i]))
-                    .map(|v| v.dot(&tau))
-                    .sum();
+                let tau = x[(s + 1) % m] - x[s];
                 let seg = &mut mem.segments[s];
-                if (seg.state != NodeState::Stick || prev[s] == SegmentState::Open) && slip != 0.0 {
+                if seg.state != NodeState::Stick || prev[s] == SegmentState::Open {
                     seg.state = NodeState::Slip;
-                    seg.direction = -slip.signum();
+                    seg.direction = -slip.dot(&tau).signum();
                     seg.ever_slid = true;
-                    fresh[s] = true;
                 }
             }
         }
@@ -679,15 +647,23 @@ pub fn update(
         // friction loads a node next to a heavily loaded one with half the
         // segment's friction whatever its own normal force, so a single
         // node's slip may run along its share while the segment dissipates.
-        // A segment whose direction was just taken from its slip (above) is
-        // not checked again.
         if !frictionless {
+            let slips: Vec<Option<Vector2<f64>>> = (0..m)
+                .map(|k| {
+                    let node = &mem.nodes[k];
+                    if !active[k] || node.state != NodeState::Slip {
+                        return None;
+                    }
+                    let (sa, ba) = node.anchor?;
+                    let (_, cp) = follow(&segments, node.segment, x[k], reach)?;
+                    (sa < segments.len()).then(|| cp.point() - segments[sa].seg.point_at(ba))
+                })
+                .collect();
             for s in 0..nseg {
                 let seg = mem.segments[s];
                 if seg.state != NodeState::Slip
                     || prev[s] != SegmentState::Slide
                     || seg.direction == 0.0
-                    || fresh[s]
                 {
                     continue;
                 }
