@@ -14,18 +14,17 @@ them.
 
 import argparse
 import importlib
-import json
 import math
 import re
 import subprocess
 import tempfile
-import time
 from pathlib import Path
 
 import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+from paper import cli  # noqa: E402
 
 REPO = Path(__file__).resolve().parents[1]
 # Sections 4.2, 4.3 and 4.4: modules of scripts/paper/.
@@ -36,17 +35,7 @@ E_STAR = E / (1 - NU * NU)
 
 def run(binary, scene_text, name, workdir):
     """Runs an edited scene; returns (summary, wall seconds)."""
-    scene = workdir / f"{name}.toml"
-    scene.write_text(scene_text)
-    summary = workdir / f"{name}.json"
-    start = time.perf_counter()
-    subprocess.run(
-        [str(binary), "run", str(scene), "--summary", str(summary)],
-        check=True,
-        capture_output=True,
-        text=True,
-    )
-    return json.loads(summary.read_text()), time.perf_counter() - start
+    return cli.run_text(binary, scene_text, name, workdir)
 
 
 def reference_x(binary, scene_text, name, workdir):

@@ -11,10 +11,13 @@ M t = f with M_ij = integral of N_i N_j ds, the same kind of recovery as the
 contact algorithm's Eq. (26)-(27) system.
 """
 
-import json
-import subprocess
-import time
+import sys
 from pathlib import Path
+
+# The sibling modules, also when this file runs on its own.
+if str(Path(__file__).resolve().parents[1]) not in sys.path:
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+from paper import cli  # noqa: E402
 
 import numpy as np
 
@@ -49,14 +52,7 @@ def run(binary, edits, name, work):
     for old, new in edits:
         assert text.count(old) == 1, old
         text = text.replace(old, new)
-    scene = work / f"{name}.toml"
-    scene.write_text(text)
-    summary = work / f"{name}.json"
-    start = time.perf_counter()
-    done = subprocess.run([str(binary), "run", str(scene), "--summary", str(summary)], capture_output=True, text=True)
-    wall = time.perf_counter() - start
-    assert summary.exists(), f"{name}: {done.stderr.strip()}"
-    return json.loads(summary.read_text()), wall
+    return cli.run_text(binary, text, name, work)
 
 
 def angle(x, y):

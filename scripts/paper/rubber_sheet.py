@@ -10,13 +10,13 @@ it returns the lines to print (per case and time: Fn, Ft, stick/slip/open
 counts, the current x range of the contact zone; per case the run time).
 """
 
-import argparse
-import json
-import subprocess
 import sys
-import tempfile
-import time
 from pathlib import Path
+
+# The sibling modules, also when this file runs on its own.
+if str(Path(__file__).resolve().parents[1]) not in sys.path:
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+from paper import cli  # noqa: E402
 
 import matplotlib
 
@@ -47,18 +47,9 @@ CASES = (
 
 def solve(binary, text, stem, work_dir):
     """Writes the scene text, runs it, returns (summary steps by time, seconds)."""
-    scene = Path(work_dir) / f"{stem}.toml"
-    summary = Path(work_dir) / f"{stem}.json"
-    scene.write_text(text)
-    start = time.perf_counter()
-    subprocess.run(
-        [str(binary), "run", str(scene), "--summary", str(summary)],
-        check=True,
-        capture_output=True,
-        text=True,
-    )
-    seconds = time.perf_counter() - start
-    steps = json.loads(summary.read_text())["steps"]
+    summary, seconds = cli.run_text(binary, text, stem, work_dir)
+    steps = summary["steps"]
+    assert steps[-1]["converged"], f"{stem}: no convergence at t = {steps[-1]['time']}"
     return {round(s["time"], 9): s for s in steps}, seconds
 
 
@@ -116,15 +107,5 @@ def figure(binary, out_dir, work_dir):
     return lines
 
 
-def main():
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--bin", default=str(REPO / "target" / "release" / "contact2d"))
-    parser.add_argument("--out", default=str(REPO / "docs" / "figures"))
-    args = parser.parse_args()
-    with tempfile.TemporaryDirectory() as work_dir:
-        for line in figure(args.bin, args.out, work_dir):
-            print(line)
-
-
 if __name__ == "__main__":
-    sys.exit(main())
+    cli.standalone(figure, __doc__.splitlines()[0])

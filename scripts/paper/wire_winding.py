@@ -9,11 +9,14 @@ runs the scene with the command line (summary and VTK output), reads the
 element stresses from the .vtu files and writes out_dir/wire_winding.png.
 """
 
-import json
-import subprocess
-import time
 import xml.etree.ElementTree as ET
+import sys
 from pathlib import Path
+
+# The sibling modules, also when this file runs on its own.
+if str(Path(__file__).resolve().parents[1]) not in sys.path:
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+from paper import cli  # noqa: E402
 
 import matplotlib
 
@@ -73,16 +76,7 @@ def figure(binary, out_dir, work_dir):
     work_dir = Path(work_dir)
     out_dir = Path(out_dir)
     vtk = work_dir / "wire_winding_vtk"
-    summary_path = work_dir / "wire_winding.json"
-    start = time.perf_counter()
-    subprocess.run(
-        [str(binary), "run", str(SCENE), "--summary", str(summary_path), "--vtk", str(vtk)],
-        check=True,
-        capture_output=True,
-        text=True,
-    )
-    wall = time.perf_counter() - start
-    summary = json.loads(summary_path.read_text())
+    summary, wall = cli.run(binary, SCENE, work_dir / "wire_winding.json", "--vtk", vtk)
     steps = summary["steps"]
 
     fig, (ax_s, ax_b, ax_t) = plt.subplots(3, 1, figsize=(8, 10), sharex=True)
@@ -160,13 +154,4 @@ def figure(binary, out_dir, work_dir):
 
 
 if __name__ == "__main__":
-    import argparse
-    import tempfile
-
-    ap = argparse.ArgumentParser()
-    ap.add_argument("--bin", default=str(REPO / "target" / "release" / "contact2d"))
-    ap.add_argument("--out", default=str(REPO / "docs" / "figures"))
-    args = ap.parse_args()
-    with tempfile.TemporaryDirectory() as work:
-        for line in figure(args.bin, args.out, work):
-            print(line)
+    cli.standalone(figure, __doc__.splitlines()[0])
