@@ -58,6 +58,10 @@ pub struct Solver {
     augmented: Augmented,
     /// The contact part of the last converged iteration (for results).
     contact: Option<ContactSystem>,
+    /// Diagonal of the model's bounding box: the length scale of gap tests.
+    size: f64,
+    /// Position of each free dof's diagonal entry in `k`.
+    diagonal_at: Vec<usize>,
 }
 
 impl Solver {
@@ -112,6 +116,24 @@ impl Solver {
             rigid: pairs::scene_poses(&problem, 0.0),
             ties: vec![0.0; problem.ties.iter().map(|t| t.rows.len()).sum()],
         };
+        let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+        let rigid_points = problem.rigids.iter().flat_map(|r| r.points.iter());
+        for p in problem.mesh.nodes.iter().chain(rigid_points) {
+            for c in 0..2 {
+                lo[c] = lo[c].min(p[c]);
+                hi[c] = hi[c].max(p[c]);
+            }
+        }
+        let size = (hi[0] - lo[0]).hypot(hi[1] - lo[1]);
+        let size = if size.is_finite() { size } else { 1.0 };
+        let pattern = &model.pattern;
+        let diagonal_at = (0..pattern.n)
+            .map(|q| {
+                (pattern.col_ptr[q]..pattern.col_ptr[q + 1])
+                    .find(|&i| pattern.row_idx[i] == q)
+                    .ok_or_else(|| SolveError::Invalid(format!("no diagonal entry for equation {q}")))
+            })
+            .collect::<Result<Vec<_>, _>>()?;
         let inputs = vec![[None, None]; problem.drivers.len()];
         let rigid_inputs = vec![[None; 3]; problem.rigids.len()];
         Ok(Solver {
@@ -128,6 +150,8 @@ impl Solver {
             factor_valid: false,
             augmented: Augmented::default(),
             contact: None,
+            size,
+            diagonal_at,
         })
     }
 
@@ -373,13 +397,14 @@ impl Solver {
         let mut history = self.state.history.clone();
         let n = self.model.free_dofs();
         let mut rhs = vec![0.0; n];
-        let (mut r0, mut du1, mut e1) = (0.0, 0.0, 0.0);
+        let (mut du1, mut e1) = (0.0f64, 0.0f64);
         let mut ratios: Vec<f64> = Vec::new();
         let mut last_du = vec![0.0; n];
         let with_contact = !self.problem.contacts.is_empty();
         let mut memory = self.state.contact.clone();
         pairs::begin_increment(&mut memory);
         let mut flips = Flips::default();
+        let mut diagonal = vec![0.0; u.len()];
         let mut extra: Vec<(usize, usize, f64)> = Vec::new();
         // Tie multipliers, total: their forces C^T lambda act as loads.
         let mut lambda = self.state.ties.clone();
@@ -415,12 +440,25 @@ impl Solver {
             let contact = if with_contact {
                 let mut clog =
                     |m: &str| log(LogCategory::Contact, &format!("t = {t:.6e} it {it}: {m}"));
+                for (dof, &q) in self.model.eq.iter().enumerate() {
+                    diagonal[dof] = if q == PRESCRIBED {
+                        0.0
+                    } else {
+                        self.k[self.diagonal_at[q as usize]]
+                    };
+                }
+                let start = pairs::Start {
+                    u: &self.state.u,
+                    poses: &self.state.rigid,
+                    diagonal: &diagonal,
+                };
                 Some(pairs::update(
                     &self.problem,
                     &poses,
                     &u,
                     &self.r,
                     &self.model.eq,
+                    &start,
                     &mut memory,
                     &mut flips,
                     &mut clog,
@@ -428,7 +466,6 @@ impl Solver {
             } else {
                 None
             };
-            let mut rnorm2 = 0.0;
             let mut react2 = 0.0;
             for (dof, &q) in self.model.eq.iter().enumerate() {
                 if q == PRESCRIBED {
@@ -442,8 +479,10 @@ impl Solver {
                     rhs[q as usize] = -v;
                 }
             }
+            let mut contact_force2 = 0.0;
             if let Some(c) = &contact {
                 for &(d, f) in &c.force {
+                    contact_force2 += f * f;
                     let q = self.model.eq[d];
                     if q != PRESCRIBED {
                         rhs[q as usize] += f;
@@ -456,46 +495,46 @@ impl Solver {
                 Some(c) if c.neqc() > 0 => Some(equilibrium_residual(c, &self.model.eq, &rhs)),
                 _ => None,
             };
-            for v in adjusted.as_deref().unwrap_or(&rhs) {
-                rnorm2 += v * v;
-            }
-            let rnorm = rnorm2.sqrt();
+            let rnorm = norm(adjusted.as_deref().unwrap_or(&rhs));
             if !rnorm.is_finite() {
                 return Err(format!("non-finite residual at iteration {it}"));
             }
-            // Round-off floor: the residual sums element forces of size
-            // force_scale; below ~1e-14 of that nothing is meaningful.
-            let floor = 1e-14 * self.ws.force_scale.max(react2.sqrt()).max(r0);
+            // The force scale of the problem: element forces, reactions,
+            // contact forces (never the first residual alone: a held input
+            // has a first residual at round-off).
+            let f_ref = self
+                .ws
+                .force_scale
+                .max(react2.sqrt())
+                .max(contact_force2.sqrt())
+                .max(f64::MIN_POSITIVE);
+            let rho = rnorm / f_ref;
             let (neqc, changes, overlap) = contact
                 .as_ref()
                 .map_or((0, 0, 0.0), |c| (c.neqc(), c.changes, c.max_overlap));
+            // Gaps are tested in lengths: to the displacement tolerance of
+            // the first correction, or of 1e-3 of the model's size.
+            let gap_tol = settings.displacement_tolerance * du1.max(1e-3 * self.size);
+            let contact_ok = changes == 0 && overlap <= gap_tol;
+            let force_ok = rho <= settings.force_tolerance;
             if it == 0 {
-                r0 = rnorm;
-                if rnorm == 0.0 && dup.iter().all(|v| *v == 0.0) && neqc == 0 && changes == 0 {
+                // Nothing moved and the state is in equilibrium to the
+                // tolerance: a held input converges without a solve.
+                let held = dup.iter().all(|v| *v == 0.0) && poses == self.state.rigid;
+                if held && force_ok && contact_ok {
                     log(
                         LogCategory::Newton,
-                        &format!("t = {t:.6e}: nothing changed, in equilibrium"),
+                        &format!("t = {t:.6e} it 0: |r|/F = {rho:.3e}  held, in equilibrium"),
                     );
                     self.commit(t, u, history, memory, poses.clone(), contact, lambda);
                     return Ok(Converged {
                         iterations: 0,
-                        residual: 0.0,
+                        residual: rho,
                     });
                 }
-                // A start in equilibrium (or with every free dof held by a
-                // contact row) has no residual to normalise by: use the
-                // reactions, then the element force scale.
-                if r0 <= floor {
-                    let contact_force = contact.as_ref().map_or(0.0, |c| {
-                        c.force.iter().map(|f| f.1 * f.1).sum::<f64>().sqrt()
-                    });
-                    r0 = react2.sqrt().max(contact_force).max(self.ws.force_scale);
-                }
-                r0 = r0.max(f64::MIN_POSITIVE);
             } else {
-                let rho = rnorm / r0;
                 let energy = (0..n).map(|q| last_du[q] * rhs[q]).sum::<f64>().abs() / e1;
-                let dnorm = last_du.iter().map(|v| v * v).sum::<f64>().sqrt() / du1;
+                let dnorm = norm(&last_du) / du1;
                 ratios.push(rho);
                 let rate = match ratios.len() {
                     0..=2 => String::new(),
@@ -512,33 +551,20 @@ impl Solver {
                 log(
                     LogCategory::Newton,
                     &format!(
-                        "t = {t:.6e} it {it}: |r|/|r0| = {rho:.3e}  |du|/|du1| = {dnorm:.3e}  energy {energy:.3e}{rate}{contact_text}"
+                        "t = {t:.6e} it {it}: |r|/F = {rho:.3e}  |du|/|du1| = {dnorm:.3e}  energy {energy:.3e}{rate}{contact_text}"
                     ),
                 );
-                let force_ok = rho <= settings.force_tolerance;
-                // A correction at the precision of the displacements themselves
-                // cannot improve the solution further (round-off stagnation).
-                let unorm = u.iter().map(|v| v * v).sum::<f64>().sqrt();
-                let stagnated = dnorm * du1 <= 1e-14 * unorm;
-                // Contact: the node states must have settled and the
-                // constrained nodes sit on the target (to the displacement
-                // tolerance of the first correction).
-                let contact_ok =
-                    changes == 0 && overlap <= settings.displacement_tolerance * du1.max(1e-300);
+                // Round-off: the residual sums element forces of size f_ref,
+                // and a correction at the precision of the displacements
+                // cannot improve the solution further.
+                let at_roundoff = rnorm <= 1e-13 * f_ref;
+                let stagnated = dnorm * du1 <= 1e-14 * norm(&u);
                 let converged = contact_ok
-                    && (rnorm <= floor
-                        || stagnated
+                    && (at_roundoff
                         || (force_ok
                             && (energy <= settings.energy_tolerance
-                                || dnorm <= settings.displacement_tolerance)));
-                if converged && stagnated && !force_ok && rnorm > floor {
-                    log(
-                        LogCategory::Warning,
-                        &format!(
-                            "t = {t:.6e}: residual stagnated at round-off, |r|/|r0| = {rho:.3e}"
-                        ),
-                    );
-                }
+                                || dnorm <= settings.displacement_tolerance
+                                || stagnated)));
                 if converged {
                     self.commit(t, u, history, memory, poses.clone(), contact, lambda);
                     return Ok(Converged {
@@ -546,8 +572,13 @@ impl Solver {
                         residual: rho,
                     });
                 }
-                if it >= 3 && rho > 1e8 {
-                    return Err(format!("diverging: |r|/|r0| = {rho:.3e} at iteration {it}"));
+                // Diverging: the residual is far above every force of the
+                // problem and still growing.
+                let m = ratios.len();
+                if it >= 3 && rho > 1e6 && ratios[m - 1] > ratios[m - 2] && ratios[m - 2] > ratios[m - 3] {
+                    return Err(format!(
+                        "diverging: |r|/F = {rho:.3e} at iteration {it}, growing for two iterations"
+                    ));
                 }
             }
             if it == settings.max_iterations {
@@ -582,8 +613,11 @@ impl Solver {
                     let violation: f64 = r.dofs.iter().map(|&(d, v)| v * u[d]).sum();
                     (&r.dofs[..], -violation)
                 });
-                let rows = contact_rows.iter().map(|r| (&r.dofs[..], r.rhs));
-                for (i, (dofs, rhs_i)) in rows.chain(tie_rows).enumerate() {
+                let rows = contact_rows
+                    .iter()
+                    .map(|r| (&r.dofs[..], r.rhs, &r.column[..]));
+                let tie_rows = tie_rows.map(|(dofs, b)| (dofs, b, &[][..]));
+                for (i, (dofs, rhs_i, column)) in rows.chain(tie_rows).enumerate() {
                     let mut b = rhs_i;
                     // A row whose free coefficients are round-off beside its
                     // prescribed ones (a node held at a target node on a
@@ -605,6 +639,15 @@ impl Solver {
                             }
                         } else if free {
                             extra.push((n + i, eq[d] as usize, v));
+                            if column.is_empty() {
+                                extra.push((eq[d] as usize, n + i, v));
+                            }
+                        }
+                    }
+                    // A sliding node's friction: the multiplier's column
+                    // differs from its row.
+                    for &(d, v) in column.iter().filter(|_| free) {
+                        if eq[d] != PRESCRIBED {
                             extra.push((eq[d] as usize, n + i, v));
                         }
                     }
@@ -646,12 +689,7 @@ impl Solver {
             }
             last_du.copy_from_slice(&rhs);
             if it == 0 {
-                du1 = last_du
-                    .iter()
-                    .map(|v| v * v)
-                    .sum::<f64>()
-                    .sqrt()
-                    .max(f64::MIN_POSITIVE);
+                du1 = norm(&last_du).max(f64::MIN_POSITIVE);
             }
         }
         Err(format!(
@@ -702,6 +740,10 @@ impl Solver {
     }
 }
 
+fn norm(v: &[f64]) -> f64 {
+    v.iter().map(|x| x * x).sum::<f64>().sqrt()
+}
+
 /// The residual left once each constrained node's multipliers take up its
 /// out-of-balance force in the constrained directions (least squares at the
 /// contactor node, the reactions spread to the target as the rows say).
@@ -719,8 +761,16 @@ fn equilibrium_residual(c: &ContactSystem, eq: &[u32], rhs: &[f64]) -> Vec<f64> 
         if comps.is_empty() {
             continue;
         }
+        // The direction the multiplier acts in: its column.
+        fn acting(row: &pairs::Row) -> &[(usize, f64)] {
+            if row.column.is_empty() {
+                &row.dofs
+            } else {
+                &row.column
+            }
+        }
         let coeff = |row: &pairs::Row, d: usize| {
-            row.dofs
+            acting(row)
                 .iter()
                 .filter(|e| e.0 == d)
                 .map(|e| e.1)
@@ -740,7 +790,7 @@ fn equilibrium_residual(c: &ContactSystem, eq: &[u32], rhs: &[f64]) -> Vec<f64> 
             continue;
         };
         for (row, m) in rs.iter().zip(mu.iter()) {
-            for &(d, v) in &row.dofs {
+            for &(d, v) in acting(row) {
                 if let Some(q) = free(d) {
                     out[q] -= v * m;
                 }
@@ -766,6 +816,7 @@ mod tests {
             rows: vec![pairs::Row {
                 dofs: vec![(0, nx), (1, ny), (2, -nx), (3, -ny)],
                 rhs: 0.0,
+                column: Vec::new(),
             }],
             groups: vec![(0, 0..1)],
             ..Default::default()

@@ -206,6 +206,20 @@ pub enum Recovery {
     Lumped,
 }
 
+/// How the contact states (open, stick, slip) are decided in each iteration.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Decisions {
+    /// Each node from the current iterate: its own contact force, gap and
+    /// slip from where it was at the start of the increment (a semismooth
+    /// Newton on the nodal complementarity conditions), friction of a
+    /// sliding node consistently linearised (`contact::nodal`).
+    #[default]
+    Nodal,
+    /// The paper's Section 3: traction recovery, segment resultants and
+    /// Table 1, friction of a sliding segment held over the iteration.
+    Paper,
+}
+
 /// A contactor surface against a target (Section 2 of the paper).
 #[derive(Clone, Debug, PartialEq)]
 pub struct ContactPair {
@@ -223,6 +237,7 @@ pub struct ContactPair {
     pub mu_d: f64,
     pub rule: FrictionRule,
     pub recovery: Recovery,
+    pub decisions: Decisions,
 }
 
 /// Newton control. Tolerances are relative to the first iteration of an

@@ -166,6 +166,7 @@ fn patch(kind: ElementKind, rigid: bool) -> Patch {
         mu_d: 0.2,
         rule: FrictionRule::MuDAfterSlip,
         recovery: Recovery::Consistent,
+        decisions: contact2d::problem::Decisions::Paper,
     });
     Patch {
         problem,

@@ -308,7 +308,7 @@ fn write_outputs(
 fn step_line(i: usize, n: usize, s: &StepResult) -> String {
     use std::fmt::Write;
     let mut line = format!(
-        "step {i}/{n}  t = {}  iterations {}  substeps {}  |r|/|r0| = {:.3e}  NEQC {}",
+        "step {i}/{n}  t = {}  iterations {}  substeps {}  |r|/F = {:.3e}  NEQC {}",
         s.time, s.iterations, s.substeps, s.residual, s.neqc
     );
     for (name, r) in &s.drivers {

@@ -10,7 +10,7 @@
 use super::segment::{ContactPoint, Segment};
 use super::traction::{self, Geometry, SegmentState};
 use crate::assembly::PRESCRIBED;
-use crate::problem::{AnalysisKind, ContactPair, Kinematics, Problem, Target};
+use crate::problem::{AnalysisKind, ContactPair, Decisions, Kinematics, Problem, Target};
 use crate::results::{NodeState, PairNodes, PairResult};
 use nalgebra::Vector2;
 use serde::{Deserialize, Serialize};
@@ -31,13 +31,13 @@ use serde::{Deserialize, Serialize};
 const SLIDE_HYSTERESIS: f64 = 1.0;
 /// A node's contact force counts as tension above this fraction of the
 /// largest contact force of its pair (round-off at a node just touching).
-const TENSION_TOLERANCE: f64 = 1e-8;
+pub(super) const TENSION_TOLERANCE: f64 = 1e-8;
 /// Contact points this far (in beta) outside a segment still count as on it,
 /// so round-off at a target node does not lose the contact.
-const BETA_TOLERANCE: f64 = 1e-6;
+pub(super) const BETA_TOLERANCE: f64 = 1e-6;
 /// Times a node may change between open and closed within one increment
 /// before the increment is declared oscillating.
-const MAX_FLIPS: usize = 6;
+pub(super) const MAX_FLIPS: usize = 6;
 
 /// A contactor node's memory: state, target segment and contact point.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
@@ -56,6 +56,16 @@ pub struct NodeMemory {
     /// The last target segment switch in this increment (from, to).
     #[serde(default)]
     pub crossed: Option<(usize, usize)>,
+    /// Nodal decisions: the direction of its slip along the target's
+    /// tangent (A to B) while it slides, +-1.
+    #[serde(default)]
+    pub slip_sign: f64,
+    /// Nodal decisions: it has slid in this increment (sticks with mu_d).
+    #[serde(default)]
+    pub slid: bool,
+    /// Nodal decisions: it has ever slid (mu_d for good under the usual rule).
+    #[serde(default)]
+    pub ever_slid: bool,
 }
 
 /// A contactor segment's memory (segment j joins contactor nodes j, j+1).
@@ -94,6 +104,7 @@ pub fn begin_increment(memory: &mut [PairMemory]) {
     for node in memory.iter_mut().flat_map(|m| m.nodes.iter_mut()) {
         node.anchor = (node.state != NodeState::Open).then_some((node.segment, node.beta));
         node.crossed = None;
+        node.slid = false;
     }
 }
 
@@ -104,6 +115,9 @@ pub fn begin_increment(memory: &mut [PairMemory]) {
 pub struct Row {
     pub dofs: Vec<(usize, f64)>,
     pub rhs: f64,
+    /// The multiplier's column in the displacement rows when it differs
+    /// from the row (a sliding node's friction); empty: the row itself.
+    pub column: Vec<(usize, f64)>,
 }
 
 /// The contact part of the system for one iteration.
@@ -135,19 +149,19 @@ impl ContactSystem {
 /// Per-increment counters (flip detection).
 #[derive(Clone, Debug, Default)]
 pub struct Flips {
-    counts: Vec<Vec<usize>>,
+    pub(super) counts: Vec<Vec<usize>>,
 }
 
 /// A target segment at the current time: end points and node numbers
 /// (None for a rigid target).
-struct TargetSegment {
-    seg: Segment,
-    nodes: Option<[usize; 2]>,
+pub(super) struct TargetSegment {
+    pub(super) seg: Segment,
+    pub(super) nodes: Option<[usize; 2]>,
     lo: [f64; 2],
     hi: [f64; 2],
 }
 
-fn position(problem: &Problem, u: &[f64], n: usize) -> Vector2<f64> {
+pub(super) fn position(problem: &Problem, u: &[f64], n: usize) -> Vector2<f64> {
     let x = problem.mesh.nodes[n];
     Vector2::new(x[0] + u[2 * n], x[1] + u[2 * n + 1])
 }
@@ -182,7 +196,7 @@ pub fn rigid_points(problem: &Problem, r: usize, pose: [f64; 3]) -> (Vec<[f64; 2
     (points, [cx + ux, cy + uy])
 }
 
-fn target_segments(
+pub(super) fn target_segments(
     problem: &Problem,
     pair: &ContactPair,
     u: &[f64],
@@ -229,7 +243,7 @@ fn target_segments(
 /// with the weight -1e-8, and where the other dofs of the row are prescribed (a node on
 /// a symmetry plane against the target node there) that weight is all the row has, so
 /// the row moves A by (overlap / 1e-8): docs/contact.md item 10.
-fn on_segment(seg: &Segment, x: Vector2<f64>) -> Option<ContactPoint> {
+pub(super) fn on_segment(seg: &Segment, x: Vector2<f64>) -> Option<ContactPoint> {
     let cp = seg.project(x);
     cp.is_within(BETA_TOLERANCE)
         .then(|| seg.contact_at(x, cp.beta().clamp(0.0, 1.0)))
@@ -247,7 +261,7 @@ fn on_segment(seg: &Segment, x: Vector2<f64>) -> Option<ContactPoint> {
 /// it misses it by no more than its overlap (`excess(beta) * length <=
 /// overlap`: corners up to 45 degrees). A node past the end of a target by
 /// more than its overlap is not found.
-fn search(
+pub(super) fn search(
     segments: &[TargetSegment],
     x: Vector2<f64>,
     reach: f64,
@@ -286,7 +300,7 @@ fn search(
 /// A sliding node's new contact point: the projection on its segment, or on
 /// the segment it has slid onto (any segment whose projection contains it,
 /// nearest in |overlap|). None when it has slid off the target.
-fn follow(
+pub(super) fn follow(
     segments: &[TargetSegment],
     j: usize,
     x: Vector2<f64>,
@@ -409,7 +423,7 @@ fn anchor_point(
     (cp.overlap().norm() <= reach).then_some((j, cp))
 }
 
-fn geometry(problem: &Problem) -> Geometry {
+pub(super) fn geometry(problem: &Problem) -> Geometry {
     match problem.analysis {
         AnalysisKind::PlaneStrain { thickness } | AnalysisKind::PlaneStress { thickness } => {
             Geometry::Planar { thickness }
@@ -445,6 +459,7 @@ pub fn update(
     u: &[f64],
     r: &[f64],
     eq: &[u32],
+    start: &Start,
     memory: &mut [PairMemory],
     flips: &mut Flips,
     log: &mut dyn FnMut(&str),
@@ -456,9 +471,67 @@ pub fn update(
     if flips.counts.len() != memory.len() {
         flips.counts = memory.iter().map(|m| vec![0; m.nodes.len()]).collect();
     }
-    let geometry = geometry(problem);
     for (p, pair) in problem.contacts.iter().enumerate() {
-        let mem = &mut memory[p];
+        let result = match pair.decisions {
+            Decisions::Paper => paper_pair(
+                problem,
+                pair,
+                poses,
+                u,
+                r,
+                eq,
+                &mut memory[p],
+                &mut flips.counts[p],
+                log,
+                &mut out,
+            )?,
+            Decisions::Nodal => super::nodal::update_pair(
+                problem,
+                pair,
+                poses,
+                u,
+                r,
+                eq,
+                start,
+                &mut memory[p],
+                &mut flips.counts[p],
+                log,
+                &mut out,
+            )?,
+        };
+        out.pairs.push(result);
+    }
+    Ok(out)
+}
+
+/// The converged state an increment starts from, and the tangent's
+/// diagonal: what the nodal decisions measure slips and gaps against.
+pub struct Start<'a> {
+    /// Displacements at the start of the increment.
+    pub u: &'a [f64],
+    /// Rigid target poses at the start of the increment.
+    pub poses: &'a [[f64; 3]],
+    /// Diagonal of the tangent per dof (zero at prescribed dofs): the
+    /// stiffness that turns a gap or a slip into a force.
+    pub diagonal: &'a [f64],
+}
+
+/// The paper's Section 3 for one pair: recovered tractions, segment
+/// decisions and Table 1.
+fn paper_pair(
+    problem: &Problem,
+    pair: &ContactPair,
+    poses: &[[f64; 3]],
+    u: &[f64],
+    r: &[f64],
+    eq: &[u32],
+    mem: &mut PairMemory,
+    flips: &mut [usize],
+    log: &mut dyn FnMut(&str),
+    out: &mut ContactSystem,
+) -> Result<PairResult, String> {
+    let geometry = geometry(problem);
+    {
         let m = pair.contactor.len();
         let segments = target_segments(problem, pair, u, poses)?;
         let x: Vec<Vector2<f64>> = pair
@@ -800,12 +873,12 @@ pub fn update(
                 NodeState::Open => {}
             }
             if (state == NodeState::Open) != (old.state == NodeState::Open) {
-                flips.counts[p][k] += 1;
-                if flips.counts[p][k] > MAX_FLIPS {
+                flips[k] += 1;
+                if flips[k] > MAX_FLIPS {
                     return Err(format!(
                         "pair '{}' node {k} (mesh node {}) alternates between open and contact \
                          ({} changes in this increment)",
-                        pair.name, pair.contactor[k], flips.counts[p][k]
+                        pair.name, pair.contactor[k], flips[k]
                     ));
                 }
             }
@@ -861,6 +934,7 @@ pub fn update(
                         out.rows.push(Row {
                             dofs: cols,
                             rhs: c.delta_c[row],
+                            column: Vec::new(),
                         });
                     }
                     out.max_overlap = out.max_overlap.max(overlap.norm());
@@ -896,6 +970,7 @@ pub fn update(
                     out.rows.push(Row {
                         dofs: cols,
                         rhs: c.delta_c,
+                        column: Vec::new(),
                     });
                     out.max_overlap = out.max_overlap.max(c.delta_c.abs());
                 }
@@ -979,14 +1054,77 @@ pub fn update(
                 }
             }
         }
-        out.pairs.push(result);
+        Ok(result)
     }
-    Ok(out)
+}
+
+/// Reported nodal tractions `t_n`, `t_t` of a pair from the forces of its
+/// nodes in contact (`frames[k]`: the target's tangent toward the next
+/// contactor node and inward normal where node k touches; None: open), per
+/// unit area of the configuration the element stresses are written on (the
+/// reference one under small strain, the current one under total
+/// Lagrangian kinematics). 8-node sides use their quadratic shape
+/// functions, 4-node sides the pair's recovery (Eqs. 26/27 or lumped).
+pub(super) fn reported_tractions(
+    problem: &Problem,
+    pair: &ContactPair,
+    x: &[Vector2<f64>],
+    active: &[bool],
+    force: &[Vector2<f64>],
+    frames: &[Option<(Vector2<f64>, Vector2<f64>)>],
+) -> Result<(Vec<f64>, Vec<f64>), String> {
+    let geometry = geometry(problem);
+    let m = x.len();
+    let reference_area = matches!(
+        problem.kinematics,
+        Kinematics::SmallStrain | Kinematics::MaterialNonlinearOnly
+    );
+    let x_area: Vec<Vector2<f64>> = if reference_area {
+        (pair.contactor.iter())
+            .map(|&n| Vector2::new(problem.mesh.nodes[n][0], problem.mesh.nodes[n][1]))
+            .collect()
+    } else {
+        x.to_vec()
+    };
+    let on: Vec<bool> = (0..m).map(|k| frames[k].is_some() && active[k]).collect();
+    let f: Vec<Vector2<f64>> = (0..m)
+        .map(|k| if on[k] { force[k] } else { Vector2::zeros() })
+        .collect();
+    let q8 = problem.bodies[pair.body]
+        .elements
+        .clone()
+        .next()
+        .is_some_and(|e| problem.mesh.elements[e].kind == crate::mesh::ElementKind::Q8);
+    let quadratic = if q8 && m % 2 == (if pair.closed { 0 } else { 1 }) {
+        quadratic_tractions(geometry, pair.closed, &x_area, &on, &f)
+    } else {
+        None
+    };
+    let t = match quadratic {
+        Some(t) => t,
+        None => {
+            let xs: Vec<[f64; 2]> = x_area.iter().map(|v| [v.x, v.y]).collect();
+            let fs: Vec<[f64; 2]> = f.iter().map(|v| [v.x, v.y]).collect();
+            let chain = traction::Chain::new(geometry, pair.closed, &xs)
+                .map_err(|e| format!("pair '{}': {e}", pair.name))?;
+            traction::recover_tractions(&chain, pair.recovery, &on, &fs)
+                .map_err(|e| format!("pair '{}': {e}", pair.name))?
+                .into_iter()
+                .map(|t| Vector2::new(t[0], t[1]))
+                .collect()
+        }
+    };
+    Ok((0..m)
+        .map(|k| match frames[k] {
+            Some((tau, nu)) if on[k] => (t[k].dot(&nu), t[k].dot(&tau)),
+            _ => (0.0, 0.0),
+        })
+        .unzip())
 }
 
 /// Unit tangent (toward the next node) and inward normal of a contactor
 /// chain at node k: the average of its segments' directions.
-fn node_frame(x: &[Vector2<f64>], closed: bool, k: usize) -> (Vector2<f64>, Vector2<f64>) {
+pub(super) fn node_frame(x: &[Vector2<f64>], closed: bool, k: usize) -> (Vector2<f64>, Vector2<f64>) {
     let m = x.len();
     let mut tau = Vector2::zeros();
     if k + 1 < m || closed {
@@ -1005,7 +1143,7 @@ fn node_frame(x: &[Vector2<f64>], closed: bool, k: usize) -> (Vector2<f64>, Vect
 /// by 3-point Gauss integration, exact for the quadratic-times-quadratic
 /// (times linear radius) integrands of straight sides. None if singular or
 /// too large for the dense solve (then the linear recovery stays).
-fn quadratic_tractions(
+pub(super) fn quadratic_tractions(
     geometry: Geometry,
     closed: bool,
     x: &[Vector2<f64>],

@@ -4,10 +4,12 @@
 //! the target body on the left of A -> B. Mesh edges already run with their
 //! body on the left, so both come from edge sets as they are.
 
-use super::raw::{self, Pair, RecoveryName, RuleName, ValueSpec};
+use super::raw::{self, DecisionsName, Pair, RecoveryName, RuleName, ValueSpec};
 use super::{Resolver, SceneError, SceneErrorKind};
 use crate::mesh::Edge;
-use crate::problem::{ContactPair, Driver, FrictionRule, Recovery, Rigid, Scaled, Target};
+use crate::problem::{
+    ContactPair, Decisions, Driver, FrictionRule, Recovery, Rigid, Scaled, Target,
+};
 use std::collections::HashMap;
 use toml::Spanned;
 
@@ -224,6 +226,10 @@ impl Resolver<'_> {
                 recovery: match c.recovery {
                     None | Some(RecoveryName::Consistent) => Recovery::Consistent,
                     Some(RecoveryName::Lumped) => Recovery::Lumped,
+                },
+                decisions: match c.decisions {
+                    None | Some(DecisionsName::Nodal) => Decisions::Nodal,
+                    Some(DecisionsName::Paper) => Decisions::Paper,
                 },
             });
         }

@@ -262,6 +262,14 @@ pub(super) struct Contact {
     pub mu_d: Option<Spanned<f64>>,
     pub rule: Option<RuleName>,
     pub recovery: Option<RecoveryName>,
+    pub decisions: Option<DecisionsName>,
+}
+
+#[derive(Deserialize, Clone, Copy)]
+#[serde(rename_all = "snake_case")]
+pub(super) enum DecisionsName {
+    Nodal,
+    Paper,
 }
 
 #[derive(Deserialize)]

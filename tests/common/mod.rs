@@ -343,6 +343,7 @@ pub fn bottom_on_flat(p: &mut Problem, level: f64) -> Vec<usize> {
         mu_d: 0.0,
         rule: FrictionRule::MuDAfterSlip,
         recovery: Recovery::Consistent,
+        decisions: Default::default(),
     });
     bottom
 }

@@ -1,0 +1,428 @@
+//! Contact states decided node by node on the current iterate (the default
+//! `decisions = "nodal"`): each contactor node's normal and tangential force
+//! (its out-of-balance force, as the paper recovers it), its gap, and its
+//! slip from where it was on the target when the increment began decide
+//! open, stick or slip at every iteration, as a semismooth Newton does on
+//! the complementarity conditions (Hueber, Stadler & Wohlmuth 2008). The
+//! friction of a sliding node is `mu_d p_n` with `p_n` the unknown normal
+//! force, so its row is linearised consistently and Newton converges
+//! quadratically once the states settle (docs/contact.md section 8).
+
+use super::pairs::{
+    self, ContactSystem, MAX_FLIPS, NodeMemory, PairMemory, Row, Start,
+    TENSION_TOLERANCE, TargetSegment,
+};
+use super::segment::ContactPoint;
+use crate::assembly::PRESCRIBED;
+use crate::problem::{ContactPair, FrictionRule, Problem, Target};
+use crate::results::{NodeState, PairResult};
+use nalgebra::Vector2;
+
+/// What one node is, after this iteration's decision.
+struct Decision {
+    state: NodeState,
+    /// Target segment and contact point (None when open).
+    point: Option<(usize, ContactPoint)>,
+    /// The node's contact force for the rows (zero for a new contact).
+    lambda: Vector2<f64>,
+    /// Normal force (compression positive) of a sliding node.
+    p_n: f64,
+    slip_sign: f64,
+    /// Where its slip is measured from (segment, beta): see `decide`.
+    anchor: Option<(usize, f64)>,
+}
+
+/// Times one node may change its state within an increment before the
+/// increment is declared oscillating (fail fast; the caller bisects).
+const MAX_CHANGES: usize = 2 * MAX_FLIPS;
+
+pub(super) fn update_pair(
+    problem: &Problem,
+    pair: &ContactPair,
+    poses: &[[f64; 3]],
+    u: &[f64],
+    r: &[f64],
+    eq: &[u32],
+    start: &Start,
+    mem: &mut PairMemory,
+    changes: &mut [usize],
+    log: &mut dyn FnMut(&str),
+    out: &mut ContactSystem,
+) -> Result<PairResult, String> {
+    let segments = pairs::target_segments(problem, pair, u, poses)?;
+    let segments0 = pairs::target_segments(problem, pair, start.u, start.poses)?;
+    let m = pair.contactor.len();
+    let at = |u: &[f64]| -> Vec<Vector2<f64>> {
+        (pair.contactor.iter())
+            .map(|&n| pairs::position(problem, u, n))
+            .collect()
+    };
+    let (x, x0) = (at(u), at(start.u));
+    // How far a free node may have gone into the target and still be
+    // caught: a few contactor segments (not the far side of a thin target),
+    // plus how far the node and the target have moved in this increment, so
+    // that a large increment closes the whole zone at once on any mesh.
+    let mut h: f64 = 0.0;
+    for w in x.windows(2) {
+        h = h.max((w[1] - w[0]).norm());
+    }
+    let mut target_motion: f64 = 0.0;
+    for (s, s0) in segments.iter().zip(&segments0) {
+        target_motion = target_motion
+            .max((s.seg.xa() - s0.seg.xa()).norm())
+            .max((s.seg.xb() - s0.seg.xb()).norm());
+    }
+    let reach = |k: usize| {
+        if h > 0.0 {
+            2.0 * h + (x[k] - x0[k]).norm() + target_motion
+        } else {
+            f64::INFINITY
+        }
+    };
+    // The out-of-balance force is the contact force at a node in contact; at
+    // a prescribed dof it is the driver's reaction (a symmetry plane).
+    let component = |d: usize| if eq[d] == PRESCRIBED { 0.0 } else { r[d] };
+    let force: Vec<Vector2<f64>> = (pair.contactor.iter())
+        .map(|&n| Vector2::new(component(2 * n), component(2 * n + 1)))
+        .collect();
+    // The stiffness that turns a gap or a slip into a force at the node.
+    let stiffness = |k: usize| {
+        let n = pair.contactor[k];
+        [2 * n, 2 * n + 1]
+            .iter()
+            .filter(|&&d| eq[d] != PRESCRIBED)
+            .map(|&d| start.diagonal[d])
+            .fold(0.0, f64::max)
+    };
+    let active: Vec<bool> = (mem.nodes.iter())
+        .map(|n| n.state != NodeState::Open)
+        .collect();
+    let force_scale = (0..m)
+        .filter(|&k| active[k])
+        .map(|k| force[k].norm())
+        .fold(0.0, f64::max);
+    let tension = TENSION_TOLERANCE * force_scale;
+    let frictionless = pair.mu_s == 0.0 && pair.mu_d == 0.0;
+
+    let mut decisions = Vec::with_capacity(m);
+    for k in 0..m {
+        let old = mem.nodes[k];
+        let c = stiffness(k);
+        let d = decide(
+            pair,
+            &segments,
+            &segments0,
+            &old,
+            x[k],
+            x0[k],
+            if active[k] { force[k] } else { Vector2::zeros() },
+            c,
+            reach(k),
+            tension,
+            frictionless,
+            1e-10 * h,
+        );
+        if d.state != old.state || (d.state == NodeState::Slip && d.slip_sign != old.slip_sign) {
+            out.changes += 1;
+            changes[k] += 1;
+            if changes[k] > MAX_CHANGES {
+                return Err(format!(
+                    "pair '{}' node {k} (mesh node {}) changes state without settling ({} \
+                     changes in this increment, now {:?})",
+                    pair.name, pair.contactor[k], changes[k], d.state
+                ));
+            }
+            if old.state != NodeState::Open && d.state == NodeState::Open {
+                log(&format!(
+                    "pair '{}' node {k}: released (p_n {:.3e})",
+                    pair.name,
+                    d.p_n
+                ));
+            }
+        }
+        decisions.push(d);
+    }
+
+    let mut result = PairResult::default();
+    let mut frames: Vec<Option<(Vector2<f64>, Vector2<f64>)>> = vec![None; m];
+    for (k, d) in decisions.iter().enumerate() {
+        let old = mem.nodes[k];
+        let node = &mut mem.nodes[k];
+        node.state = d.state;
+        node.corner = false;
+        node.slip_sign = if d.state == NodeState::Slip {
+            d.slip_sign
+        } else {
+            0.0
+        };
+        if d.state == NodeState::Slip && !frictionless {
+            node.slid = true;
+            node.ever_slid = true;
+        }
+        if let Some((j, cp)) = d.point.as_ref() {
+            if old.state != NodeState::Open && *j != old.segment {
+                node.crossed = Some((old.segment, *j));
+            }
+            node.segment = *j;
+            node.beta = cp.beta();
+            let n = pair.contactor[k];
+            add_rows(pair, &segments, n, *j, cp, d, out);
+            let f = if active[k] {
+                force[k]
+            } else {
+                Vector2::zeros()
+            };
+            let (normal, tangent) = (cp.segment().normal(), cp.segment().tangent());
+            result.fx += f.x;
+            result.fy += f.y;
+            result.fn_ -= f.dot(&normal);
+            result.ft -= f.dot(&tangent);
+            frames[k] = Some((-tangent, -normal));
+            if let Target::Rigid(ri) = pair.target {
+                let (_, reference) = pairs::rigid_points(problem, ri, poses[ri]);
+                let xc = cp.point();
+                let rr = &mut out.rigid[ri];
+                rr[0] -= f.x;
+                rr[1] -= f.y;
+                rr[2] -= (xc.x - reference[0]) * f.y - (xc.y - reference[1]) * f.x;
+            }
+            if node.anchor.is_none() {
+                node.anchor = d.anchor;
+            }
+        }
+        match d.state {
+            NodeState::Open => result.n_open += 1,
+            NodeState::Stick => result.n_stick += 1,
+            NodeState::Slip => result.n_slip += 1,
+        }
+        result.nodes.x.push(x[k].x);
+        result.nodes.y.push(x[k].y);
+        result.nodes.state.push(d.state);
+    }
+    let (tn, tt) = pairs::reported_tractions(problem, pair, &x, &active, &force, &frames)?;
+    result.nodes.tn = tn;
+    result.nodes.tt = tt;
+    Ok(result)
+}
+
+/// The decision for one node, from the iterate: where it meets the target,
+/// its state and the force its rows carry.
+#[allow(clippy::too_many_arguments)]
+fn decide(
+    pair: &ContactPair,
+    segments: &[TargetSegment],
+    segments0: &[TargetSegment],
+    old: &NodeMemory,
+    x: Vector2<f64>,
+    x0: Vector2<f64>,
+    f: Vector2<f64>,
+    c: f64,
+    reach: f64,
+    tension: f64,
+    frictionless: bool,
+    slip_tolerance: f64,
+) -> Decision {
+    let open = Decision {
+        state: NodeState::Open,
+        point: None,
+        lambda: Vector2::zeros(),
+        p_n: 0.0,
+        slip_sign: 0.0,
+        anchor: None,
+    };
+    // Where the node meets the target, if it does.
+    let found = match old.state {
+        NodeState::Open => pairs::search(segments, x, reach),
+        NodeState::Stick => segments
+            .get(old.segment)
+            .map(|s| (old.segment, s.seg.contact_at(x, old.beta))),
+        NodeState::Slip => pairs::follow(segments, old.segment, x, reach),
+    };
+    let Some((j, cp)) = found else {
+        return open;
+    };
+    let seg = cp.segment();
+    let (n_s, n_r) = (seg.normal(), seg.tangent());
+    // Normal force (compression positive) and tangential force on the node.
+    let (p_n, q) = (-n_s.dot(&f), n_r.dot(&f));
+    let overlap = cp.normal_overlap();
+    // The augmented normal force: a node in tension that has not
+    // penetrated opens; a free node that has penetrated closes.
+    let p_hat = p_n + c * overlap;
+    if old.state == NodeState::Open {
+        if overlap <= 0.0 {
+            return open;
+        }
+    } else if p_hat < -tension {
+        return Decision { p_n, ..open };
+    }
+    let projection = || {
+        let p = seg.project(x);
+        (j, seg.contact_at(x, p.beta().clamp(0.0, 1.0)))
+    };
+    if frictionless {
+        let point = if old.state == NodeState::Stick {
+            projection()
+        } else {
+            (j, cp)
+        };
+        return Decision {
+            state: NodeState::Slip,
+            point: Some(point),
+            lambda: -p_n * n_s,
+            p_n,
+            slip_sign: 0.0,
+            anchor: old.anchor,
+        };
+    }
+    // Where the node was on the target when the increment began (the
+    // target's material point under it then): its slip is measured from
+    // there, so a converged node either sticks there or slides against its
+    // slip (Coulomb over the increment, backward Euler).
+    let (ja, beta_a) = old.anchor.unwrap_or_else(|| start_point(segments0, j, x0));
+    let anchor = segments
+        .get(ja)
+        .map_or(cp.point(), |s| s.seg.point_at(beta_a));
+    let slip = n_r.dot(&(seg.project(x).point() - anchor));
+    let mu_stick = if old.slid {
+        pair.mu_d
+    } else {
+        match pair.rule {
+            FrictionRule::MuDAfterSlip if old.ever_slid => pair.mu_d,
+            _ => pair.mu_s,
+        }
+    };
+    // A sliding node slides on while its slip from the anchor runs along
+    // its direction (its friction opposes it) and sticks when the slip has
+    // turned back; a sticking node, or one new to contact, sticks while its
+    // force is within the capacity and slides against it otherwise.
+    let s = match old.state {
+        NodeState::Slip if old.slip_sign != 0.0 => {
+            (old.slip_sign * slip >= -slip_tolerance).then_some(old.slip_sign)
+        }
+        NodeState::Open => None,
+        _ => (q.abs() > mu_stick * p_hat.max(0.0)).then(|| -q.signum()),
+    };
+    let Some(s) = s else {
+        let at = segments
+            .get(ja)
+            .map(|s| (ja, s.seg.contact_at(x, beta_a)))
+            .filter(|(_, a)| a.overlap().norm() <= reach);
+        if let Some(point) = at {
+            return Decision {
+                state: NodeState::Stick,
+                point: Some(point),
+                lambda: f,
+                p_n,
+                slip_sign: 0.0,
+                anchor: Some((ja, beta_a)),
+            };
+        }
+        // The anchor is out of reach (the target has moved on): slide.
+        let s = if slip != 0.0 { slip.signum() } else { 1.0 };
+        return Decision {
+            state: NodeState::Slip,
+            point: Some(projection()),
+            lambda: p_n * (-n_s - s * pair.mu_d * n_r),
+            p_n,
+            slip_sign: s,
+            anchor: Some((ja, beta_a)),
+        };
+    };
+    Decision {
+        state: NodeState::Slip,
+        point: Some(projection()),
+        lambda: p_n * (-n_s - s * pair.mu_d * n_r),
+        p_n,
+        slip_sign: s,
+        anchor: Some((ja, beta_a)),
+    }
+}
+
+/// The target's material point under a node that was free at the start of
+/// the increment: the closest point to its start position on the segment
+/// it has now met, in the target's start configuration.
+fn start_point(segments0: &[TargetSegment], j: usize, x0: Vector2<f64>) -> (usize, f64) {
+    let beta = segments0
+        .get(j)
+        .map_or(0.0, |s| s.seg.project(x0).beta().clamp(0.0, 1.0));
+    (j, beta)
+}
+
+/// The rows of Eq. (18) for one node in contact: two for a sticking node
+/// (Eqs. 19-21), one for a sliding node, whose multiplier is the increase
+/// of its normal force: its column carries the friction `mu_d` of that
+/// increase against the slip (consistent), its row the normal gap.
+fn add_rows(
+    pair: &ContactPair,
+    segments: &[TargetSegment],
+    n: usize,
+    j: usize,
+    cp: &ContactPoint,
+    d: &Decision,
+    out: &mut ContactSystem,
+) {
+    let target = segments[j].nodes;
+    let mut dofs = [Some(2 * n), Some(2 * n + 1), None, None, None, None];
+    if let Some([a, b]) = target {
+        dofs[2..].copy_from_slice(&[Some(2 * a), Some(2 * a + 1), Some(2 * b), Some(2 * b + 1)]);
+    }
+    let first_row = out.rows.len();
+    let entries = |v: &dyn Fn(usize) -> f64| -> Vec<(usize, f64)> {
+        (0..6)
+            .filter_map(|l| dofs[l].map(|dof| (dof, v(l))))
+            .collect()
+    };
+    if d.state == NodeState::Stick {
+        let c = cp.sticking(d.lambda);
+        for l in 0..6 {
+            if let Some(dof) = dofs[l] {
+                out.force.push((dof, c.r_c[l]));
+            }
+        }
+        for row in 0..2 {
+            out.rows.push(Row {
+                dofs: entries(&|l| c.k_ul[(l, row)]),
+                rhs: c.delta_c[row],
+                column: Vec::new(),
+            });
+        }
+        out.max_overlap = out.max_overlap.max(cp.overlap().norm());
+    } else {
+        let c = cp.sliding(d.lambda);
+        for l in 0..6 {
+            if let Some(dof) = dofs[l] {
+                out.force.push((dof, c.r_c[l]));
+            }
+        }
+        if target.is_some() {
+            for a in 0..6 {
+                for b in 0..6 {
+                    if let (Some(da), Some(db)) = (dofs[a], dofs[b])
+                        && c.k_uu[(a, b)] != 0.0
+                    {
+                        out.k.push((da, db, c.k_uu[(a, b)]));
+                    }
+                }
+            }
+        }
+        // d(G^T lambda)/d p_n = -G^T (n_s + s mu_d n_r); the column of the
+        // multiplier is its negative, as `Sliding::k_ul` is for n_s alone.
+        let seg = cp.segment();
+        let friction = d.slip_sign * pair.mu_d;
+        let column = if friction != 0.0 {
+            let gt = cp.relative_motion().transpose();
+            let v = gt * (seg.normal() + friction * seg.tangent());
+            entries(&|l| v[l])
+        } else {
+            Vec::new()
+        };
+        out.rows.push(Row {
+            dofs: entries(&|l| c.k_ul[l]),
+            rhs: c.delta_c,
+            column,
+        });
+        out.max_overlap = out.max_overlap.max(c.delta_c.abs());
+    }
+    out.groups.push((n, first_row..out.rows.len()));
+}
