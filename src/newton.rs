@@ -62,6 +62,8 @@ pub struct Solver {
     size: f64,
     /// Position of each free dof's diagonal entry in `k`.
     diagonal_at: Vec<usize>,
+    /// Largest diagonal entry of the last assembled tangent.
+    k_max: f64,
 }
 
 impl Solver {
@@ -152,6 +154,7 @@ impl Solver {
             contact: None,
             size,
             diagonal_at,
+            k_max: 0.0,
         })
     }
 
@@ -502,12 +505,24 @@ impl Solver {
             // The force scale of the problem: element forces, reactions,
             // contact forces (never the first residual alone: a held input
             // has a first residual at round-off).
-            let f_ref = self
+            // Below them, the round-off of K u: a body that moves without
+            // stress has no other force to compare with.
+            if need_k {
+                self.k_max = (self.diagonal_at.iter())
+                    .map(|&i| self.k[i].abs())
+                    .fold(0.0, f64::max);
+            }
+            let u_max = (u.iter().chain(&self.state.u)).fold(0.0f64, |a, v| a.max(v.abs()));
+            let f_phys = self
                 .ws
                 .force_scale
                 .max(react2.sqrt())
-                .max(contact_force2.sqrt())
-                .max(f64::MIN_POSITIVE);
+                .max(contact_force2.sqrt());
+            // The force of the tangent over the motion at a strain of 1e-6:
+            // the scale when nothing else has one (a body moving unstressed).
+            let f_motion = self.k_max * u_max;
+            let f_ref = f_phys.max(1e-6 * f_motion).max(f64::MIN_POSITIVE);
+            let f_round = 1e-13 * f_phys + 1e-14 * f_motion;
             let rho = rnorm / f_ref;
             let (neqc, changes, overlap) = contact
                 .as_ref()
@@ -516,7 +531,10 @@ impl Solver {
             // the first correction, or of 1e-3 of the model's size.
             let gap_tol = settings.displacement_tolerance * du1.max(1e-3 * self.size);
             let contact_ok = changes == 0 && overlap <= gap_tol;
-            let force_ok = rho <= settings.force_tolerance;
+            // Round-off: the residual sums element forces of size f_phys,
+            // and K u of a body that moves without stress.
+            let at_roundoff = rnorm <= f_round;
+            let force_ok = rho <= settings.force_tolerance || at_roundoff;
             if it == 0 {
                 // Nothing moved and the state is in equilibrium to the
                 // tolerance: a held input converges without a solve.
@@ -554,10 +572,8 @@ impl Solver {
                         "t = {t:.6e} it {it}: |r|/F = {rho:.3e}  |du|/|du1| = {dnorm:.3e}  energy {energy:.3e}{rate}{contact_text}"
                     ),
                 );
-                // Round-off: the residual sums element forces of size f_ref,
-                // and a correction at the precision of the displacements
-                // cannot improve the solution further.
-                let at_roundoff = rnorm <= 1e-13 * f_ref;
+                // A correction at the precision of the displacements cannot
+                // improve the solution further.
                 let stagnated = dnorm * du1 <= 1e-14 * norm(&u);
                 let converged = contact_ok
                     && (at_roundoff

@@ -490,15 +490,23 @@ fn check(kind: ElementKind, rigid: bool, wanted: &[NodeState], r_nodes: &[V2], s
     let eq: Vec<u32> = (0..ndof as u32).collect();
     let mut mem = vec![memory];
     let mut log = Vec::new();
+    let poses = pairs::scene_poses(&p.problem, 1.0);
+    let diagonal = vec![0.0; ndof];
+    let start = pairs::Start {
+        u: &p.u,
+        poses: &poses,
+        diagonal: &diagonal,
+    };
     let sys = pairs::update(
         &p.problem,
-        &pairs::scene_poses(&p.problem, 1.0),
+        &poses,
         &p.u,
         &r,
         &eq,
+        &start,
         &mut mem,
         &mut Flips::default(),
-        &mut |s| log.push(s.to_string()),
+        &mut |s: &str| log.push(s.to_string()),
     )
     .unwrap_or_else(|e| panic!("{e}"));
     let code = assembled(&sys, ndof);

@@ -36,16 +36,24 @@ fn a_node_flipping_open_and_closed_is_reported() {
     let mut flips = Flips::default();
     let mut log = Vec::new();
     let mut states = Vec::new();
+    let poses = pairs::scene_poses(&p, 0.0);
+    let diagonal = vec![0.0; ndof];
+    let start = pairs::Start {
+        u: &u,
+        poses: &poses,
+        diagonal: &diagonal,
+    };
     let error = loop {
         match pairs::update(
             &p,
-            &pairs::scene_poses(&p, 0.0),
+            &poses,
             &u,
             &r,
             &eq,
+            &start,
             &mut memory,
             &mut flips,
-            &mut |m| log.push(m.to_string()),
+            &mut |m: &str| log.push(m.to_string()),
         ) {
             Ok(_) => states.push(memory[0].nodes[0].state),
             Err(e) => break e,

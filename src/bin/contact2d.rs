@@ -666,7 +666,7 @@ mod tests {
         };
         assert_eq!(
             step_line(1, 2, &step),
-            "step 1/2  t = 0.5  iterations 3  substeps 0  |r|/|r0| = 1.000e-9  NEQC 4  \
+            "step 1/2  t = 0.5  iterations 3  substeps 0  |r|/F = 1.000e-9  NEQC 4  \
              base: Rx = 0.000000e0 Ry = 0.000000e0  \
              die: Rx = 1.000000e0 Ry = -2.000000e0 Mz = 2.500000e-1  \
              die_on_block: Fn = 2.000000e0 Ft = -5.000000e-1 stick/slip/open = 1/2/3"

@@ -32,9 +32,10 @@ struct Decision {
     anchor: Option<(usize, f64)>,
 }
 
-/// Times one node may change its state within an increment before the
-/// increment is declared oscillating (fail fast; the caller bisects).
-const MAX_CHANGES: usize = 2 * MAX_FLIPS;
+/// Times one node may change between stick and slip (or its slip
+/// direction) within an increment before the increment is declared
+/// oscillating (fail fast; the caller bisects).
+const MAX_SLIPS: usize = 2 * MAX_FLIPS;
 
 pub(super) fn update_pair(
     problem: &Problem,
@@ -45,7 +46,7 @@ pub(super) fn update_pair(
     eq: &[u32],
     start: &Start,
     mem: &mut PairMemory,
-    changes: &mut [usize],
+    [flips, slips]: [&mut [usize]; 2],
     log: &mut dyn FnMut(&str),
     out: &mut ContactSystem,
 ) -> Result<PairResult, String> {
@@ -124,13 +125,24 @@ pub(super) fn update_pair(
         );
         if d.state != old.state || (d.state == NodeState::Slip && d.slip_sign != old.slip_sign) {
             out.changes += 1;
-            changes[k] += 1;
-            if changes[k] > MAX_CHANGES {
-                return Err(format!(
-                    "pair '{}' node {k} (mesh node {}) changes state without settling ({} \
-                     changes in this increment, now {:?})",
-                    pair.name, pair.contactor[k], changes[k], d.state
-                ));
+            if (d.state == NodeState::Open) != (old.state == NodeState::Open) {
+                flips[k] += 1;
+                if flips[k] > MAX_FLIPS {
+                    return Err(format!(
+                        "pair '{}' node {k} (mesh node {}) alternates between open and contact \
+                         ({} changes in this increment)",
+                        pair.name, pair.contactor[k], flips[k]
+                    ));
+                }
+            } else {
+                slips[k] += 1;
+                if slips[k] > MAX_SLIPS {
+                    return Err(format!(
+                        "pair '{}' node {k} (mesh node {}) alternates between stick and slip \
+                         ({} changes in this increment)",
+                        pair.name, pair.contactor[k], slips[k]
+                    ));
+                }
             }
             if old.state != NodeState::Open && d.state == NodeState::Open {
                 log(&format!(
@@ -300,7 +312,9 @@ fn decide(
         NodeState::Slip if old.slip_sign != 0.0 => {
             (old.slip_sign * slip >= -slip_tolerance).then_some(old.slip_sign)
         }
-        NodeState::Open => None,
+        // A node that touches again after sliding free in this increment, or
+        // touches first far from where it was: slides along that slip.
+        NodeState::Open => (slip.abs() > mu_stick * overlap).then(|| slip.signum()),
         _ => (q.abs() > mu_stick * p_hat.max(0.0)).then(|| -q.signum()),
     };
     let Some(s) = s else {

@@ -149,7 +149,10 @@ impl ContactSystem {
 /// Per-increment counters (flip detection).
 #[derive(Clone, Debug, Default)]
 pub struct Flips {
+    /// Per pair and node: changes between open and closed.
     pub(super) counts: Vec<Vec<usize>>,
+    /// Per pair and node: changes between stick and slip (nodal decisions).
+    pub(super) slips: Vec<Vec<usize>>,
 }
 
 /// A target segment at the current time: end points and node numbers
@@ -470,6 +473,7 @@ pub fn update(
     };
     if flips.counts.len() != memory.len() {
         flips.counts = memory.iter().map(|m| vec![0; m.nodes.len()]).collect();
+        flips.slips = flips.counts.clone();
     }
     for (p, pair) in problem.contacts.iter().enumerate() {
         let result = match pair.decisions {
@@ -494,7 +498,7 @@ pub fn update(
                 eq,
                 start,
                 &mut memory[p],
-                &mut flips.counts[p],
+                [&mut flips.counts[p], &mut flips.slips[p]],
                 log,
                 &mut out,
             )?,
