@@ -396,6 +396,13 @@ impl Solver {
         for p in &self.prescribed {
             dup[p.dof] = self.prescribed_value(p, t, t0, t1, u0) - u[p.dof];
         }
+        // The motion's scale: the start state and the prescribed motion (not
+        // the iterate, which may run away past a limit load).
+        let largest = |v: &[f64]| v.iter().fold(0.0f64, |a, x| a.max(x.abs()));
+        let rigid_motion = (poses.iter().zip(&self.state.rigid))
+            .map(|(p, q)| (p[0] - q[0]).abs().max((p[1] - q[1]).abs()))
+            .fold(0.0, f64::max);
+        let u_max = largest(&self.state.u) + largest(&dup) + rigid_motion;
         let mut kdu = vec![0.0; u.len()];
         let mut history = self.state.history.clone();
         let n = self.model.free_dofs();
@@ -512,7 +519,7 @@ impl Solver {
                     .map(|&i| self.k[i].abs())
                     .fold(0.0, f64::max);
             }
-            let u_max = (u.iter().chain(&self.state.u)).fold(0.0f64, |a, v| a.max(v.abs()));
+
             let f_phys = self
                 .ws
                 .force_scale
@@ -695,6 +702,19 @@ impl Solver {
                     .sum::<f64>()
                     .abs()
                     .max(f64::MIN_POSITIVE);
+            }
+            // A correction far beyond the model's size has no equilibrium
+            // near it: the contact cannot hold the load (past a limit load,
+            // e.g. a block that slides under a force it cannot resist) or
+            // nothing holds the body. Fail now; a smaller step may converge.
+            let du_max = largest(&rhs[..n]);
+            if !(du_max <= 1e3 * self.size) {
+                return Err(format!(
+                    "no equilibrium near this state: iteration {it} moves a node by {du_max:.3e}, \
+                     {:.1e} times the model's size (the load exceeds what the contact can hold, \
+                     or nothing holds a body)",
+                    du_max / self.size
+                ));
             }
             for (dof, &q) in self.model.eq.iter().enumerate() {
                 if q != PRESCRIBED {

@@ -28,13 +28,13 @@ struct Iteration {
     changed: usize,
 }
 
-/// Parses `t = 1.000000e0 it 3: |r|/|r0| = 7.305e-8 ... NEQC 12  changed 0 ...`.
+/// Parses `t = 1.000000e0 it 3: |r|/F = 7.305e-8 ... NEQC 12  changed 0 ...`.
 fn parse(line: &str) -> Option<Iteration> {
     let rest = line.strip_prefix("t = ")?;
     let (time, rest) = rest.split_once(" it ")?;
     let (it, rest) = rest.split_once(':')?;
     let ratio = rest
-        .split("|r|/|r0| = ")
+        .split("|r|/F = ")
         .nth(1)?
         .split_whitespace()
         .next()?;
@@ -107,7 +107,7 @@ fn quadratic(ratios: &[f64]) -> Result<(), String> {
 
 #[test]
 fn the_convergence_criterion_tells_quadratic_from_linear() {
-    let line = "t = 1.000000e0 it 3: |r|/|r0| = 7.305e-8  |du|/|du1| = 9.223e-5  \
+    let line = "t = 1.000000e0 it 3: |r|/F = 7.305e-8  |du|/|du1| = 9.223e-5  \
                 energy 1.002e-11  rate -14.64  NEQC 12  changed 0  overlap 5.905e-22";
     assert_eq!(
         parse(line),
@@ -132,11 +132,11 @@ fn the_convergence_criterion_tells_quadratic_from_linear() {
             .collect()
     };
     let a = attempts(&log(&[
-        "t = 5.000000e-1 it 1: |r|/|r0| = 1.0e-1  NEQC 2  changed 1  overlap 0",
+        "t = 5.000000e-1 it 1: |r|/F = 1.0e-1  NEQC 2  changed 1  overlap 0",
         "increment to t = 0.5 failed (x); bisecting at t = 0.25",
-        "t = 2.500000e-1 it 1: |r|/|r0| = 1.0e-2  NEQC 2  changed 1  overlap 0",
-        "t = 2.500000e-1 it 2: |r|/|r0| = 1.0e-3  NEQC 2  changed 0  overlap 0",
-        "t = 5.000000e-1 it 1: |r|/|r0| = 2.0e-2  NEQC 2  changed 0  overlap 0",
+        "t = 2.500000e-1 it 1: |r|/F = 1.0e-2  NEQC 2  changed 1  overlap 0",
+        "t = 2.500000e-1 it 2: |r|/F = 1.0e-3  NEQC 2  changed 0  overlap 0",
+        "t = 5.000000e-1 it 1: |r|/F = 2.0e-2  NEQC 2  changed 0  overlap 0",
     ]));
     assert_eq!(a.len(), 2);
     assert_eq!(settled(&a[0]), vec![1.0e-3]);
@@ -172,7 +172,7 @@ fn hertz_newton_converges_quadratically_once_the_contact_set_settles() {
         // Convergence needs no change in the last iteration.
         assert!(!ratios.is_empty(), "t = {}: {a:?}", a[0].time);
         let shown: Vec<String> = ratios.iter().map(|r| format!("{r:.3e}")).collect();
-        eprintln!("t = {}: settled |r|/|r0| {}", a[0].time, shown.join(", "));
+        eprintln!("t = {}: settled |r|/F {}", a[0].time, shown.join(", "));
         if let Err(e) = quadratic(&ratios) {
             failures.push(format!("t = {}: {e}", a[0].time));
         }

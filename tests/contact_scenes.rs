@@ -178,7 +178,11 @@ fn static_friction_rules_on_a_one_segment_block() {
         sliding_block(&[
             ("nu = 0.3", "nu = 0.0"),
             ("divisions = [8, 4]", "divisions = [1, 1]"),
-            ("mu_d = 0.2\n", &format!("mu_d = 0.2\nrule = \"{rule}\"\n")),
+            // The paper's segment decisions: one segment carries the shear.
+            (
+                "mu_d = 0.2\n",
+                &format!("mu_d = 0.2\nrule = \"{rule}\"\ndecisions = \"paper\"\n"),
+            ),
         ])
     };
     for (rule, peak) in [("mu_d_after_slip", 0.2), ("always_mu_s", 0.3)] {

@@ -866,7 +866,7 @@ fn log_categories() {
     let log = inst.log.lock().unwrap().clone();
     assert!(
         log.iter()
-            .any(|m| m.1 == "logNewton" && m.2.contains("|r|/|r0|"))
+            .any(|m| m.1 == "logNewton" && m.2.contains("|r|/F"))
     );
     assert!(log.iter().all(|m| m.1 != "logContact"));
     let unknown = [c"logEverything".as_ptr()];

@@ -11,6 +11,7 @@ use contact2d::results::StepResult;
 const SCENE: &str = "buried_pipe.toml";
 const CONTACT: &str = r#"[[contact]]
 name = "interface"
+decisions = "paper"
 contactor = "pipe.outer"
 target = "soil.hole"
 mu_s = 0.3"#;
@@ -20,6 +21,7 @@ mu_s = 0.3"#;
 /// (docs/contact.md item 10).
 const FRICTIONLESS: &str = r#"[[contact]]
 name = "interface"
+decisions = "paper"
 contactor = "soil.hole"
 target = "pipe.outer"
 mu_s = 0.0"#;

@@ -1637,7 +1637,7 @@ fn friction_coefficients_and_words() {
         &e,
         SceneErrorKind::UnknownKey,
         "scenes/t.toml:57: contact[0].friction = 0.3: unknown key; \
-         allowed keys: name, contactor, target, mu_s, mu_d, rule, recovery",
+         allowed keys: name, contactor, target, mu_s, mu_d, rule, recovery, decisions",
     );
     let e = with("[[contact]]\nname = \"c\"\ncontactor = \"wheel.arc\"\n").unwrap_err();
     assert_error(

@@ -228,7 +228,7 @@ fn decide(
     x: Vector2<f64>,
     x0: Vector2<f64>,
     f: Vector2<f64>,
-    c: f64,
+    _c: f64,
     reach: f64,
     tension: f64,
     frictionless: bool,
@@ -258,14 +258,16 @@ fn decide(
     // Normal force (compression positive) and tangential force on the node.
     let (p_n, q) = (-n_s.dot(&f), n_r.dot(&f));
     let overlap = cp.normal_overlap();
-    // The augmented normal force: a node in tension that has not
-    // penetrated opens; a free node that has penetrated closes.
-    let p_hat = p_n + c * overlap;
+    // A free node that has penetrated closes; a node in contact opens when
+    // its force pulls (a gap it shows after a step along a curved target
+    // is the linearisation's, and its row closes it).
     if old.state == NodeState::Open {
         if overlap <= 0.0 {
             return open;
         }
-    } else if p_hat < -tension {
+    } else if p_n < -tension && (old.state != NodeState::Stick || frictionless || q.abs() <= tension) {
+        // A sticking node pulled along the target as well slides first: held
+        // at its anchor on a curved target, its pull shows partly as tension.
         return Decision { p_n, ..open };
     }
     let projection = || {
@@ -315,7 +317,10 @@ fn decide(
         // A node that touches again after sliding free in this increment, or
         // touches first far from where it was: slides along that slip.
         NodeState::Open => (slip.abs() > mu_stick * overlap).then(|| slip.signum()),
-        _ => (q.abs() > mu_stick * p_hat.max(0.0)).then(|| -q.signum()),
+        // Its rows hold a sticking node at the anchor exactly, unless a
+        // driver moves it along the target: then it slides.
+        NodeState::Stick if slip.abs() > slip_tolerance.max(1e-9 * reach) => Some(slip.signum()),
+        _ => (q.abs() > mu_stick * p_n.max(0.0)).then(|| -q.signum()),
     };
     let Some(s) = s else {
         let at = segments

@@ -2,6 +2,8 @@
 //! scenes with text edits (a refined mesh, another coefficient).
 #![allow(dead_code)]
 
+pub mod stress;
+
 use contact2d::mesh::{Edge, Element, ElementKind, Mesh};
 use contact2d::problem::*;
 use std::collections::BTreeMap;

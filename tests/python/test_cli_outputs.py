@@ -99,7 +99,7 @@ def test_run_prints_a_line_per_increment(solved):
     assert [l.split()[1] for l in steps] == ["1/2", "2/2"]
     for l, t in zip(steps, TIMES):
         assert f"t = {t:g}" in l
-        for name in ("base:", "pin:", "pull:", "NEQC 0", "|r|/|r0|"):
+        for name in ("base:", "pin:", "pull:", "NEQC 0", "|r|/F"):
             assert name in l
     assert any(l.lstrip().startswith("[logNewton]") for l in lines)
 
