@@ -14,7 +14,7 @@ use super::pairs::{
 };
 use super::segment::ContactPoint;
 use crate::assembly::PRESCRIBED;
-use crate::problem::{ContactPair, FrictionRule, Problem, Target};
+use crate::problem::{ContactPair, FrictionRule, Problem, Recovery, Target};
 use crate::results::{NodeState, PairResult};
 use nalgebra::Vector2;
 
@@ -30,7 +30,13 @@ struct Decision {
     slip_sign: f64,
     /// Where its slip is measured from (segment, beta): see `decide`.
     anchor: Option<(usize, f64)>,
+    /// Frictionless, held at a reflex corner of the target (two rows).
+    corner: bool,
 }
+
+/// How near a reflex corner (in beta, of either segment) a frictionless node
+/// is taken to be at it.
+const CORNER_REACH: f64 = 1e-3;
 
 /// Times one node may change between stick and slip (or its slip
 /// direction) within an increment before the increment is declared
@@ -123,7 +129,10 @@ pub(super) fn update_pair(
             frictionless,
             1e-10 * h,
         );
-        if d.state != old.state || (d.state == NodeState::Slip && d.slip_sign != old.slip_sign) {
+        if d.state != old.state
+            || d.corner != old.corner
+            || (d.state == NodeState::Slip && d.slip_sign != old.slip_sign)
+        {
             out.changes += 1;
             if (d.state == NodeState::Open) != (old.state == NodeState::Open) {
                 flips[k] += 1;
@@ -161,7 +170,7 @@ pub(super) fn update_pair(
         let old = mem.nodes[k];
         let node = &mut mem.nodes[k];
         node.state = d.state;
-        node.corner = false;
+        node.corner = d.corner;
         node.slip_sign = if d.state == NodeState::Slip {
             d.slip_sign
         } else {
@@ -211,7 +220,19 @@ pub(super) fn update_pair(
         result.nodes.y.push(x[k].y);
         result.nodes.state.push(d.state);
     }
-    let (tn, tt) = pairs::reported_tractions(problem, pair, &x, &active, &force, &frames)?;
+    // Lumped: each node's traction has the sign of its own force, which the
+    // decisions above read (the consistent recovery of Eq. 26 spreads a
+    // force over its neighbours and shows a pressed node next to an open one
+    // in tension).
+    let (tn, tt) = pairs::reported_tractions(
+        problem,
+        pair,
+        &x,
+        &active,
+        &force,
+        &frames,
+        Recovery::Lumped,
+    )?;
     result.nodes.tn = tn;
     result.nodes.tt = tt;
     Ok(result)
@@ -241,6 +262,7 @@ fn decide(
         p_n: 0.0,
         slip_sign: 0.0,
         anchor: None,
+        corner: false,
     };
     // Where the node meets the target, if it does.
     let found = match old.state {
@@ -280,6 +302,11 @@ fn decide(
         } else {
             (j, cp)
         };
+        if old.state != NodeState::Open
+            && let Some(held) = corner(segments, point.0, x, f, tension)
+        {
+            return held;
+        }
         return Decision {
             state: NodeState::Slip,
             point: Some(point),
@@ -287,6 +314,7 @@ fn decide(
             p_n,
             slip_sign: 0.0,
             anchor: old.anchor,
+            corner: false,
         };
     }
     // Where the node was on the target when the increment began (the
@@ -335,6 +363,7 @@ fn decide(
                 p_n,
                 slip_sign: 0.0,
                 anchor: Some((ja, beta_a)),
+                corner: false,
             };
         }
         // The anchor is out of reach (the target has moved on): slide.
@@ -346,6 +375,7 @@ fn decide(
             p_n,
             slip_sign: s,
             anchor: Some((ja, beta_a)),
+            corner: false,
         };
     };
     Decision {
@@ -355,6 +385,7 @@ fn decide(
         p_n,
         slip_sign: s,
         anchor: Some((ja, beta_a)),
+        corner: false,
     }
 }
 
@@ -392,7 +423,7 @@ fn add_rows(
             .filter_map(|l| dofs[l].map(|dof| (dof, v(l))))
             .collect()
     };
-    if d.state == NodeState::Stick {
+    if d.state == NodeState::Stick || d.corner {
         let c = cp.sticking(d.lambda);
         for l in 0..6 {
             if let Some(dof) = dofs[l] {
@@ -444,4 +475,76 @@ fn add_rows(
         out.max_overlap = out.max_overlap.max(c.delta_c.abs());
     }
     out.groups.push((n, first_row..out.rows.len()));
+}
+
+/// A frictionless node at a reflex corner of the target (the body's angle
+/// there above 180 degrees, as round a hole or inside a ring), in the wedge
+/// where neither segment's normal reaches it, or within `CORNER_REACH` of
+/// the corner: each segment alone leaves it a
+/// force along the target that pushes it over the corner onto the other.
+/// While its force `f` lies in the cone of the two normals it is held at the
+/// corner (two rows, its whole force); otherwise it slides on the segment
+/// that can carry the force.
+fn corner(
+    segments: &[TargetSegment],
+    j: usize,
+    x: Vector2<f64>,
+    f: Vector2<f64>,
+    tension: f64,
+) -> Option<Decision> {
+    // Near the corner: Newton's steps along one segment's line leave a
+    // node that belongs at the corner a little short of it or past it.
+    let tol = CORNER_REACH;
+    let beta = segments[j].seg.project(x).beta();
+    let end_j = if beta >= 1.0 - tol {
+        1.0
+    } else if beta <= tol {
+        0.0
+    } else {
+        return None;
+    };
+    let (i, end_i) = pairs::reflex(segments, j, end_j)?;
+    let beta_i = segments[i].seg.project(x).beta();
+    let beyond = if end_i == 0.0 {
+        beta_i <= tol
+    } else {
+        beta_i >= 1.0 - tol
+    };
+    if !beyond {
+        return None;
+    }
+    let (nj, ni) = (segments[j].seg.normal(), segments[i].seg.normal());
+    // f = -(a n_j + b n_i): the target pushes the node out.
+    let det = nj.x * ni.y - nj.y * ni.x;
+    let a = -(f.x * ni.y - f.y * ni.x) / det;
+    let b = -(nj.x * f.y - nj.y * f.x) / det;
+    let slide = |k: usize, end: f64| {
+        let cp = segments[k].seg.contact_at(x, end);
+        let n = segments[k].seg.normal();
+        let p_n = -n.dot(&f);
+        Decision {
+            state: NodeState::Slip,
+            point: Some((k, cp)),
+            lambda: -p_n * n,
+            p_n,
+            slip_sign: 0.0,
+            anchor: None,
+            corner: false,
+        }
+    };
+    if a >= -tension && b >= -tension {
+        Some(Decision {
+            state: NodeState::Slip,
+            point: Some((j, segments[j].seg.contact_at(x, end_j))),
+            lambda: f,
+            p_n: a + b,
+            slip_sign: 0.0,
+            anchor: None,
+            corner: true,
+        })
+    } else if a < -tension && b >= -tension {
+        Some(slide(i, end_i))
+    } else {
+        Some(slide(j, end_j))
+    }
 }

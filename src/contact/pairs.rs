@@ -341,7 +341,7 @@ pub(super) fn follow(
 /// target body's angle there exceeds 180 degrees (a reflex corner, as round
 /// a hole): `(i, end_i)`. The body lies to the left of the segments, so
 /// walking along the surface a reflex corner turns right.
-fn reflex(segments: &[TargetSegment], j: usize, end_j: f64) -> Option<(usize, f64)> {
+pub(super) fn reflex(segments: &[TargetSegment], j: usize, end_j: f64) -> Option<(usize, f64)> {
     let s = &segments[j].seg;
     let (at, end_i) = if end_j == 1.0 {
         (s.xb(), 0.0)
@@ -1068,7 +1068,7 @@ fn paper_pair(
 /// unit area of the configuration the element stresses are written on (the
 /// reference one under small strain, the current one under total
 /// Lagrangian kinematics). 8-node sides use their quadratic shape
-/// functions, 4-node sides the pair's recovery (Eqs. 26/27 or lumped).
+/// functions, 4-node sides `recovery` (Eqs. 26/27 or lumped).
 pub(super) fn reported_tractions(
     problem: &Problem,
     pair: &ContactPair,
@@ -1076,6 +1076,7 @@ pub(super) fn reported_tractions(
     active: &[bool],
     force: &[Vector2<f64>],
     frames: &[Option<(Vector2<f64>, Vector2<f64>)>],
+    recovery: crate::problem::Recovery,
 ) -> Result<(Vec<f64>, Vec<f64>), String> {
     let geometry = geometry(problem);
     let m = x.len();
@@ -1111,7 +1112,7 @@ pub(super) fn reported_tractions(
             let fs: Vec<[f64; 2]> = f.iter().map(|v| [v.x, v.y]).collect();
             let chain = traction::Chain::new(geometry, pair.closed, &xs)
                 .map_err(|e| format!("pair '{}': {e}", pair.name))?;
-            traction::recover_tractions(&chain, pair.recovery, &on, &fs)
+            traction::recover_tractions(&chain, recovery, &on, &fs)
                 .map_err(|e| format!("pair '{}': {e}", pair.name))?
                 .into_iter()
                 .map(|t| Vector2::new(t[0], t[1]))
