@@ -133,7 +133,9 @@ impl Solver {
             .map(|q| {
                 (pattern.col_ptr[q]..pattern.col_ptr[q + 1])
                     .find(|&i| pattern.row_idx[i] == q)
-                    .ok_or_else(|| SolveError::Invalid(format!("no diagonal entry for equation {q}")))
+                    .ok_or_else(|| {
+                        SolveError::Invalid(format!("no diagonal entry for equation {q}"))
+                    })
             })
             .collect::<Result<Vec<_>, _>>()?;
         let inputs = vec![[None, None]; problem.drivers.len()];
@@ -598,7 +600,11 @@ impl Solver {
                 // Diverging: the residual is far above every force of the
                 // problem and still growing.
                 let m = ratios.len();
-                if it >= 3 && rho > 1e6 && ratios[m - 1] > ratios[m - 2] && ratios[m - 2] > ratios[m - 3] {
+                if it >= 3
+                    && rho > 1e6
+                    && ratios[m - 1] > ratios[m - 2]
+                    && ratios[m - 2] > ratios[m - 3]
+                {
                     return Err(format!(
                         "diverging: |r|/F = {rho:.3e} at iteration {it}, growing for two iterations"
                     ));

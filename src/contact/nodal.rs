@@ -9,8 +9,8 @@
 //! quadratically once the states settle (docs/contact.md section 8).
 
 use super::pairs::{
-    self, ContactSystem, MAX_FLIPS, NodeMemory, PairMemory, Row, Start,
-    TENSION_TOLERANCE, TargetSegment,
+    self, ContactSystem, MAX_FLIPS, NodeMemory, PairMemory, Row, Start, TENSION_TOLERANCE,
+    TargetSegment,
 };
 use super::segment::ContactPoint;
 use crate::assembly::PRESCRIBED;
@@ -122,7 +122,11 @@ pub(super) fn update_pair(
             &old,
             x[k],
             x0[k],
-            if active[k] { force[k] } else { Vector2::zeros() },
+            if active[k] {
+                force[k]
+            } else {
+                Vector2::zeros()
+            },
             c,
             reach(k),
             tension,
@@ -156,8 +160,7 @@ pub(super) fn update_pair(
             if old.state != NodeState::Open && d.state == NodeState::Open {
                 log(&format!(
                     "pair '{}' node {k}: released (p_n {:.3e})",
-                    pair.name,
-                    d.p_n
+                    pair.name, d.p_n
                 ));
             }
         }
@@ -171,6 +174,7 @@ pub(super) fn update_pair(
         let node = &mut mem.nodes[k];
         node.state = d.state;
         node.corner = d.corner;
+        node.corner_left |= old.corner && !d.corner;
         node.slip_sign = if d.state == NodeState::Slip {
             d.slip_sign
         } else {
@@ -287,7 +291,9 @@ fn decide(
         if overlap <= 0.0 {
             return open;
         }
-    } else if p_n < -tension && (old.state != NodeState::Stick || frictionless || q.abs() <= tension) {
+    } else if p_n < -tension
+        && (old.state != NodeState::Stick || frictionless || q.abs() <= tension)
+    {
         // A sticking node pulled along the target as well slides first: held
         // at its anchor on a curved target, its pull shows partly as tension.
         return Decision { p_n, ..open };
@@ -303,7 +309,7 @@ fn decide(
             (j, cp)
         };
         if old.state != NodeState::Open
-            && let Some(held) = corner(segments, point.0, x, f, tension)
+            && let Some(held) = corner(segments, point.0, x, f, tension, old)
         {
             return held;
         }
@@ -480,7 +486,7 @@ fn add_rows(
 /// A frictionless node at a reflex corner of the target (the body's angle
 /// there above 180 degrees, as round a hole or inside a ring), in the wedge
 /// where neither segment's normal reaches it, or within `CORNER_REACH` of
-/// the corner: each segment alone leaves it a
+/// the corner once it has crossed it back: each segment alone leaves it a
 /// force along the target that pushes it over the corner onto the other.
 /// While its force `f` lies in the cone of the two normals it is held at the
 /// corner (two rows, its whole force); otherwise it slides on the segment
@@ -491,9 +497,13 @@ fn corner(
     x: Vector2<f64>,
     f: Vector2<f64>,
     tension: f64,
+    old: &NodeMemory,
 ) -> Option<Decision> {
-    // Near the corner: Newton's steps along one segment's line leave a
-    // node that belongs at the corner a little short of it or past it.
+    // Near the corner (Newton's steps along one segment's line leave a node
+    // that belongs at the corner a little short of it or past it) once it
+    // has crossed the corner and come back, or is held there; in the wedge
+    // beyond both segments' ends in any case. A node dragged across a corner
+    // once passes it.
     let tol = CORNER_REACH;
     let beta = segments[j].seg.project(x).beta();
     let end_j = if beta >= 1.0 - tol {
@@ -505,12 +515,22 @@ fn corner(
     };
     let (i, end_i) = pairs::reflex(segments, j, end_j)?;
     let beta_i = segments[i].seg.project(x).beta();
-    let beyond = if end_i == 0.0 {
-        beta_i <= tol
-    } else {
-        beta_i >= 1.0 - tol
+    let beyond = |tol: f64| {
+        let past_j = if end_j == 0.0 {
+            beta <= tol
+        } else {
+            beta >= 1.0 - tol
+        };
+        let past_i = if end_i == 0.0 {
+            beta_i <= tol
+        } else {
+            beta_i >= 1.0 - tol
+        };
+        past_j && past_i
     };
-    if !beyond {
+    let returned = !old.corner_left
+        && (old.corner || old.crossed == Some((j, i)) || old.crossed == Some((i, j)));
+    if !(beyond(pairs::BETA_TOLERANCE) || (returned && beyond(tol))) {
         return None;
     }
     let (nj, ni) = (segments[j].seg.normal(), segments[i].seg.normal());

@@ -66,6 +66,10 @@ pub struct NodeMemory {
     /// Nodal decisions: it has ever slid (mu_d for good under the usual rule).
     #[serde(default)]
     pub ever_slid: bool,
+    /// Nodal decisions: it left a corner hold in this increment (held again
+    /// only from the wedge itself).
+    #[serde(default)]
+    pub corner_left: bool,
 }
 
 /// A contactor segment's memory (segment j joins contactor nodes j, j+1).
@@ -105,6 +109,7 @@ pub fn begin_increment(memory: &mut [PairMemory]) {
         node.anchor = (node.state != NodeState::Open).then_some((node.segment, node.beta));
         node.crossed = None;
         node.slid = false;
+        node.corner_left = false;
     }
 }
 
@@ -1129,7 +1134,11 @@ pub(super) fn reported_tractions(
 
 /// Unit tangent (toward the next node) and inward normal of a contactor
 /// chain at node k: the average of its segments' directions.
-pub(super) fn node_frame(x: &[Vector2<f64>], closed: bool, k: usize) -> (Vector2<f64>, Vector2<f64>) {
+pub(super) fn node_frame(
+    x: &[Vector2<f64>],
+    closed: bool,
+    k: usize,
+) -> (Vector2<f64>, Vector2<f64>) {
     let m = x.len();
     let mut tau = Vector2::zeros();
     if k + 1 < m || closed {
