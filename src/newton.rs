@@ -714,7 +714,7 @@ impl Solver {
             // e.g. a block that slides under a force it cannot resist) or
             // nothing holds the body. Fail now; a smaller step may converge.
             let du_max = largest(&rhs[..n]);
-            if !(du_max <= 1e3 * self.size) {
+            if du_max.is_nan() || du_max > 1e3 * self.size {
                 return Err(format!(
                     "no equilibrium near this state: iteration {it} moves a node by {du_max:.3e}, \
                      {:.1e} times the model's size (the load exceeds what the contact can hold, \
