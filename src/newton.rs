@@ -1,7 +1,8 @@
 //! Increments, Newton-Raphson iterations and automatic bisection. Residuals
-//! are normalised by the first iteration of the increment and logged with
-//! the observed convergence rate; a failed increment leaves the last
-//! converged state untouched.
+//! are measured against the problem's force scale (never the first residual
+//! alone: a held input converges at iteration 0) and logged with the
+//! observed convergence rate; a failed increment leaves the last converged
+//! state untouched.
 
 use crate::assembly::{Model, PRESCRIBED, Workspace};
 use crate::constraint::TieResult;

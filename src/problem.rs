@@ -240,8 +240,10 @@ pub struct ContactPair {
     pub decisions: Decisions,
 }
 
-/// Newton control. Tolerances are relative to the first iteration of an
-/// increment (force and displacement norms, energy).
+/// Newton control. The force tolerance is relative to the problem's force
+/// scale (element forces, reactions, contact forces), the displacement and
+/// energy tolerances to the first correction of the increment
+/// (docs/contact.md section 8).
 #[derive(Clone, Debug, PartialEq)]
 pub struct SolverSettings {
     pub force_tolerance: f64,

@@ -25,6 +25,7 @@ REPO = Path(__file__).resolve().parents[2]
 SCENE = REPO / "scenes" / "buried_pipe.toml"
 CONTACT = """[[contact]]
 name = "interface"
+decisions = "paper"
 contactor = "pipe.outer"
 target = "soil.hole"
 mu_s = 0.3"""

@@ -279,9 +279,14 @@ def test_sliding_block_sticks_slips_and_reverses(open_fmu, sliding_cli):
     assert back[0]["stick"] == NODES, "reversal starts by sticking"
     cross = next(i for i, r in enumerate(back) if r["ft"] > 0)
     assert cross >= 1 and back[cross - 1]["ft"] < 0
-    assert back[cross - 1]["stick"] == NODES and back[cross]["stick"] == NODES, (
-        "the sign change happens while every node sticks"
-    )
+    # The sign change happens while the block sticks: every node before
+    # it; after it every node but the block's corners (the nodal decisions
+    # hold each node to its own capacity, and a corner node, where the
+    # block's edge concentrates the shear, reverses first: the CLI shows
+    # the trailing corner sliding from Ft = +0.14 mu_d Fn on).
+    assert back[cross - 1]["stick"] == NODES, "every node sticks before the sign change"
+    interior = back[cross]["state"][1:-1]
+    assert all(st == 1 for st in interior), back[cross]["state"]
     assert back[-1]["slip"] == NODES
     assert abs(back[-1]["ft"] / back[-1]["fn"] - MU_D) < 1e-3
     assert np.all(back[-1]["tt"] > 0), "every node's traction has changed sign"
