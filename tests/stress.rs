@@ -63,25 +63,25 @@ mod capstan_half_wrap {
         capstan_half_wrap,
         q4_1x,
         Variant::Q4_1X,
-        "issue 11 open: converges and meets exp(mu theta), but with bisections and up to 36-93 iterations while the slip front crosses the wrap (stick/slip cycling at the front)"
+        "issue 11 open: meets exp(mu theta) within 4e-3, but with bisections and up to 36-94 iterations in an increment while the slip front crosses the wrap (stick/slip cycling at the front)"
     );
     variant!(
         capstan_half_wrap,
         q4_2x,
         Variant::Q4_2X,
-        "issue 11 open: converges and meets exp(mu theta), but with bisections and up to 36-93 iterations while the slip front crosses the wrap (stick/slip cycling at the front)"
+        "issue 11 open: meets exp(mu theta) within 4e-3, but with bisections and up to 36-94 iterations in an increment while the slip front crosses the wrap (stick/slip cycling at the front)"
     );
     variant!(
         capstan_half_wrap,
         q8_1x,
         Variant::Q8_1X,
-        "issue 11 open: converges and meets exp(mu theta), but with bisections and up to 36-93 iterations while the slip front crosses the wrap (stick/slip cycling at the front)"
+        "issue 11 open: fails at t = 1.25 (the pull starts): a node at the slip front alternates between stick and slip"
     );
     variant!(
         capstan_half_wrap,
         q8_2x,
         Variant::Q8_2X,
-        "issue 11 open: converges and meets exp(mu theta), but with bisections and up to 36-93 iterations while the slip front crosses the wrap (stick/slip cycling at the front)"
+        "issue 11 open: meets exp(mu theta) within 4e-3, but with bisections and up to 36-94 iterations in an increment while the slip front crosses the wrap (stick/slip cycling at the front)"
     );
 }
 mod capstan_quarter_wrap {
@@ -90,25 +90,25 @@ mod capstan_quarter_wrap {
         capstan_quarter_wrap,
         q4_1x,
         Variant::Q4_1X,
-        "issue 11 open: converges and meets exp(mu theta), but with bisections and up to 36-93 iterations while the slip front crosses the wrap (stick/slip cycling at the front)"
+        "issue 11 open: meets exp(mu theta) within 4e-3, but with bisections and up to 36-94 iterations in an increment while the slip front crosses the wrap (stick/slip cycling at the front)"
     );
     variant!(
         capstan_quarter_wrap,
         q4_2x,
         Variant::Q4_2X,
-        "issue 11 open: converges and meets exp(mu theta), but with bisections and up to 36-93 iterations while the slip front crosses the wrap (stick/slip cycling at the front)"
+        "issue 11 open: meets exp(mu theta) within 4e-3, but with bisections and up to 36-94 iterations in an increment while the slip front crosses the wrap (stick/slip cycling at the front)"
     );
     variant!(
         capstan_quarter_wrap,
         q8_1x,
         Variant::Q8_1X,
-        "issue 11 open: converges and meets exp(mu theta), but with bisections and up to 36-93 iterations while the slip front crosses the wrap (stick/slip cycling at the front)"
+        "issue 11 open: meets exp(mu theta) within 4e-3, but with bisections and up to 36-94 iterations in an increment while the slip front crosses the wrap (stick/slip cycling at the front)"
     );
     variant!(
         capstan_quarter_wrap,
         q8_2x,
         Variant::Q8_2X,
-        "issue 11 open: converges and meets exp(mu theta), but with bisections and up to 36-93 iterations while the slip front crosses the wrap (stick/slip cycling at the front)"
+        "issue 11 open: meets exp(mu theta) within 4e-3, but with bisections and up to 36-94 iterations in an increment while the slip front crosses the wrap (stick/slip cycling at the front)"
     );
 }
 mod capstan_half_wrap_frictionless {
@@ -162,19 +162,19 @@ mod shrink_fit_frictionless {
         shrink_fit_frictionless,
         q4_2x,
         Variant::Q4_2X,
-        "issue 11 open: converges to Lame within 2.5e-4 but in 6 iterations (median 6 > 5): frictionless nodes on the rim's reflex corners"
+        "issue 11 open: does not converge: frictionless nodes near the rim's reflex corners (nodes on nodes) are not settled by the corner rule on this mesh"
     );
     variant!(
         shrink_fit_frictionless,
         q8_1x,
         Variant::Q8_1X,
-        "issue 11 open: converges to Lame within 2.5e-4 but in 6 iterations (median 6 > 5): frictionless nodes on the rim's reflex corners"
+        "issue 11 open: does not converge: frictionless nodes near the rim's reflex corners (nodes on nodes) are not settled by the corner rule on this mesh"
     );
     variant!(
         shrink_fit_frictionless,
         q8_2x,
         Variant::Q8_2X,
-        "issue 11 open: converges to Lame within 2.5e-4 but in 6 iterations (median 6 > 5): frictionless nodes on the rim's reflex corners"
+        "issue 11 open: does not converge: frictionless nodes near the rim's reflex corners (nodes on nodes) are not settled by the corner rule on this mesh"
     );
 }
 mod shrink_fit_with_friction {
@@ -259,25 +259,25 @@ mod capstan_held {
         capstan_held,
         q4_1x,
         Variant::Q4_1X,
-        "issue 11 open: the capstan's pretension increment needs bisections (stick/slip cycling at the slip front)"
+        "issue 11 open: the capstan's increments need bisections and up to 93 iterations (stick/slip cycling at the slip front); the whole pull in one increment fails with 8-node elements"
     );
     variant!(
         capstan_held,
         q4_2x,
         Variant::Q4_2X,
-        "issue 11 open: the capstan's pretension increment needs bisections (stick/slip cycling at the slip front)"
+        "issue 11 open: the capstan's increments need bisections and up to 93 iterations (stick/slip cycling at the slip front); the whole pull in one increment fails with 8-node elements"
     );
     variant!(
         capstan_held,
         q8_1x,
         Variant::Q8_1X,
-        "issue 11 open: the capstan's pretension increment needs bisections (stick/slip cycling at the slip front)"
+        "issue 11 open: the capstan's increments need bisections and up to 93 iterations (stick/slip cycling at the slip front); the whole pull in one increment fails with 8-node elements"
     );
     variant!(
         capstan_held,
         q8_2x,
         Variant::Q8_2X,
-        "issue 11 open: the capstan's pretension increment needs bisections (stick/slip cycling at the slip front)"
+        "issue 11 open: the capstan's increments need bisections and up to 93 iterations (stick/slip cycling at the slip front); the whole pull in one increment fails with 8-node elements"
     );
 }
 mod capstan_tiny {
@@ -286,25 +286,25 @@ mod capstan_tiny {
         capstan_tiny,
         q4_1x,
         Variant::Q4_1X,
-        "issue 11 open: the capstan's pretension increment needs bisections (stick/slip cycling at the slip front)"
+        "issue 11 open: the capstan's increments need bisections and up to 93 iterations (stick/slip cycling at the slip front); the whole pull in one increment fails with 8-node elements"
     );
     variant!(
         capstan_tiny,
         q4_2x,
         Variant::Q4_2X,
-        "issue 11 open: the capstan's pretension increment needs bisections (stick/slip cycling at the slip front)"
+        "issue 11 open: the capstan's increments need bisections and up to 93 iterations (stick/slip cycling at the slip front); the whole pull in one increment fails with 8-node elements"
     );
     variant!(
         capstan_tiny,
         q8_1x,
         Variant::Q8_1X,
-        "issue 11 open: the capstan's pretension increment needs bisections (stick/slip cycling at the slip front)"
+        "issue 11 open: the capstan's increments need bisections and up to 93 iterations (stick/slip cycling at the slip front); the whole pull in one increment fails with 8-node elements"
     );
     variant!(
         capstan_tiny,
         q8_2x,
         Variant::Q8_2X,
-        "issue 11 open: the capstan's pretension increment needs bisections (stick/slip cycling at the slip front)"
+        "issue 11 open: the capstan's increments need bisections and up to 93 iterations (stick/slip cycling at the slip front); the whole pull in one increment fails with 8-node elements"
     );
 }
 mod capstan_large {
@@ -313,25 +313,25 @@ mod capstan_large {
         capstan_large,
         q4_1x,
         Variant::Q4_1X,
-        "issue 11 open: the capstan's pretension increment needs bisections (stick/slip cycling at the slip front)"
+        "issue 11 open: the capstan's increments need bisections and up to 93 iterations (stick/slip cycling at the slip front); the whole pull in one increment fails with 8-node elements"
     );
     variant!(
         capstan_large,
         q4_2x,
         Variant::Q4_2X,
-        "issue 11 open: the capstan's pretension increment needs bisections (stick/slip cycling at the slip front)"
+        "issue 11 open: the capstan's increments need bisections and up to 93 iterations (stick/slip cycling at the slip front); the whole pull in one increment fails with 8-node elements"
     );
     variant!(
         capstan_large,
         q8_1x,
         Variant::Q8_1X,
-        "issue 11 open: the capstan's pretension increment needs bisections (stick/slip cycling at the slip front)"
+        "issue 11 open: the capstan's increments need bisections and up to 93 iterations (stick/slip cycling at the slip front); the whole pull in one increment fails with 8-node elements"
     );
     variant!(
         capstan_large,
         q8_2x,
         Variant::Q8_2X,
-        "issue 11 open: the capstan's pretension increment needs bisections (stick/slip cycling at the slip front)"
+        "issue 11 open: the capstan's increments need bisections and up to 93 iterations (stick/slip cycling at the slip front); the whole pull in one increment fails with 8-node elements"
     );
 }
 mod capstan_reversal {
@@ -340,25 +340,25 @@ mod capstan_reversal {
         capstan_reversal,
         q4_1x,
         Variant::Q4_1X,
-        "issue 11 open: the capstan's pretension increment needs bisections (stick/slip cycling at the slip front)"
+        "issue 11 open: the capstan's increments need bisections and up to 93 iterations (stick/slip cycling at the slip front); the whole pull in one increment fails with 8-node elements"
     );
     variant!(
         capstan_reversal,
         q4_2x,
         Variant::Q4_2X,
-        "issue 11 open: the capstan's pretension increment needs bisections (stick/slip cycling at the slip front)"
+        "issue 11 open: the capstan's increments need bisections and up to 93 iterations (stick/slip cycling at the slip front); the whole pull in one increment fails with 8-node elements"
     );
     variant!(
         capstan_reversal,
         q8_1x,
         Variant::Q8_1X,
-        "issue 11 open: the capstan's pretension increment needs bisections (stick/slip cycling at the slip front)"
+        "issue 11 open: the capstan's increments need bisections and up to 93 iterations (stick/slip cycling at the slip front); the whole pull in one increment fails with 8-node elements"
     );
     variant!(
         capstan_reversal,
         q8_2x,
         Variant::Q8_2X,
-        "issue 11 open: the capstan's pretension increment needs bisections (stick/slip cycling at the slip front)"
+        "issue 11 open: the capstan's increments need bisections and up to 93 iterations (stick/slip cycling at the slip front); the whole pull in one increment fails with 8-node elements"
     );
 }
 // 5. Refined versions of the shipped frictional scenes. The tests run the
