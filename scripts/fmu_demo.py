@@ -67,7 +67,7 @@ def main() -> int:
 
     print(f"{md.modelName}: {len(md.modelVariables)} variables, {nodes} contactor nodes in pair '{args.pair}'")
     head = f"{'step':>4} {'time':>7} {args.input:>12} " + " ".join(f"{r.split('.')[-1]:>12}" for r in reals[:4])
-    head += f" {'stick':>5} {'slip':>5} {'open':>5} {'iter':>4} {'sub':>3} {'|r|/|r0|':>9}"
+    head += f" {'stick':>5} {'slip':>5} {'open':>5} {'iter':>4} {'sub':>3} {'|r|/F':>9}"
     print(head)
     snapshots = []
     step = 0
