@@ -197,25 +197,25 @@ mod incline {
         incline,
         q4_1x,
         Variant::Q4_1X,
-        "issue 11 open: a tilt increment of 5 degrees on small-strain kinematics releases the stuck nodes in tension; bisections and up to 20 iterations"
+        "issue 11 open: the first iteration of a 5-degree tilt increment carries the stuck block round by a linearised rotation, whose stretch puts the stuck nodes in tension: they are released; bisections (up to 7) and up to 23 iterations"
     );
     variant!(
         incline,
         q4_2x,
         Variant::Q4_2X,
-        "issue 11 open: a tilt increment of 5 degrees on small-strain kinematics releases the stuck nodes in tension; bisections and up to 20 iterations"
+        "issue 11 open: the first iteration of a 5-degree tilt increment carries the stuck block round by a linearised rotation, whose stretch puts the stuck nodes in tension: they are released; bisections (up to 7) and up to 23 iterations"
     );
     variant!(
         incline,
         q8_1x,
         Variant::Q8_1X,
-        "issue 11 open: a tilt increment of 5 degrees on small-strain kinematics releases the stuck nodes in tension; bisections and up to 20 iterations"
+        "issue 11 open: the first iteration of a 5-degree tilt increment carries the stuck block round by a linearised rotation, whose stretch puts the stuck nodes in tension: they are released; bisections (up to 7) and up to 23 iterations"
     );
     variant!(
         incline,
         q8_2x,
         Variant::Q8_2X,
-        "issue 11 open: a tilt increment of 5 degrees on small-strain kinematics releases the stuck nodes in tension; bisections and up to 20 iterations"
+        "issue 11 open: the first iteration of a 5-degree tilt increment carries the stuck block round by a linearised rotation, whose stretch puts the stuck nodes in tension: they are released; bisections (up to 7) and up to 23 iterations"
     );
 }
 mod block_held {
