@@ -417,7 +417,6 @@ impl Solver {
         let mut memory = self.state.contact.clone();
         pairs::begin_increment(&mut memory);
         let mut flips = Flips::default();
-        let mut diagonal = vec![0.0; u.len()];
         let mut extra: Vec<(usize, usize, f64)> = Vec::new();
         // Tie multipliers, total: their forces C^T lambda act as loads.
         let mut lambda = self.state.ties.clone();
@@ -453,17 +452,9 @@ impl Solver {
             let contact = if with_contact {
                 let mut clog =
                     |m: &str| log(LogCategory::Contact, &format!("t = {t:.6e} it {it}: {m}"));
-                for (dof, &q) in self.model.eq.iter().enumerate() {
-                    diagonal[dof] = if q == PRESCRIBED {
-                        0.0
-                    } else {
-                        self.k[self.diagonal_at[q as usize]]
-                    };
-                }
                 let start = pairs::Start {
                     u: &self.state.u,
                     poses: &self.state.rigid,
-                    diagonal: &diagonal,
                 };
                 Some(pairs::update(
                     &self.problem,

@@ -491,11 +491,9 @@ fn check(kind: ElementKind, rigid: bool, wanted: &[NodeState], r_nodes: &[V2], s
     let mut mem = vec![memory];
     let mut log = Vec::new();
     let poses = pairs::scene_poses(&p.problem, 1.0);
-    let diagonal = vec![0.0; ndof];
     let start = pairs::Start {
         u: &p.u,
         poses: &poses,
-        diagonal: &diagonal,
     };
     let sys = pairs::update(
         &p.problem,

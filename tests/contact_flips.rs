@@ -37,11 +37,9 @@ fn a_node_flipping_open_and_closed_is_reported() {
     let mut log = Vec::new();
     let mut states = Vec::new();
     let poses = pairs::scene_poses(&p, 0.0);
-    let diagonal = vec![0.0; ndof];
     let start = pairs::Start {
         u: &u,
         poses: &poses,
-        diagonal: &diagonal,
     };
     let error = loop {
         match pairs::update(

@@ -92,15 +92,6 @@ pub(super) fn update_pair(
     let force: Vec<Vector2<f64>> = (pair.contactor.iter())
         .map(|&n| Vector2::new(component(2 * n), component(2 * n + 1)))
         .collect();
-    // The stiffness that turns a gap or a slip into a force at the node.
-    let stiffness = |k: usize| {
-        let n = pair.contactor[k];
-        [2 * n, 2 * n + 1]
-            .iter()
-            .filter(|&&d| eq[d] != PRESCRIBED)
-            .map(|&d| start.diagonal[d])
-            .fold(0.0, f64::max)
-    };
     let active: Vec<bool> = (mem.nodes.iter())
         .map(|n| n.state != NodeState::Open)
         .collect();
@@ -114,7 +105,6 @@ pub(super) fn update_pair(
     let mut decisions = Vec::with_capacity(m);
     for k in 0..m {
         let old = mem.nodes[k];
-        let c = stiffness(k);
         let d = decide(
             pair,
             &segments,
@@ -127,7 +117,6 @@ pub(super) fn update_pair(
             } else {
                 Vector2::zeros()
             },
-            c,
             reach(k),
             tension,
             frictionless,
@@ -253,7 +242,6 @@ fn decide(
     x: Vector2<f64>,
     x0: Vector2<f64>,
     f: Vector2<f64>,
-    _c: f64,
     reach: f64,
     tension: f64,
     frictionless: bool,

@@ -513,16 +513,13 @@ pub fn update(
     Ok(out)
 }
 
-/// The converged state an increment starts from, and the tangent's
-/// diagonal: what the nodal decisions measure slips and gaps against.
+/// The converged state an increment starts from: what the nodal decisions
+/// measure slips against.
 pub struct Start<'a> {
     /// Displacements at the start of the increment.
     pub u: &'a [f64],
     /// Rigid target poses at the start of the increment.
     pub poses: &'a [[f64; 3]],
-    /// Diagonal of the tangent per dof (zero at prescribed dofs): the
-    /// stiffness that turns a gap or a slip into a force.
-    pub diagonal: &'a [f64],
 }
 
 /// The paper's Section 3 for one pair: recovered tractions, segment
