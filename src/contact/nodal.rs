@@ -9,8 +9,7 @@
 //! quadratically once the states settle (docs/contact.md section 8).
 
 use super::pairs::{
-    self, ContactSystem, MAX_FLIPS, NodeMemory, PairMemory, Row, Start, TENSION_TOLERANCE,
-    TargetSegment,
+    self, ContactSystem, MAX_FLIPS, NodeMemory, PairMemory, Start, TENSION_TOLERANCE, TargetSegment,
 };
 use super::segment::ContactPoint;
 use crate::assembly::PRESCRIBED;
@@ -180,7 +179,9 @@ pub(super) fn update_pair(
             node.segment = *j;
             node.beta = cp.beta();
             let n = pair.contactor[k];
-            add_rows(pair, &segments, n, *j, cp, d, out);
+            let held = d.state == NodeState::Stick || d.corner;
+            let friction = if held { 0.0 } else { d.slip_sign * pair.mu_d };
+            pairs::add_rows(segments[*j].nodes, n, cp, held, d.lambda, friction, out);
             let f = if active[k] {
                 force[k]
             } else {
@@ -391,84 +392,6 @@ fn start_point(segments0: &[TargetSegment], j: usize, x0: Vector2<f64>) -> (usiz
         .get(j)
         .map_or(0.0, |s| s.seg.project(x0).beta().clamp(0.0, 1.0));
     (j, beta)
-}
-
-/// The rows of Eq. (18) for one node in contact: two for a sticking node
-/// (Eqs. 19-21), one for a sliding node, whose multiplier is the increase
-/// of its normal force: its column carries the friction `mu_d` of that
-/// increase against the slip (consistent), its row the normal gap.
-fn add_rows(
-    pair: &ContactPair,
-    segments: &[TargetSegment],
-    n: usize,
-    j: usize,
-    cp: &ContactPoint,
-    d: &Decision,
-    out: &mut ContactSystem,
-) {
-    let target = segments[j].nodes;
-    let mut dofs = [Some(2 * n), Some(2 * n + 1), None, None, None, None];
-    if let Some([a, b]) = target {
-        dofs[2..].copy_from_slice(&[Some(2 * a), Some(2 * a + 1), Some(2 * b), Some(2 * b + 1)]);
-    }
-    let first_row = out.rows.len();
-    let entries = |v: &dyn Fn(usize) -> f64| -> Vec<(usize, f64)> {
-        (0..6)
-            .filter_map(|l| dofs[l].map(|dof| (dof, v(l))))
-            .collect()
-    };
-    if d.state == NodeState::Stick || d.corner {
-        let c = cp.sticking(d.lambda);
-        for l in 0..6 {
-            if let Some(dof) = dofs[l] {
-                out.force.push((dof, c.r_c[l]));
-            }
-        }
-        for row in 0..2 {
-            out.rows.push(Row {
-                dofs: entries(&|l| c.k_ul[(l, row)]),
-                rhs: c.delta_c[row],
-                column: Vec::new(),
-            });
-        }
-        out.max_overlap = out.max_overlap.max(cp.overlap().norm());
-    } else {
-        let c = cp.sliding(d.lambda);
-        for l in 0..6 {
-            if let Some(dof) = dofs[l] {
-                out.force.push((dof, c.r_c[l]));
-            }
-        }
-        if target.is_some() {
-            for a in 0..6 {
-                for b in 0..6 {
-                    if let (Some(da), Some(db)) = (dofs[a], dofs[b])
-                        && c.k_uu[(a, b)] != 0.0
-                    {
-                        out.k.push((da, db, c.k_uu[(a, b)]));
-                    }
-                }
-            }
-        }
-        // d(G^T lambda)/d p_n = -G^T (n_s + s mu_d n_r); the column of the
-        // multiplier is its negative, as `Sliding::k_ul` is for n_s alone.
-        let seg = cp.segment();
-        let friction = d.slip_sign * pair.mu_d;
-        let column = if friction != 0.0 {
-            let gt = cp.relative_motion().transpose();
-            let v = gt * (seg.normal() + friction * seg.tangent());
-            entries(&|l| v[l])
-        } else {
-            Vec::new()
-        };
-        out.rows.push(Row {
-            dofs: entries(&|l| c.k_ul[l]),
-            rhs: c.delta_c,
-            column,
-        });
-        out.max_overlap = out.max_overlap.max(c.delta_c.abs());
-    }
-    out.groups.push((n, first_row..out.rows.len()));
 }
 
 /// A frictionless node at a reflex corner of the target (the body's angle

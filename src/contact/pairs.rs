@@ -909,78 +909,22 @@ fn paper_pair(
                 if node.anchor.is_none() {
                     node.anchor = Some((j, cp.beta()));
                 }
-                let target = segments[j].nodes;
-                let dofs: [Option<usize>; 6] = {
-                    let mut d = [Some(2 * n), Some(2 * n + 1), None, None, None, None];
-                    if let Some([a, b]) = target {
-                        d[2] = Some(2 * a);
-                        d[3] = Some(2 * a + 1);
-                        d[4] = Some(2 * b);
-                        d[5] = Some(2 * b + 1);
-                    }
-                    d
-                };
-                let overlap = cp.overlap();
-                let first_row = out.rows.len();
-                if state == NodeState::Stick || at_corner {
-                    if at_corner && active[k] {
-                        // Held in both directions: its whole force.
-                        lambda = Vector2::new(force[k][0], force[k][1]);
-                    }
-                    let c = cp.sticking(lambda);
-                    for l in 0..6 {
-                        if let Some(d) = dofs[l] {
-                            out.force.push((d, c.r_c[l]));
-                        }
-                    }
-                    for row in 0..2 {
-                        let cols = (0..6)
-                            .filter_map(|l| dofs[l].map(|d| (d, c.k_ul[(l, row)])))
-                            .collect();
-                        out.rows.push(Row {
-                            dofs: cols,
-                            rhs: c.delta_c[row],
-                            column: Vec::new(),
-                        });
-                    }
-                    out.max_overlap = out.max_overlap.max(overlap.norm());
-                } else {
-                    if frictionless && active[k] {
-                        // No friction: the force is along the target normal.
-                        // (The recovery's contactor-frame normals would leave
-                        // a component along the target that no row carries:
-                        // a phantom friction, and a linear Newton rate.)
-                        let n = cp.segment().normal();
-                        lambda = n * n.dot(&Vector2::new(force[k][0], force[k][1]));
-                    }
-                    let c = cp.sliding(lambda);
-                    for l in 0..6 {
-                        if let Some(d) = dofs[l] {
-                            out.force.push((d, c.r_c[l]));
-                        }
-                    }
-                    if target.is_some() {
-                        for a in 0..6 {
-                            for b in 0..6 {
-                                if let (Some(da), Some(db)) = (dofs[a], dofs[b])
-                                    && c.k_uu[(a, b)] != 0.0
-                                {
-                                    out.k.push((da, db, c.k_uu[(a, b)]));
-                                }
-                            }
-                        }
-                    }
-                    let cols = (0..6)
-                        .filter_map(|l| dofs[l].map(|d| (d, c.k_ul[l])))
-                        .collect();
-                    out.rows.push(Row {
-                        dofs: cols,
-                        rhs: c.delta_c,
-                        column: Vec::new(),
-                    });
-                    out.max_overlap = out.max_overlap.max(c.delta_c.abs());
+                let held = state == NodeState::Stick || at_corner;
+                if held && at_corner && active[k] {
+                    // Held in both directions: its whole force.
+                    lambda = Vector2::new(force[k][0], force[k][1]);
                 }
-                out.groups.push((n, first_row..out.rows.len()));
+                if !held && frictionless && active[k] {
+                    // No friction: the force is along the target normal.
+                    // (The recovery's contactor-frame normals would leave
+                    // a component along the target that no row carries:
+                    // a phantom friction, and a linear Newton rate.)
+                    let n = cp.segment().normal();
+                    lambda = n * n.dot(&Vector2::new(force[k][0], force[k][1]));
+                }
+                // The paper's friction is held over the iteration: no
+                // friction in the multiplier's column.
+                add_rows(segments[j].nodes, n, &cp, held, lambda, 0.0, out);
                 // Normal (compression positive) and tangential (along the
                 // contactor, from node k toward k + 1, i.e. against the
                 // target's A -> B) parts of the force on the contactor.
@@ -1062,6 +1006,84 @@ fn paper_pair(
         }
         Ok(result)
     }
+}
+
+/// The rows of Eq. (18) for one node `n` in contact at `cp` on a target
+/// segment with nodes `target` (None: rigid), with `lambda` its contact
+/// force: two for a node held in both directions (sticking, Eqs. 19-21, or
+/// at a corner), else one for a sliding node (Eqs. 22-24), whose
+/// multiplier is the increase of its normal force. `friction` (`s mu_d`,
+/// or 0) is the friction that increase brings along the slip: the
+/// multiplier's column is then `G^T (n_s + s mu_d n_r)` (the negative of
+/// `d(G^T lambda)/d p_n`, as `Sliding::k_ul` is for `n_s` alone), its row
+/// the normal gap.
+pub(super) fn add_rows(
+    target: Option<[usize; 2]>,
+    n: usize,
+    cp: &ContactPoint,
+    held: bool,
+    lambda: Vector2<f64>,
+    friction: f64,
+    out: &mut ContactSystem,
+) {
+    let mut dofs = [Some(2 * n), Some(2 * n + 1), None, None, None, None];
+    if let Some([a, b]) = target {
+        dofs[2..].copy_from_slice(&[Some(2 * a), Some(2 * a + 1), Some(2 * b), Some(2 * b + 1)]);
+    }
+    let first_row = out.rows.len();
+    let entries = |v: &dyn Fn(usize) -> f64| -> Vec<(usize, f64)> {
+        (0..6)
+            .filter_map(|l| dofs[l].map(|dof| (dof, v(l))))
+            .collect()
+    };
+    if held {
+        let c = cp.sticking(lambda);
+        for l in 0..6 {
+            if let Some(dof) = dofs[l] {
+                out.force.push((dof, c.r_c[l]));
+            }
+        }
+        for row in 0..2 {
+            out.rows.push(Row {
+                dofs: entries(&|l| c.k_ul[(l, row)]),
+                rhs: c.delta_c[row],
+                column: Vec::new(),
+            });
+        }
+        out.max_overlap = out.max_overlap.max(cp.overlap().norm());
+    } else {
+        let c = cp.sliding(lambda);
+        for l in 0..6 {
+            if let Some(dof) = dofs[l] {
+                out.force.push((dof, c.r_c[l]));
+            }
+        }
+        if target.is_some() {
+            for a in 0..6 {
+                for b in 0..6 {
+                    if let (Some(da), Some(db)) = (dofs[a], dofs[b])
+                        && c.k_uu[(a, b)] != 0.0
+                    {
+                        out.k.push((da, db, c.k_uu[(a, b)]));
+                    }
+                }
+            }
+        }
+        let column = if friction != 0.0 {
+            let seg = cp.segment();
+            let v = cp.relative_motion().transpose() * (seg.normal() + friction * seg.tangent());
+            entries(&|l| v[l])
+        } else {
+            Vec::new()
+        };
+        out.rows.push(Row {
+            dofs: entries(&|l| c.k_ul[l]),
+            rhs: c.delta_c,
+            column,
+        });
+        out.max_overlap = out.max_overlap.max(c.delta_c.abs());
+    }
+    out.groups.push((n, first_row..out.rows.len()));
 }
 
 /// Reported nodal tractions `t_n`, `t_t` of a pair from the forces of its
