@@ -537,475 +537,472 @@ fn paper_pair(
     out: &mut ContactSystem,
 ) -> Result<PairResult, String> {
     let geometry = geometry(problem);
-    {
-        let m = pair.contactor.len();
-        let segments = target_segments(problem, pair, u, poses)?;
-        let x: Vec<Vector2<f64>> = pair
-            .contactor
-            .iter()
-            .map(|&n| position(problem, u, n))
-            .collect();
-        // Reach of the search: a few contactor segment lengths, so a node is
-        // not caught by the far side of a thin target.
-        let mut reach: f64 = 0.0;
-        for w in x.windows(2) {
-            reach = reach.max((w[1] - w[0]).norm());
-        }
-        let reach = if reach > 0.0 {
-            2.0 * reach
-        } else {
-            f64::INFINITY
-        };
+    let m = pair.contactor.len();
+    let segments = target_segments(problem, pair, u, poses)?;
+    let x: Vec<Vector2<f64>> = pair
+        .contactor
+        .iter()
+        .map(|&n| position(problem, u, n))
+        .collect();
+    // Reach of the search: a few contactor segment lengths, so a node is
+    // not caught by the far side of a thin target.
+    let mut reach: f64 = 0.0;
+    for w in x.windows(2) {
+        reach = reach.max((w[1] - w[0]).norm());
+    }
+    let reach = if reach > 0.0 {
+        2.0 * reach
+    } else {
+        f64::INFINITY
+    };
 
-        // Contact forces from the out-of-balance forces (Section 3).
-        let active: Vec<bool> = mem
-            .nodes
+    // Contact forces from the out-of-balance forces (Section 3).
+    let active: Vec<bool> = mem
+        .nodes
+        .iter()
+        .map(|n| n.state != NodeState::Open)
+        .collect();
+    // At a prescribed dof the out-of-balance force is the driver's
+    // reaction, not contact: taken as zero (a symmetry plane).
+    let component = |d: usize| if eq[d] == PRESCRIBED { 0.0 } else { r[d] };
+    let force: Vec<[f64; 2]> = pair
+        .contactor
+        .iter()
+        .map(|&n| [component(2 * n), component(2 * n + 1)])
+        .collect();
+    let xs: Vec<[f64; 2]> = x.iter().map(|v| [v.x, v.y]).collect();
+    let prev: Vec<SegmentState> = mem
+        .segments
+        .iter()
+        .map(|s| to_segment_state(s.state))
+        .collect();
+    let ever: Vec<bool> = mem.segments.iter().map(|s| s.ever_slid).collect();
+    let directions: Vec<f64> = mem.segments.iter().map(|s| s.direction).collect();
+    // Section 3 on the contactor at positions `at`.
+    let evaluate = |at: &[[f64; 2]]| {
+        traction::evaluate(
+            geometry,
+            pair.recovery,
+            pair.mu_s,
+            pair.mu_d,
+            pair.rule,
+            pair.closed,
+            at,
+            &active,
+            &force,
+            &prev,
+            &ever,
+            &directions,
+            SLIDE_HYSTERESIS,
+        )
+        .map_err(|e| format!("pair '{}': {e}", pair.name))
+    };
+    let ev = evaluate(&xs)?;
+    // Reported tractions are per unit area of the geometry the element
+    // stresses live on: the reference one under small-strain kinematics
+    // (linear theory, as Hertz's), the current one under total
+    // Lagrangian kinematics (Cauchy tractions). The decisions above only
+    // compare tractions of the same segment, so they do not depend on it.
+    let reference_area = matches!(
+        problem.kinematics,
+        Kinematics::SmallStrain | Kinematics::MaterialNonlinearOnly
+    );
+    let x_area: Vec<Vector2<f64>> = if reference_area {
+        pair.contactor
             .iter()
-            .map(|n| n.state != NodeState::Open)
-            .collect();
-        // At a prescribed dof the out-of-balance force is the driver's
-        // reaction, not contact: taken as zero (a symmetry plane).
-        let component = |d: usize| if eq[d] == PRESCRIBED { 0.0 } else { r[d] };
-        let force: Vec<[f64; 2]> = pair
-            .contactor
-            .iter()
-            .map(|&n| [component(2 * n), component(2 * n + 1)])
-            .collect();
-        let xs: Vec<[f64; 2]> = x.iter().map(|v| [v.x, v.y]).collect();
-        let prev: Vec<SegmentState> = mem
-            .segments
-            .iter()
-            .map(|s| to_segment_state(s.state))
-            .collect();
-        let ever: Vec<bool> = mem.segments.iter().map(|s| s.ever_slid).collect();
-        let directions: Vec<f64> = mem.segments.iter().map(|s| s.direction).collect();
-        // Section 3 on the contactor at positions `at`.
-        let evaluate = |at: &[[f64; 2]]| {
-            traction::evaluate(
-                geometry,
-                pair.recovery,
-                pair.mu_s,
-                pair.mu_d,
-                pair.rule,
-                pair.closed,
-                at,
-                &active,
-                &force,
-                &prev,
-                &ever,
-                &directions,
-                SLIDE_HYSTERESIS,
-            )
-            .map_err(|e| format!("pair '{}': {e}", pair.name))
+            .map(|&n| Vector2::new(problem.mesh.nodes[n][0], problem.mesh.nodes[n][1]))
+            .collect()
+    } else {
+        x.clone()
+    };
+    let (node_tn, node_tt) = if reference_area {
+        let xs: Vec<[f64; 2]> = x_area.iter().map(|v| [v.x, v.y]).collect();
+        let out = evaluate(&xs)?;
+        // Magnitude per reference area, direction from the current
+        // surface (the reference surface is turned against the current
+        // one where the contact flattens it, by about a/R at the edge:
+        // decomposing there would move mu-sized parts of tn into tt).
+        let scale = |k: usize| {
+            let cur = ev.node_tn[k].hypot(ev.node_tt[k]);
+            let reference = out.node_tn[k].hypot(out.node_tt[k]);
+            if cur > 0.0 { reference / cur } else { 0.0 }
         };
-        let ev = evaluate(&xs)?;
-        // Reported tractions are per unit area of the geometry the element
-        // stresses live on: the reference one under small-strain kinematics
-        // (linear theory, as Hertz's), the current one under total
-        // Lagrangian kinematics (Cauchy tractions). The decisions above only
-        // compare tractions of the same segment, so they do not depend on it.
-        let reference_area = matches!(
-            problem.kinematics,
-            Kinematics::SmallStrain | Kinematics::MaterialNonlinearOnly
-        );
-        let x_area: Vec<Vector2<f64>> = if reference_area {
-            pair.contactor
+        (0..m)
+            .map(|k| (ev.node_tn[k] * scale(k), ev.node_tt[k] * scale(k)))
+            .unzip()
+    } else {
+        (ev.node_tn.clone(), ev.node_tt.clone())
+    };
+    for (s, seg) in mem.segments.iter_mut().enumerate() {
+        seg.state = from_segment_state(ev.segments[s].state);
+        seg.ever_slid = ev.segments[s].ever_slid;
+        seg.direction = ev.segments[s].sign;
+    }
+    let frictionless = pair.mu_s == 0.0 && pair.mu_d == 0.0;
+    let new_contact = if frictionless {
+        NodeState::Slip
+    } else {
+        NodeState::Stick
+    };
+
+    let mut result = PairResult {
+        fx: 0.0,
+        fy: 0.0,
+        fn_: 0.0,
+        ft: 0.0,
+        nodes: PairNodes::default(),
+        ..Default::default()
+    };
+    // Per contactor node in contact: the target's frame at its contact
+    // point, as the contactor sees it (tangent toward the next node,
+    // inward normal), for the reported nodal tractions.
+    let mut frames: Vec<Option<(Vector2<f64>, Vector2<f64>)>> = vec![None; m];
+    // The force a node in contact reports: its out-of-balance force, which
+    // at convergence is the contact force in every direction (the
+    // multipliers take up what the recovered forces leave).
+    let reported = |k: usize| {
+        if active[k] {
+            Vector2::new(force[k][0], force[k][1])
+        } else {
+            Vector2::zeros()
+        }
+    };
+    // Scale of the contact forces of this pair, for the tension test.
+    let force_scale = (0..m)
+        .filter(|&k| active[k])
+        .map(|k| force[k][0].hypot(force[k][1]))
+        .fold(0.0, f64::max);
+    // Nodes not in contact that have penetrated. One that was in
+    // contact at the start of the increment and comes back in it
+    // (released in an early iteration of a large increment) has slid
+    // from its anchor while free: it comes back sliding, and a segment
+    // of it that has just come back (it was open), or slides, takes a
+    // friction against that slip.
+    let nseg = mem.segments.len();
+    let closed = pair.closed;
+    let adjoining = move |k: usize| {
+        let before = if k > 0 {
+            Some(k - 1)
+        } else {
+            closed.then(|| nseg - 1)
+        };
+        [before, (k < nseg).then_some(k)]
+    };
+    let mut recontact: Vec<Option<((usize, ContactPoint), bool)>> = vec![None; m];
+    for k in (0..m).filter(|&k| mem.nodes[k].state == NodeState::Open) {
+        let Some((j, cp)) = search(&segments, x[k], reach) else {
+            continue;
+        };
+        let slip = match (frictionless, mem.nodes[k].anchor) {
+            (false, Some((sa, ba))) if sa < segments.len() => {
+                cp.point() - segments[sa].seg.point_at(ba)
+            }
+            _ => Vector2::zeros(),
+        };
+        let slid = slip.norm() > 1e-9 * segments[j].seg.length();
+        recontact[k] = Some(((j, cp), slid));
+        if !slid {
+            continue;
+        }
+        for s in adjoining(k).into_iter().flatten() {
+            // Contactor segment s runs from node s to node s + 1.
+            let tau = x[(s + 1) % m] - x[s];
+            let seg = &mut mem.segments[s];
+            if seg.state != NodeState::Stick || prev[s] == SegmentState::Open {
+                seg.state = NodeState::Slip;
+                seg.direction = -slip.dot(&tau).signum();
+                seg.ever_slid = true;
+            }
+        }
+    }
+    // Return to sticking, per segment: a segment that slides on in the
+    // direction it kept, while the slip of its nodes from their anchors
+    // runs along its friction (the uniform friction of Fig. 5 would do
+    // work over the increment: the drag has reversed), sticks; Table 1
+    // then puts its nodes back at their anchors, and the next decision
+    // checks the capacity and takes the new direction. Coulomb is applied
+    // over the segment (Section 3), and so is this check: the uniform
+    // friction loads a node next to a heavily loaded one with half the
+    // segment's friction whatever its own normal force, so a single
+    // node's slip may run along its share while the segment dissipates.
+    if !frictionless {
+        let slips: Vec<Option<Vector2<f64>>> = (0..m)
+            .map(|k| {
+                let node = &mem.nodes[k];
+                if !active[k] || node.state != NodeState::Slip {
+                    return None;
+                }
+                let (sa, ba) = node.anchor?;
+                let (_, cp) = follow(&segments, node.segment, x[k], reach)?;
+                (sa < segments.len()).then(|| cp.point() - segments[sa].seg.point_at(ba))
+            })
+            .collect();
+        for s in 0..nseg {
+            let seg = mem.segments[s];
+            if seg.state != NodeState::Slip
+                || prev[s] != SegmentState::Slide
+                || seg.direction == 0.0
+            {
+                continue;
+            }
+            let (a, b) = (s, (s + 1) % m);
+            // Only a segment that slides as a whole: a node in contact at
+            // either end that is held by its other segment (Table 1)
+            // does not slide, and the friction's share at the free node
+            // alone says nothing of the segment's slip.
+            if [a, b].iter().any(|&k| active[k] && slips[k].is_none()) {
+                continue;
+            }
+            let d = x[b] - x[a];
+            let tau = d / d.norm();
+            let slip: f64 = [a, b]
                 .iter()
-                .map(|&n| Vector2::new(problem.mesh.nodes[n][0], problem.mesh.nodes[n][1]))
-                .collect()
-        } else {
-            x.clone()
-        };
-        let (node_tn, node_tt) = if reference_area {
-            let xs: Vec<[f64; 2]> = x_area.iter().map(|v| [v.x, v.y]).collect();
-            let out = evaluate(&xs)?;
-            // Magnitude per reference area, direction from the current
-            // surface (the reference surface is turned against the current
-            // one where the contact flattens it, by about a/R at the edge:
-            // decomposing there would move mu-sized parts of tn into tt).
-            let scale = |k: usize| {
-                let cur = ev.node_tn[k].hypot(ev.node_tt[k]);
-                let reference = out.node_tn[k].hypot(out.node_tt[k]);
-                if cur > 0.0 { reference / cur } else { 0.0 }
-            };
-            (0..m)
-                .map(|k| (ev.node_tn[k] * scale(k), ev.node_tt[k] * scale(k)))
-                .unzip()
-        } else {
-            (ev.node_tn.clone(), ev.node_tt.clone())
-        };
-        for (s, seg) in mem.segments.iter_mut().enumerate() {
-            seg.state = from_segment_state(ev.segments[s].state);
-            seg.ever_slid = ev.segments[s].ever_slid;
-            seg.direction = ev.segments[s].sign;
-        }
-        let frictionless = pair.mu_s == 0.0 && pair.mu_d == 0.0;
-        let new_contact = if frictionless {
-            NodeState::Slip
-        } else {
-            NodeState::Stick
-        };
-
-        let mut result = PairResult {
-            fx: 0.0,
-            fy: 0.0,
-            fn_: 0.0,
-            ft: 0.0,
-            nodes: PairNodes::default(),
-            ..Default::default()
-        };
-        // Per contactor node in contact: the target's frame at its contact
-        // point, as the contactor sees it (tangent toward the next node,
-        // inward normal), for the reported nodal tractions.
-        let mut frames: Vec<Option<(Vector2<f64>, Vector2<f64>)>> = vec![None; m];
-        // The force a node in contact reports: its out-of-balance force, which
-        // at convergence is the contact force in every direction (the
-        // multipliers take up what the recovered forces leave).
-        let reported = |k: usize| {
-            if active[k] {
-                Vector2::new(force[k][0], force[k][1])
-            } else {
-                Vector2::zeros()
-            }
-        };
-        // Scale of the contact forces of this pair, for the tension test.
-        let force_scale = (0..m)
-            .filter(|&k| active[k])
-            .map(|k| force[k][0].hypot(force[k][1]))
-            .fold(0.0, f64::max);
-        // Nodes not in contact that have penetrated. One that was in
-        // contact at the start of the increment and comes back in it
-        // (released in an early iteration of a large increment) has slid
-        // from its anchor while free: it comes back sliding, and a segment
-        // of it that has just come back (it was open), or slides, takes a
-        // friction against that slip.
-        let nseg = mem.segments.len();
-        let closed = pair.closed;
-        let adjoining = move |k: usize| {
-            let before = if k > 0 {
-                Some(k - 1)
-            } else {
-                closed.then(|| nseg - 1)
-            };
-            [before, (k < nseg).then_some(k)]
-        };
-        let mut recontact: Vec<Option<((usize, ContactPoint), bool)>> = vec![None; m];
-        for k in (0..m).filter(|&k| mem.nodes[k].state == NodeState::Open) {
-            let Some((j, cp)) = search(&segments, x[k], reach) else {
-                continue;
-            };
-            let slip = match (frictionless, mem.nodes[k].anchor) {
-                (false, Some((sa, ba))) if sa < segments.len() => {
-                    cp.point() - segments[sa].seg.point_at(ba)
-                }
-                _ => Vector2::zeros(),
-            };
-            let slid = slip.norm() > 1e-9 * segments[j].seg.length();
-            recontact[k] = Some(((j, cp), slid));
-            if !slid {
-                continue;
-            }
-            for s in adjoining(k).into_iter().flatten() {
-                // Contactor segment s runs from node s to node s + 1.
-                let tau = x[(s + 1) % m] - x[s];
-                let seg = &mut mem.segments[s];
-                if seg.state != NodeState::Stick || prev[s] == SegmentState::Open {
-                    seg.state = NodeState::Slip;
-                    seg.direction = -slip.dot(&tau).signum();
-                    seg.ever_slid = true;
-                }
+                .filter_map(|&k| slips[k])
+                .map(|v| v.dot(&tau))
+                .sum();
+            if slip * seg.direction > 0.0 && slip.abs() > 1e-12 * d.norm() {
+                log(&format!(
+                    "pair '{}' segment {s}: slip {slip:.3e} along its friction, sticks",
+                    pair.name
+                ));
+                mem.segments[s].state = NodeState::Stick;
+                mem.segments[s].direction = 0.0;
             }
         }
-        // Return to sticking, per segment: a segment that slides on in the
-        // direction it kept, while the slip of its nodes from their anchors
-        // runs along its friction (the uniform friction of Fig. 5 would do
-        // work over the increment: the drag has reversed), sticks; Table 1
-        // then puts its nodes back at their anchors, and the next decision
-        // checks the capacity and takes the new direction. Coulomb is applied
-        // over the segment (Section 3), and so is this check: the uniform
-        // friction loads a node next to a heavily loaded one with half the
-        // segment's friction whatever its own normal force, so a single
-        // node's slip may run along its share while the segment dissipates.
-        if !frictionless {
-            let slips: Vec<Option<Vector2<f64>>> = (0..m)
-                .map(|k| {
-                    let node = &mem.nodes[k];
-                    if !active[k] || node.state != NodeState::Slip {
-                        return None;
-                    }
-                    let (sa, ba) = node.anchor?;
-                    let (_, cp) = follow(&segments, node.segment, x[k], reach)?;
-                    (sa < segments.len()).then(|| cp.point() - segments[sa].seg.point_at(ba))
-                })
-                .collect();
-            for s in 0..nseg {
-                let seg = mem.segments[s];
-                if seg.state != NodeState::Slip
-                    || prev[s] != SegmentState::Slide
-                    || seg.direction == 0.0
+    }
+    // Table 1 on the segment states as they now are.
+    let table1: Vec<NodeState> = (0..m)
+        .map(|k| {
+            let has = |st: NodeState| {
+                adjoining(k)
+                    .into_iter()
+                    .flatten()
+                    .any(|s| mem.segments[s].state == st)
+            };
+            if !active[k] || ev.node_states[k] == NodeState::Open {
+                NodeState::Open
+            } else if has(NodeState::Stick) {
+                NodeState::Stick
+            } else if has(NodeState::Slip) {
+                NodeState::Slip
+            } else {
+                NodeState::Open
+            }
+        })
+        .collect();
+    for k in 0..m {
+        let old = mem.nodes[k];
+        let mut lambda = Vector2::zeros();
+        let mut state = table1[k];
+        let mut at_corner = false;
+        if active[k] && state != NodeState::Open {
+            lambda = Vector2::new(ev.forces[k][0], ev.forces[k][1]);
+        }
+        // Where the node meets the target now.
+        let mut point: Option<(usize, ContactPoint)> = None;
+        match state {
+            NodeState::Stick if old.state == NodeState::Stick => {
+                point = Some((
+                    old.segment,
+                    segments[old.segment].seg.contact_at(x[k], old.beta),
+                ));
+            }
+            NodeState::Stick | NodeState::Slip => {
+                point = follow(&segments, old.segment, x[k], reach);
+                // Frictionless at a reflex corner of the target: held at
+                // the corner while its force lies in the cone of the two
+                // segments' normals, else sliding on the segment that can
+                // carry it (docs/contact.md item 10).
+                if frictionless
+                    && state == NodeState::Slip
+                    && let Some((j, _)) = point
+                    && let Some((end_j, i, end_i)) = corner(&segments, old.segment, j, x[k], &old)
                 {
-                    continue;
+                    let (nj, ni) = (segments[j].seg.normal(), segments[i].seg.normal());
+                    let f = Vector2::new(force[k][0], force[k][1]);
+                    // f = -(a n_j + b n_i): the target pushes the node out.
+                    let det = nj.x * ni.y - nj.y * ni.x;
+                    let a = -(f.x * ni.y - f.y * ni.x) / det;
+                    let b = -(nj.x * f.y - nj.y * f.x) / det;
+                    let tol = TENSION_TOLERANCE * force_scale;
+                    if a >= -tol && b >= -tol {
+                        point = Some((j, segments[j].seg.contact_at(x[k], end_j)));
+                        at_corner = true;
+                    } else if a < -tol && b >= -tol {
+                        point = Some((i, segments[i].seg.contact_at(x[k], end_i)));
+                    }
                 }
-                let (a, b) = (s, (s + 1) % m);
-                // Only a segment that slides as a whole: a node in contact at
-                // either end that is held by its other segment (Table 1)
-                // does not slide, and the friction's share at the free node
-                // alone says nothing of the segment's slip.
-                if [a, b].iter().any(|&k| active[k] && slips[k].is_none()) {
-                    continue;
+                // Beyond the segment release of Section 3.2: a node
+                // whose own contact force pulls it into the target
+                // (tension) is released.
+                if let Some((j, _)) = point.as_ref() {
+                    let pull = segments[*j]
+                        .seg
+                        .normal()
+                        .dot(&Vector2::new(force[k][0], force[k][1]));
+                    if pull > TENSION_TOLERANCE * force_scale {
+                        log(&format!(
+                            "pair '{}' node {k}: contact force in tension ({pull:.3e}), released",
+                            pair.name
+                        ));
+                        point = None;
+                    }
                 }
-                let d = x[b] - x[a];
-                let tau = d / d.norm();
-                let slip: f64 = [a, b]
-                    .iter()
-                    .filter_map(|&k| slips[k])
-                    .map(|v| v.dot(&tau))
-                    .sum();
-                if slip * seg.direction > 0.0 && slip.abs() > 1e-12 * d.norm() {
+                if point.is_none() {
                     log(&format!(
-                        "pair '{}' segment {s}: slip {slip:.3e} along its friction, sticks",
+                        "pair '{}' node {k}: no longer in contact, released",
                         pair.name
                     ));
-                    mem.segments[s].state = NodeState::Stick;
-                    mem.segments[s].direction = 0.0;
+                    state = NodeState::Open;
+                    lambda = Vector2::zeros();
+                }
+                // A sliding node that Table 1 makes stick also goes
+                // back to its anchor: sticking means no slip over the
+                // increment (see `anchor_point`).
+                if state == NodeState::Stick
+                    && point.is_some()
+                    && let Some(at) = anchor_point(&segments, old.anchor, x[k], reach)
+                {
+                    point = Some(at);
                 }
             }
+            // A node released in this iteration still sits on the target
+            // to round-off: it is not searched again until it has moved.
+            NodeState::Open if old.state == NodeState::Open => {
+                if let Some((found, slid)) = recontact[k] {
+                    point = Some(found);
+                    state = if slid { NodeState::Slip } else { new_contact };
+                }
+            }
+            NodeState::Open => {}
         }
-        // Table 1 on the segment states as they now are.
-        let table1: Vec<NodeState> = (0..m)
+        if (state == NodeState::Open) != (old.state == NodeState::Open) {
+            flips[k] += 1;
+            if flips[k] > MAX_FLIPS {
+                return Err(format!(
+                    "pair '{}' node {k} (mesh node {}) alternates between open and contact \
+                         ({} changes in this increment)",
+                    pair.name, pair.contactor[k], flips[k]
+                ));
+            }
+        }
+        at_corner &= state != NodeState::Open;
+        if state != old.state || at_corner != old.corner {
+            out.changes += 1;
+        }
+        let n = pair.contactor[k];
+        let mut node = NodeMemory {
+            state,
+            corner: at_corner,
+            ..old
+        };
+        if let Some((j, cp)) = point.filter(|_| state != NodeState::Open) {
+            if old.state != NodeState::Open && j != old.segment {
+                node.crossed = Some((old.segment, j));
+            }
+            node.segment = j;
+            node.beta = cp.beta();
+            // The anchor moves only when an increment begins: a node
+            // that sticks is at its anchor (or new to contact).
+            if node.anchor.is_none() {
+                node.anchor = Some((j, cp.beta()));
+            }
+            let held = state == NodeState::Stick || at_corner;
+            if held && at_corner && active[k] {
+                // Held in both directions: its whole force.
+                lambda = Vector2::new(force[k][0], force[k][1]);
+            }
+            if !held && frictionless && active[k] {
+                // No friction: the force is along the target normal.
+                // (The recovery's contactor-frame normals would leave
+                // a component along the target that no row carries:
+                // a phantom friction, and a linear Newton rate.)
+                let n = cp.segment().normal();
+                lambda = n * n.dot(&Vector2::new(force[k][0], force[k][1]));
+            }
+            // The paper's friction is held over the iteration: no
+            // friction in the multiplier's column.
+            add_rows(segments[j].nodes, n, &cp, held, lambda, 0.0, out);
+            // Normal (compression positive) and tangential (along the
+            // contactor, from node k toward k + 1, i.e. against the
+            // target's A -> B) parts of the force on the contactor.
+            let f = reported(k);
+            result.fn_ -= f.dot(&cp.segment().normal());
+            result.ft -= f.dot(&cp.segment().tangent());
+            frames[k] = Some((-cp.segment().tangent(), -cp.segment().normal()));
+            if let Target::Rigid(ri) = pair.target {
+                let (_, reference) = rigid_points(problem, ri, poses[ri]);
+                let xc = cp.point();
+                let f = -reported(k);
+                let rr = &mut out.rigid[ri];
+                rr[0] += f.x;
+                rr[1] += f.y;
+                rr[2] += (xc.x - reference[0]) * f.y - (xc.y - reference[1]) * f.x;
+            }
+        }
+        mem.nodes[k] = node;
+        if state != NodeState::Open {
+            let f = reported(k);
+            result.fx += f.x;
+            result.fy += f.y;
+        }
+        match state {
+            NodeState::Open => result.n_open += 1,
+            NodeState::Stick => result.n_stick += 1,
+            NodeState::Slip => result.n_slip += 1,
+        }
+        result.nodes.x.push(x[k].x);
+        result.nodes.y.push(x[k].y);
+        result.nodes.tn.push(if state == NodeState::Open {
+            0.0
+        } else {
+            node_tn[k]
+        });
+        result.nodes.tt.push(if state == NodeState::Open {
+            0.0
+        } else {
+            node_tt[k]
+        });
+        result.nodes.state.push(state);
+    }
+    // Reported tractions on 8-node sides: recovered with the sides' own
+    // quadratic shape functions from the forces of the nodes in contact
+    // (the paper's linear recovery, used for the decisions above, makes
+    // corner and mid-side values alternate on 8-node sides).
+    let q8 = problem.bodies[pair.body]
+        .elements
+        .clone()
+        .next()
+        .is_some_and(|e| problem.mesh.elements[e].kind == crate::mesh::ElementKind::Q8);
+    if q8 && m % 2 == (if pair.closed { 0 } else { 1 }) {
+        let closed_now: Vec<bool> = (0..m)
+            .map(|k| result.nodes.state[k] != NodeState::Open)
+            .collect();
+        let f: Vec<Vector2<f64>> = (0..m)
             .map(|k| {
-                let has = |st: NodeState| {
-                    adjoining(k)
-                        .into_iter()
-                        .flatten()
-                        .any(|s| mem.segments[s].state == st)
-                };
-                if !active[k] || ev.node_states[k] == NodeState::Open {
-                    NodeState::Open
-                } else if has(NodeState::Stick) {
-                    NodeState::Stick
-                } else if has(NodeState::Slip) {
-                    NodeState::Slip
+                if closed_now[k] && active[k] {
+                    reported(k)
                 } else {
-                    NodeState::Open
+                    Vector2::zeros()
                 }
             })
             .collect();
-        for k in 0..m {
-            let old = mem.nodes[k];
-            let mut lambda = Vector2::zeros();
-            let mut state = table1[k];
-            let mut at_corner = false;
-            if active[k] && state != NodeState::Open {
-                lambda = Vector2::new(ev.forces[k][0], ev.forces[k][1]);
-            }
-            // Where the node meets the target now.
-            let mut point: Option<(usize, ContactPoint)> = None;
-            match state {
-                NodeState::Stick if old.state == NodeState::Stick => {
-                    point = Some((
-                        old.segment,
-                        segments[old.segment].seg.contact_at(x[k], old.beta),
-                    ));
+        if let Some(t) = quadratic_tractions(geometry, pair.closed, &x_area, &closed_now, &f) {
+            for k in 0..m {
+                if !closed_now[k] {
+                    continue;
                 }
-                NodeState::Stick | NodeState::Slip => {
-                    point = follow(&segments, old.segment, x[k], reach);
-                    // Frictionless at a reflex corner of the target: held at
-                    // the corner while its force lies in the cone of the two
-                    // segments' normals, else sliding on the segment that can
-                    // carry it (docs/contact.md item 10).
-                    if frictionless
-                        && state == NodeState::Slip
-                        && let Some((j, _)) = point
-                        && let Some((end_j, i, end_i)) =
-                            corner(&segments, old.segment, j, x[k], &old)
-                    {
-                        let (nj, ni) = (segments[j].seg.normal(), segments[i].seg.normal());
-                        let f = Vector2::new(force[k][0], force[k][1]);
-                        // f = -(a n_j + b n_i): the target pushes the node out.
-                        let det = nj.x * ni.y - nj.y * ni.x;
-                        let a = -(f.x * ni.y - f.y * ni.x) / det;
-                        let b = -(nj.x * f.y - nj.y * f.x) / det;
-                        let tol = TENSION_TOLERANCE * force_scale;
-                        if a >= -tol && b >= -tol {
-                            point = Some((j, segments[j].seg.contact_at(x[k], end_j)));
-                            at_corner = true;
-                        } else if a < -tol && b >= -tol {
-                            point = Some((i, segments[i].seg.contact_at(x[k], end_i)));
-                        }
-                    }
-                    // Beyond the segment release of Section 3.2: a node
-                    // whose own contact force pulls it into the target
-                    // (tension) is released.
-                    if let Some((j, _)) = point.as_ref() {
-                        let pull = segments[*j]
-                            .seg
-                            .normal()
-                            .dot(&Vector2::new(force[k][0], force[k][1]));
-                        if pull > TENSION_TOLERANCE * force_scale {
-                            log(&format!(
-                                "pair '{}' node {k}: contact force in tension ({pull:.3e}), released",
-                                pair.name
-                            ));
-                            point = None;
-                        }
-                    }
-                    if point.is_none() {
-                        log(&format!(
-                            "pair '{}' node {k}: no longer in contact, released",
-                            pair.name
-                        ));
-                        state = NodeState::Open;
-                        lambda = Vector2::zeros();
-                    }
-                    // A sliding node that Table 1 makes stick also goes
-                    // back to its anchor: sticking means no slip over the
-                    // increment (see `anchor_point`).
-                    if state == NodeState::Stick
-                        && point.is_some()
-                        && let Some(at) = anchor_point(&segments, old.anchor, x[k], reach)
-                    {
-                        point = Some(at);
-                    }
-                }
-                // A node released in this iteration still sits on the target
-                // to round-off: it is not searched again until it has moved.
-                NodeState::Open if old.state == NodeState::Open => {
-                    if let Some((found, slid)) = recontact[k] {
-                        point = Some(found);
-                        state = if slid { NodeState::Slip } else { new_contact };
-                    }
-                }
-                NodeState::Open => {}
-            }
-            if (state == NodeState::Open) != (old.state == NodeState::Open) {
-                flips[k] += 1;
-                if flips[k] > MAX_FLIPS {
-                    return Err(format!(
-                        "pair '{}' node {k} (mesh node {}) alternates between open and contact \
-                         ({} changes in this increment)",
-                        pair.name, pair.contactor[k], flips[k]
-                    ));
-                }
-            }
-            at_corner &= state != NodeState::Open;
-            if state != old.state || at_corner != old.corner {
-                out.changes += 1;
-            }
-            let n = pair.contactor[k];
-            let mut node = NodeMemory {
-                state,
-                corner: at_corner,
-                ..old
-            };
-            if let Some((j, cp)) = point.filter(|_| state != NodeState::Open) {
-                if old.state != NodeState::Open && j != old.segment {
-                    node.crossed = Some((old.segment, j));
-                }
-                node.segment = j;
-                node.beta = cp.beta();
-                // The anchor moves only when an increment begins: a node
-                // that sticks is at its anchor (or new to contact).
-                if node.anchor.is_none() {
-                    node.anchor = Some((j, cp.beta()));
-                }
-                let held = state == NodeState::Stick || at_corner;
-                if held && at_corner && active[k] {
-                    // Held in both directions: its whole force.
-                    lambda = Vector2::new(force[k][0], force[k][1]);
-                }
-                if !held && frictionless && active[k] {
-                    // No friction: the force is along the target normal.
-                    // (The recovery's contactor-frame normals would leave
-                    // a component along the target that no row carries:
-                    // a phantom friction, and a linear Newton rate.)
-                    let n = cp.segment().normal();
-                    lambda = n * n.dot(&Vector2::new(force[k][0], force[k][1]));
-                }
-                // The paper's friction is held over the iteration: no
-                // friction in the multiplier's column.
-                add_rows(segments[j].nodes, n, &cp, held, lambda, 0.0, out);
-                // Normal (compression positive) and tangential (along the
-                // contactor, from node k toward k + 1, i.e. against the
-                // target's A -> B) parts of the force on the contactor.
-                let f = reported(k);
-                result.fn_ -= f.dot(&cp.segment().normal());
-                result.ft -= f.dot(&cp.segment().tangent());
-                frames[k] = Some((-cp.segment().tangent(), -cp.segment().normal()));
-                if let Target::Rigid(ri) = pair.target {
-                    let (_, reference) = rigid_points(problem, ri, poses[ri]);
-                    let xc = cp.point();
-                    let f = -reported(k);
-                    let rr = &mut out.rigid[ri];
-                    rr[0] += f.x;
-                    rr[1] += f.y;
-                    rr[2] += (xc.x - reference[0]) * f.y - (xc.y - reference[1]) * f.x;
-                }
-            }
-            mem.nodes[k] = node;
-            if state != NodeState::Open {
-                let f = reported(k);
-                result.fx += f.x;
-                result.fy += f.y;
-            }
-            match state {
-                NodeState::Open => result.n_open += 1,
-                NodeState::Stick => result.n_stick += 1,
-                NodeState::Slip => result.n_slip += 1,
-            }
-            result.nodes.x.push(x[k].x);
-            result.nodes.y.push(x[k].y);
-            result.nodes.tn.push(if state == NodeState::Open {
-                0.0
-            } else {
-                node_tn[k]
-            });
-            result.nodes.tt.push(if state == NodeState::Open {
-                0.0
-            } else {
-                node_tt[k]
-            });
-            result.nodes.state.push(state);
-        }
-        // Reported tractions on 8-node sides: recovered with the sides' own
-        // quadratic shape functions from the forces of the nodes in contact
-        // (the paper's linear recovery, used for the decisions above, makes
-        // corner and mid-side values alternate on 8-node sides).
-        let q8 = problem.bodies[pair.body]
-            .elements
-            .clone()
-            .next()
-            .is_some_and(|e| problem.mesh.elements[e].kind == crate::mesh::ElementKind::Q8);
-        if q8 && m % 2 == (if pair.closed { 0 } else { 1 }) {
-            let closed_now: Vec<bool> = (0..m)
-                .map(|k| result.nodes.state[k] != NodeState::Open)
-                .collect();
-            let f: Vec<Vector2<f64>> = (0..m)
-                .map(|k| {
-                    if closed_now[k] && active[k] {
-                        reported(k)
-                    } else {
-                        Vector2::zeros()
-                    }
-                })
-                .collect();
-            if let Some(t) = quadratic_tractions(geometry, pair.closed, &x_area, &closed_now, &f) {
-                for k in 0..m {
-                    if !closed_now[k] {
-                        continue;
-                    }
-                    // The target's frame where the node touches it: the
-                    // contactor's own frame tilts at the contact edge,
-                    // where its next side lifts off, and would show a
-                    // normal force as a tangential traction.
-                    let (tau, nu) = frames[k].unwrap_or_else(|| node_frame(&x, pair.closed, k));
-                    result.nodes.tn[k] = t[k].dot(&nu);
-                    result.nodes.tt[k] = t[k].dot(&tau);
-                }
+                // The target's frame where the node touches it: the
+                // contactor's own frame tilts at the contact edge,
+                // where its next side lifts off, and would show a
+                // normal force as a tangential traction.
+                let (tau, nu) = frames[k].unwrap_or_else(|| node_frame(&x, pair.closed, k));
+                result.nodes.tn[k] = t[k].dot(&nu);
+                result.nodes.tt[k] = t[k].dot(&tau);
             }
         }
-        Ok(result)
     }
+    Ok(result)
 }
 
 /// The rows of Eq. (18) for one node `n` in contact at `cp` on a target
