@@ -37,6 +37,14 @@ struct Decision {
 /// is taken to be at it.
 const CORNER_REACH: f64 = 1e-3;
 
+/// Times a frictionless node may leave a corner hold in one increment and
+/// be held again when it comes back within `CORNER_REACH`: the force of an
+/// early iterate may lie outside the cone of the two normals and release a
+/// node that belongs at the corner; held no more after that, it would cross
+/// the corner to and fro at every iteration. The limit keeps a node whose
+/// force does leave the cone from cycling between hold and release.
+const CORNER_LEAVES: u32 = 3;
+
 /// Times one node may change between stick and slip (or its slip
 /// direction) within an increment before the increment is declared
 /// oscillating (fail fast; the caller bisects).
@@ -162,7 +170,7 @@ pub(super) fn update_pair(
         let node = &mut mem.nodes[k];
         node.state = d.state;
         node.corner = d.corner;
-        node.corner_left |= old.corner && !d.corner;
+        node.corner_leaves += u32::from(old.corner && !d.corner);
         node.slip_sign = if d.state == NodeState::Slip {
             d.slip_sign
         } else {
@@ -439,7 +447,7 @@ fn corner(
         };
         past_j && past_i
     };
-    let returned = !old.corner_left
+    let returned = old.corner_leaves < CORNER_LEAVES
         && (old.corner || old.crossed == Some((j, i)) || old.crossed == Some((i, j)));
     if !(beyond(pairs::BETA_TOLERANCE) || (returned && beyond(tol))) {
         return None;

@@ -66,10 +66,11 @@ pub struct NodeMemory {
     /// Nodal decisions: it has ever slid (mu_d for good under the usual rule).
     #[serde(default)]
     pub ever_slid: bool,
-    /// Nodal decisions: it left a corner hold in this increment (held again
-    /// only from the wedge itself).
+    /// Nodal decisions: how many times it left a corner hold in this
+    /// increment (after `CORNER_LEAVES`, held again only from the wedge
+    /// itself).
     #[serde(default)]
-    pub corner_left: bool,
+    pub corner_leaves: u32,
 }
 
 /// A contactor segment's memory (segment j joins contactor nodes j, j+1).
@@ -109,7 +110,7 @@ pub fn begin_increment(memory: &mut [PairMemory]) {
         node.anchor = (node.state != NodeState::Open).then_some((node.segment, node.beta));
         node.crossed = None;
         node.slid = false;
-        node.corner_left = false;
+        node.corner_leaves = 0;
     }
 }
 
