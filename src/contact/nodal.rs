@@ -305,9 +305,7 @@ fn decide(
         } else {
             (j, cp)
         };
-        if old.state != NodeState::Open
-            && let Some(held) = corner(segments, point.0, x, f, tension, old)
-        {
+        if let Some(held) = corner(segments, point.0, x, f, tension, old) {
             return held;
         }
         return Decision {
@@ -448,7 +446,10 @@ fn corner(
         past_j && past_i
     };
     let returned = old.corner_leaves < CORNER_LEAVES
-        && (old.corner || old.crossed == Some((j, i)) || old.crossed == Some((i, j)));
+        && (old.state == NodeState::Open
+            || old.corner
+            || old.crossed == Some((j, i))
+            || old.crossed == Some((i, j)));
     if !(beyond(pairs::BETA_TOLERANCE) || (returned && beyond(tol))) {
         return None;
     }

@@ -214,11 +214,42 @@ pub fn shrink_fit(friction: bool, v: Variant) -> Outcome {
     out
 }
 
+/// The shrink fit with the rim's bore divided into 23 facets against the
+/// hub's 16 (refined alike): no contactor node faces a target node, so the
+/// iteration must place nodes on facets and over the bore's vertices,
+/// frictionless or with mu = 0.3. There is no closed form to check: the
+/// bore's polygon is inscribed in its circle, and its facets' sagitta
+/// b (1 - cos(pi / 92)) = 0.044 mm is as large as the overlap (0.05 mm),
+/// so the interference a hub node meets depends on where it faces a facet
+/// (between 0.05 and 0.094 mm), and the nodes that meet the least come
+/// free (7 of 17 stay pressed on 4 x 16 / 23, frictionless). What the
+/// suite asserts here is what it asserts everywhere: every increment
+/// converges within its limits, and the contact conditions hold.
+pub fn shrink_fit_nonmatching(friction: bool, v: Variant) -> Outcome {
+    let mut edits = vec![(
+        "r_outer = 100.0, angles = [0.0, 90.0], divisions = [4, 16]",
+        "r_outer = 100.0, angles = [0.0, 90.0], divisions = [4, 23]",
+    )];
+    if friction {
+        edits.push(("mu_s = 0.0", "mu_s = 0.3"));
+    }
+    let problem = load(SHRINK_FIT, v, &edits);
+    let run = run_scene(problem);
+    let case = format!("shrink fit 16/23{}", if friction { " mu=0.3" } else { "" });
+    Outcome::new(case, v.label(), run)
+}
+
 pub fn shrink_fit_frictionless(v: Variant) -> Outcome {
     shrink_fit(false, v)
 }
 pub fn shrink_fit_with_friction(v: Variant) -> Outcome {
     shrink_fit(true, v)
+}
+pub fn shrink_fit_nonmatching_frictionless(v: Variant) -> Outcome {
+    shrink_fit_nonmatching(false, v)
+}
+pub fn shrink_fit_nonmatching_with_friction(v: Variant) -> Outcome {
+    shrink_fit_nonmatching(true, v)
 }
 
 // ---------------------------------------------------------------------------
