@@ -17,6 +17,10 @@ use crate::state::State;
 /// only: the contact search's own tolerance on `beta` (pairs.rs).
 const NEGLIGIBLE_ROW: f64 = 1e-6;
 
+/// Solves of one Newton iteration's linearised problem while its stick/slip
+/// decisions change (see `increment`).
+const MAX_INNER: usize = 50;
+
 #[derive(Debug, thiserror::Error)]
 pub enum SolveError {
     #[error("invalid problem: {0}")]
@@ -455,6 +459,7 @@ impl Solver {
                 let start = pairs::Start {
                     u: &self.state.u,
                     poses: &self.state.rigid,
+                    predicted: it == 1,
                 };
                 Some(pairs::update(
                     &self.problem,
@@ -483,6 +488,7 @@ impl Solver {
                     rhs[q as usize] = -v;
                 }
             }
+            let rhs_base = rhs.clone();
             let mut contact_force2 = 0.0;
             if let Some(c) = &contact {
                 for &(d, f) in &c.force {
@@ -531,7 +537,8 @@ impl Solver {
             // Gaps are tested in lengths: to the displacement tolerance of
             // the first correction, or of 1e-3 of the model's size.
             let gap_tol = settings.displacement_tolerance * du1.max(1e-3 * self.size);
-            let contact_ok = changes == 0 && overlap <= gap_tol;
+            let pending = contact.as_ref().map_or(0, |c| c.pending);
+            let contact_ok = changes == 0 && pending == 0 && overlap <= gap_tol;
             // Round-off: the residual sums element forces of size f_phys,
             // and K u of a body that moves without stress.
             let at_roundoff = rnorm <= f_round;
@@ -618,73 +625,191 @@ impl Solver {
             } else {
                 // Eq. (18): [K + K_c, C^T; C, 0] [du; dlambda] = [r; overlap],
                 // the contact rows first, then the tie rows (C u = 0).
+                // Solved again while the linearised problem decides a node's
+                // stick/slip state otherwise than this iterate did (a slip
+                // front crossing a stick zone): its rows change, the
+                // tangent and the out-of-balance forces do not.
                 let eq = &self.model.eq;
-                extra.clear();
-                let mut full = rhs.clone();
-                let contact_rows = contact.map_or(&[][..], |c| &c.rows[..]);
-                if let Some(c) = contact {
-                    for &(a, b, v) in &c.k {
-                        if eq[a] != PRESCRIBED && eq[b] != PRESCRIBED {
-                            extra.push((eq[a] as usize, eq[b] as usize, v));
+                let mut system: Option<ContactSystem> = contact.cloned();
+                let mut rhs_now = rhs.clone();
+                let mut inner = 0usize;
+                let mut seen: Vec<u64> = Vec::new();
+                type Kept = (Vec<f64>, Vec<PairMemory>, Option<ContactSystem>);
+                let mut kept: Option<Kept> = None;
+                let full = loop {
+                    extra.clear();
+                    let mut full = rhs_now.clone();
+                    let contact_rows = system.as_ref().map_or(&[][..], |c| &c.rows[..]);
+                    if let Some(c) = &system {
+                        for &(a, b, v) in &c.k {
+                            if eq[a] != PRESCRIBED && eq[b] != PRESCRIBED {
+                                extra.push((eq[a] as usize, eq[b] as usize, v));
+                            }
                         }
                     }
-                }
-                let ties = self.problem.ties.iter().flat_map(|t| &t.rows);
-                let tie_rows = ties.map(|r| {
-                    let violation: f64 = r.dofs.iter().map(|&(d, v)| v * u[d]).sum();
-                    (&r.dofs[..], -violation)
-                });
-                let rows = contact_rows
-                    .iter()
-                    .map(|r| (&r.dofs[..], r.rhs, &r.column[..]));
-                let tie_rows = tie_rows.map(|(dofs, b)| (dofs, b, &[][..]));
-                for (i, (dofs, rhs_i, column)) in rows.chain(tie_rows).enumerate() {
-                    let mut b = rhs_i;
-                    // A row whose free coefficients are round-off beside its
-                    // prescribed ones (a node held at a target node on a
-                    // symmetry plane, its contact point a hair inside the
-                    // next segment: `beta` = 1e-8) would fix its tiny free
-                    // part with a huge multiplier; it is a row on
-                    // prescribed dofs.
-                    let square = |free: bool| -> f64 {
-                        (dofs.iter())
-                            .filter(|&&(d, _)| (eq[d] != PRESCRIBED) == free)
-                            .map(|&(_, v)| v * v)
-                            .sum()
-                    };
-                    let free = square(true) > NEGLIGIBLE_ROW * NEGLIGIBLE_ROW * square(false);
-                    for &(d, v) in dofs {
-                        if eq[d] == PRESCRIBED {
-                            if it == 0 {
-                                b -= v * dup[d];
+                    let ties = self.problem.ties.iter().flat_map(|t| &t.rows);
+                    let tie_rows = ties.map(|r| {
+                        let violation: f64 = r.dofs.iter().map(|&(d, v)| v * u[d]).sum();
+                        (&r.dofs[..], -violation)
+                    });
+                    let rows = contact_rows
+                        .iter()
+                        .map(|r| (&r.dofs[..], r.rhs, &r.column[..]));
+                    let tie_rows = tie_rows.map(|(dofs, b)| (dofs, b, &[][..]));
+                    for (i, (dofs, rhs_i, column)) in rows.chain(tie_rows).enumerate() {
+                        let mut b = rhs_i;
+                        // A row whose free coefficients are round-off beside its
+                        // prescribed ones (a node held at a target node on a
+                        // symmetry plane, its contact point a hair inside the
+                        // next segment: `beta` = 1e-8) would fix its tiny free
+                        // part with a huge multiplier; it is a row on
+                        // prescribed dofs.
+                        let square = |free: bool| -> f64 {
+                            (dofs.iter())
+                                .filter(|&&(d, _)| (eq[d] != PRESCRIBED) == free)
+                                .map(|&(_, v)| v * v)
+                                .sum()
+                        };
+                        let free = square(true) > NEGLIGIBLE_ROW * NEGLIGIBLE_ROW * square(false);
+                        for &(d, v) in dofs {
+                            if eq[d] == PRESCRIBED {
+                                if it == 0 {
+                                    b -= v * dup[d];
+                                }
+                            } else if free {
+                                extra.push((n + i, eq[d] as usize, v));
+                                if column.is_empty() {
+                                    extra.push((eq[d] as usize, n + i, v));
+                                }
                             }
-                        } else if free {
-                            extra.push((n + i, eq[d] as usize, v));
-                            if column.is_empty() {
+                        }
+                        // A sliding node's friction: the multiplier's column
+                        // differs from its row.
+                        for &(d, v) in column.iter().filter(|_| free) {
+                            if eq[d] != PRESCRIBED {
                                 extra.push((eq[d] as usize, n + i, v));
                             }
                         }
+                        if !free {
+                            // Every dof the row acts on is prescribed (a
+                            // sticking node on a symmetry plane against a
+                            // fixed target): the drivers already hold it; its
+                            // multiplier gets an identity row.
+                            extra.push((n + i, n + i, 1.0));
+                            b = 0.0;
+                        }
+                        full.push(b);
                     }
-                    // A sliding node's friction: the multiplier's column
-                    // differs from its row.
-                    for &(d, v) in column.iter().filter(|_| free) {
-                        if eq[d] != PRESCRIBED {
-                            extra.push((eq[d] as usize, n + i, v));
+                    let solved = self
+                        .augmented
+                        .solve(&self.model.pattern, &self.k, &mut extra, &mut full)
+                        .map_err(|e| {
+                            format!("constraint system (NEQC {}): {e}", contact_rows.len())
+                        });
+                    // The states the linearised problem chose leave no
+                    // equilibrium near (every node of a free body sliding
+                    // where the iterate's linearisation is poor): keep the
+                    // solve before them; the outer iteration decides.
+                    if let Some((previous, states, rows)) = kept.take() {
+                        let wild = solved.is_err()
+                            || largest(&full[..n]).is_nan()
+                            || largest(&full[..n]) > 1e3 * self.size;
+                        if wild {
+                            memory = states;
+                            system = rows;
+                            break previous;
                         }
                     }
-                    if !free {
-                        // Every dof the row acts on is prescribed (a
-                        // sticking node on a symmetry plane against a
-                        // fixed target): the drivers already hold it; its
-                        // multiplier gets an identity row.
-                        extra.push((n + i, n + i, 1.0));
-                        b = 0.0;
+                    solved?;
+                    let Some(sys) = system
+                        .as_ref()
+                        .filter(|_| inner < MAX_INNER && std::env::var_os("C2D_NOINNER").is_none())
+                    else {
+                        break full;
+                    };
+                    // Where the solve goes, and the out-of-balance force it
+                    // leaves at each dof (K du = r_c - C^T x - r).
+                    let mut u_new = u.clone();
+                    let mut force_new = vec![0.0; u.len()];
+                    for (dof, &q) in eq.iter().enumerate() {
+                        if q != PRESCRIBED {
+                            u_new[dof] += full[q as usize];
+                        } else if it == 0 {
+                            u_new[dof] += dup[dof];
+                        }
                     }
-                    full.push(b);
-                }
-                self.augmented
-                    .solve(&self.model.pattern, &self.k, &mut extra, &mut full)
-                    .map_err(|e| format!("constraint system (NEQC {}): {e}", contact_rows.len()))?;
+                    for &(d, f) in &sys.force {
+                        if eq[d] != PRESCRIBED {
+                            force_new[d] += f;
+                        }
+                    }
+                    for (i, row) in sys.rows.iter().enumerate() {
+                        let acting = if row.column.is_empty() {
+                            &row.dofs
+                        } else {
+                            &row.column
+                        };
+                        for &(d, v) in acting {
+                            if eq[d] != PRESCRIBED {
+                                force_new[d] -= full[n + i] * v;
+                            }
+                        }
+                    }
+                    let tolerance = [settings.force_tolerance * f_ref, gap_tol];
+                    let predicted = pairs::predict(
+                        &self.problem,
+                        &poses,
+                        &u_new,
+                        &force_new,
+                        &memory,
+                        sys,
+                        tolerance,
+                    )?;
+                    let Some(switched) = predicted else {
+                        break full;
+                    };
+                    // The linearised problem's decisions may cycle (a set of
+                    // states met before): the outer iteration decides then.
+                    let key = pairs::state_key(&memory, &switched);
+                    if seen.contains(&key) {
+                        break full;
+                    }
+                    seen.push(key);
+                    inner += 1;
+                    let mut clog =
+                        |m: &str| log(LogCategory::Contact, &format!("t = {t:.6e} it {it}: {m}"));
+                    clog(&format!(
+                        "solve {inner}: the linearised problem changes {} stick/slip states",
+                        switched.count()
+                    ));
+                    let start = pairs::Start {
+                        u: &self.state.u,
+                        poses: &self.state.rigid,
+                        predicted: it == 1,
+                    };
+                    kept = Some((full.clone(), memory.clone(), system.clone()));
+                    let rebuilt = pairs::rebuild(
+                        &self.problem,
+                        &poses,
+                        &u,
+                        &self.r,
+                        eq,
+                        &start,
+                        &mut memory,
+                        &mut flips,
+                        &mut clog,
+                        sys,
+                        &switched,
+                    )?;
+                    rhs_now.copy_from_slice(&rhs_base);
+                    for &(d, f) in &rebuilt.force {
+                        if eq[d] != PRESCRIBED {
+                            rhs_now[eq[d] as usize] += f;
+                        }
+                    }
+                    system = Some(rebuilt);
+                };
+                let contact_rows = system.as_ref().map_or(&[][..], |c| &c.rows[..]);
                 rhs.copy_from_slice(&full[..n]);
                 // The system's multipliers are the change that removes the
                 // tie forces' out-of-balance: K du = r + C^T lambda - C^T x.

@@ -18,7 +18,8 @@ use crate::results::{NodeState, PairResult};
 use nalgebra::Vector2;
 
 /// What one node is, after this iteration's decision.
-struct Decision {
+#[derive(Clone, Debug)]
+pub(crate) struct Decision {
     state: NodeState,
     /// Target segment and contact point (None when open).
     point: Option<(usize, ContactPoint)>,
@@ -31,6 +32,27 @@ struct Decision {
     anchor: Option<(usize, f64)>,
     /// Frictionless, held at a reflex corner of the target (two rows).
     corner: bool,
+    /// Kept in contact after the predictor though its force pulls
+    /// (`Start::predicted`): the iteration has not converged while any is.
+    held_back: bool,
+}
+
+/// A state a node is given rather than decided from its forces: the
+/// linearised problem's own stick/slip decisions (`predict_pair`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum Forced {
+    Stick,
+    Slip(f64),
+}
+
+/// What `update_pair` does: decide every node from the iterate, or keep
+/// the decisions it made at this iterate except the forced nodes'.
+pub(super) enum Plan<'a> {
+    Decide,
+    Keep {
+        decisions: &'a [Decision],
+        forced: &'a [(usize, Forced)],
+    },
 }
 
 /// How near a reflex corner (in beta, of either segment) a frictionless node
@@ -62,6 +84,7 @@ pub(super) fn update_pair(
     [flips, slips]: [&mut [usize]; 2],
     log: &mut dyn FnMut(&str),
     out: &mut ContactSystem,
+    plan: Plan,
 ) -> Result<PairResult, String> {
     let segments = pairs::target_segments(problem, pair, u, poses)?;
     let segments0 = pairs::target_segments(problem, pair, start.u, start.poses)?;
@@ -109,14 +132,12 @@ pub(super) fn update_pair(
     let tension = TENSION_TOLERANCE * force_scale;
     let frictionless = pair.mu_s == 0.0 && pair.mu_d == 0.0;
 
-    let mut decisions = Vec::with_capacity(m);
-    for k in 0..m {
-        let old = mem.nodes[k];
-        let d = decide(
+    let decide_node = |k: usize, forced: Option<Forced>| {
+        decide(
             pair,
             &segments,
             &segments0,
-            &old,
+            &mem.nodes[k],
             x[k],
             x0[k],
             if active[k] {
@@ -128,7 +149,24 @@ pub(super) fn update_pair(
             tension,
             frictionless,
             1e-10 * h,
-        );
+            start.predicted,
+            forced,
+        )
+    };
+    let decisions: Vec<Decision> = match plan {
+        Plan::Keep { decisions, forced } => {
+            let mut kept = decisions.to_vec();
+            for &(k, f) in forced {
+                kept[k] = decide_node(k, Some(f));
+            }
+            kept
+        }
+        Plan::Decide => (0..m).map(|k| decide_node(k, None)).collect(),
+    };
+    let deciding = matches!(plan, Plan::Decide);
+    out.pending += decisions.iter().filter(|d| d.held_back).count();
+    for (k, d) in decisions.iter().enumerate().filter(|_| deciding) {
+        let old = mem.nodes[k];
         if d.state != old.state
             || d.corner != old.corner
             || (d.state == NodeState::Slip && d.slip_sign != old.slip_sign)
@@ -160,7 +198,6 @@ pub(super) fn update_pair(
                 ));
             }
         }
-        decisions.push(d);
     }
 
     let mut result = PairResult::default();
@@ -237,6 +274,7 @@ pub(super) fn update_pair(
     )?;
     result.nodes.tn = tn;
     result.nodes.tt = tt;
+    out.decisions.push(decisions);
     Ok(result)
 }
 
@@ -255,6 +293,8 @@ fn decide(
     tension: f64,
     frictionless: bool,
     slip_tolerance: f64,
+    predicted: bool,
+    forced: Option<Forced>,
 ) -> Decision {
     let open = Decision {
         state: NodeState::Open,
@@ -264,6 +304,7 @@ fn decide(
         slip_sign: 0.0,
         anchor: None,
         corner: false,
+        held_back: false,
     };
     // Where the node meets the target, if it does.
     let found = match old.state {
@@ -281,6 +322,7 @@ fn decide(
     // Normal force (compression positive) and tangential force on the node.
     let (p_n, q) = (-n_s.dot(&f), n_r.dot(&f));
     let overlap = cp.normal_overlap();
+    let mut held_back = false;
     // A free node that has penetrated closes; a node in contact opens when
     // its force pulls (a gap it shows after a step along a curved target
     // is the linearisation's, and its row closes it).
@@ -293,83 +335,102 @@ fn decide(
     {
         // A sticking node pulled along the target as well slides first: held
         // at its anchor on a curved target, its pull shows partly as tension.
-        return Decision { p_n, ..open };
+        // After the predictor, a node that was in contact when the increment
+        // began keeps it one iteration more: the predictor carries a rigid
+        // target's rotation through the tangent, which stretches a body
+        // stuck to it and shows as tension at every node of the contact;
+        // the next iterate has the geometry right.
+        if !(predicted && old.anchor.is_some()) {
+            return Decision { p_n, ..open };
+        }
+        held_back = true;
     }
-    let projection = || {
-        let p = seg.project(x);
-        (j, seg.contact_at(x, p.beta().clamp(0.0, 1.0)))
-    };
-    if frictionless {
-        let point = if old.state == NodeState::Stick {
-            projection()
-        } else {
-            (j, cp)
+    let mut decision = (|| -> Decision {
+        let projection = || {
+            let p = seg.project(x);
+            (j, seg.contact_at(x, p.beta().clamp(0.0, 1.0)))
         };
-        if let Some(held) = corner(segments, point.0, x, f, tension, old) {
-            return held;
-        }
-        return Decision {
-            state: NodeState::Slip,
-            point: Some(point),
-            lambda: -p_n * n_s,
-            p_n,
-            slip_sign: 0.0,
-            anchor: old.anchor,
-            corner: false,
-        };
-    }
-    // Where the node was on the target when the increment began (the
-    // target's material point under it then): its slip is measured from
-    // there, so a converged node either sticks there or slides against its
-    // slip (Coulomb over the increment, backward Euler).
-    let (ja, beta_a) = old.anchor.unwrap_or_else(|| start_point(segments0, j, x0));
-    let anchor = segments
-        .get(ja)
-        .map_or(cp.point(), |s| s.seg.point_at(beta_a));
-    let slip = n_r.dot(&(seg.project(x).point() - anchor));
-    let mu_stick = if old.slid {
-        pair.mu_d
-    } else {
-        match pair.rule {
-            FrictionRule::MuDAfterSlip if old.ever_slid => pair.mu_d,
-            _ => pair.mu_s,
-        }
-    };
-    // A sliding node slides on while its slip from the anchor runs along
-    // its direction (its friction opposes it) and sticks when the slip has
-    // turned back; a sticking node, or one new to contact, sticks while its
-    // force is within the capacity and slides against it otherwise.
-    let s = match old.state {
-        NodeState::Slip if old.slip_sign != 0.0 => {
-            (old.slip_sign * slip >= -slip_tolerance).then_some(old.slip_sign)
-        }
-        // A node that touches again after sliding free in this increment, or
-        // touches first far from where it was: slides along that slip.
-        NodeState::Open => (slip.abs() > mu_stick * overlap).then(|| slip.signum()),
-        // Its rows hold a sticking node at the anchor exactly, unless a
-        // driver moves it along the target: then it slides.
-        NodeState::Stick if slip.abs() > slip_tolerance.max(1e-9 * reach) => Some(slip.signum()),
-        _ => (q.abs() > mu_stick * p_n.max(0.0)).then(|| -q.signum()),
-    };
-    let Some(s) = s else {
-        let at = segments
-            .get(ja)
-            .map(|s| (ja, s.seg.contact_at(x, beta_a)))
-            .filter(|(_, a)| a.overlap().norm() <= reach);
-        if let Some(point) = at {
+        if frictionless {
+            let point = if old.state == NodeState::Stick {
+                projection()
+            } else {
+                (j, cp)
+            };
+            if let Some(held) = corner(segments, point.0, x, f, tension, old) {
+                return held;
+            }
             return Decision {
-                state: NodeState::Stick,
+                state: NodeState::Slip,
                 point: Some(point),
-                lambda: f,
+                lambda: -p_n * n_s,
                 p_n,
                 slip_sign: 0.0,
-                anchor: Some((ja, beta_a)),
+                anchor: old.anchor,
                 corner: false,
+                held_back: false,
             };
         }
-        // The anchor is out of reach (the target has moved on): slide.
-        let s = if slip != 0.0 { slip.signum() } else { 1.0 };
-        return Decision {
+        // Where the node was on the target when the increment began (the
+        // target's material point under it then): its slip is measured from
+        // there, so a converged node either sticks there or slides against its
+        // slip (Coulomb over the increment, backward Euler).
+        let (ja, beta_a) = old.anchor.unwrap_or_else(|| start_point(segments0, j, x0));
+        let anchor = segments
+            .get(ja)
+            .map_or(cp.point(), |s| s.seg.point_at(beta_a));
+        let slip = n_r.dot(&(seg.project(x).point() - anchor));
+        let mu_stick = sticking_mu(pair, old);
+        // A sliding node slides on while its slip from the anchor runs along
+        // its direction (its friction opposes it) and sticks when the slip has
+        // turned back; a sticking node, or one new to contact, sticks while its
+        // force is within the capacity and slides against it otherwise.
+        let s = match (forced, old.state) {
+            (Some(Forced::Slip(s)), _) => Some(s),
+            (Some(Forced::Stick), _) => None,
+            (None, NodeState::Slip) if old.slip_sign != 0.0 => {
+                (old.slip_sign * slip >= -slip_tolerance).then_some(old.slip_sign)
+            }
+            // A node that touches again after sliding free in this increment, or
+            // touches first far from where it was: slides along that slip.
+            (None, NodeState::Open) => (slip.abs() > mu_stick * overlap).then(|| slip.signum()),
+            // Its rows hold a sticking node at the anchor exactly, unless a
+            // driver moves it along the target: then it slides.
+            (None, NodeState::Stick) if slip.abs() > slip_tolerance.max(1e-9 * reach) => {
+                Some(slip.signum())
+            }
+            _ => (q.abs() > mu_stick * p_n.max(0.0)).then(|| -q.signum()),
+        };
+        let Some(s) = s else {
+            let at = segments
+                .get(ja)
+                .map(|s| (ja, s.seg.contact_at(x, beta_a)))
+                .filter(|(_, a)| a.overlap().norm() <= reach);
+            if let Some(point) = at {
+                return Decision {
+                    state: NodeState::Stick,
+                    point: Some(point),
+                    lambda: f,
+                    p_n,
+                    slip_sign: 0.0,
+                    anchor: Some((ja, beta_a)),
+                    corner: false,
+                    held_back: false,
+                };
+            }
+            // The anchor is out of reach (the target has moved on): slide.
+            let s = if slip != 0.0 { slip.signum() } else { 1.0 };
+            return Decision {
+                state: NodeState::Slip,
+                point: Some(projection()),
+                lambda: p_n * (-n_s - s * pair.mu_d * n_r),
+                p_n,
+                slip_sign: s,
+                anchor: Some((ja, beta_a)),
+                corner: false,
+                held_back: false,
+            };
+        };
+        Decision {
             state: NodeState::Slip,
             point: Some(projection()),
             lambda: p_n * (-n_s - s * pair.mu_d * n_r),
@@ -377,17 +438,85 @@ fn decide(
             slip_sign: s,
             anchor: Some((ja, beta_a)),
             corner: false,
-        };
-    };
-    Decision {
-        state: NodeState::Slip,
-        point: Some(projection()),
-        lambda: p_n * (-n_s - s * pair.mu_d * n_r),
-        p_n,
-        slip_sign: s,
-        anchor: Some((ja, beta_a)),
-        corner: false,
+            held_back: false,
+        }
+    })();
+    decision.held_back = held_back;
+    decision
+}
+
+/// The coefficient that holds a sticking node: mu_d once it has slid in
+/// this increment (or ever, under the usual rule), mu_s before.
+fn sticking_mu(pair: &ContactPair, node: &NodeMemory) -> f64 {
+    if node.slid {
+        pair.mu_d
+    } else {
+        match pair.rule {
+            FrictionRule::MuDAfterSlip if node.ever_slid => pair.mu_d,
+            _ => pair.mu_s,
+        }
     }
+}
+
+/// The linearised problem's stick/slip decisions for one pair, after a
+/// solve with this iterate's decisions: `u_new` the displacements the
+/// solve reaches and `force_new` each dof's out-of-balance force there as
+/// the solve predicts it (the contact forces it leaves at the nodes). A
+/// sticking node whose predicted tangential force exceeds its capacity
+/// slides against it; a sliding node whose predicted slip from its anchor
+/// has turned back sticks. Open and frictionless nodes, corner holds and
+/// nodes the solve would pull off the target are left to the next
+/// iterate's decisions.
+#[allow(clippy::too_many_arguments)]
+pub(super) fn predict_pair(
+    problem: &Problem,
+    pair: &ContactPair,
+    poses: &[[f64; 3]],
+    u_new: &[f64],
+    force_new: &dyn Fn(usize) -> Vector2<f64>,
+    mem: &PairMemory,
+    decisions: &[Decision],
+    tolerance: [f64; 2],
+) -> Result<Vec<(usize, Forced)>, String> {
+    if pair.mu_s == 0.0 && pair.mu_d == 0.0 {
+        return Ok(Vec::new());
+    }
+    let [force_tolerance, length_tolerance] = tolerance;
+    let segments = pairs::target_segments(problem, pair, u_new, poses)?;
+    let mut out = Vec::new();
+    for (k, d) in decisions.iter().enumerate() {
+        let Some((j, cp)) = d.point.as_ref() else {
+            continue;
+        };
+        let node = &mem.nodes[k];
+        let f = force_new(pair.contactor[k]);
+        let (n_s, n_r) = (cp.segment().normal(), cp.segment().tangent());
+        let (p_n, q) = (-n_s.dot(&f), n_r.dot(&f));
+        if p_n <= 0.0 || d.corner {
+            continue;
+        }
+        match d.state {
+            NodeState::Stick if q.abs() > sticking_mu(pair, node) * p_n + force_tolerance => {
+                out.push((k, Forced::Slip(-q.signum())));
+            }
+            NodeState::Slip if d.slip_sign != 0.0 => {
+                let Some((ja, beta_a)) = node.anchor else {
+                    continue;
+                };
+                let (Some(seg), Some(anchor)) = (segments.get(*j), segments.get(ja)) else {
+                    continue;
+                };
+                let x = pairs::position(problem, u_new, pair.contactor[k]);
+                let t = seg.seg.tangent();
+                let slip = t.dot(&(seg.seg.project(x).point() - anchor.seg.point_at(beta_a)));
+                if d.slip_sign * slip < -length_tolerance {
+                    out.push((k, Forced::Stick));
+                }
+            }
+            _ => {}
+        }
+    }
+    Ok(out)
 }
 
 /// The target's material point under a node that was free at the start of
@@ -470,6 +599,7 @@ fn corner(
             slip_sign: 0.0,
             anchor: None,
             corner: false,
+            held_back: false,
         }
     };
     if a >= -tension && b >= -tension {
@@ -481,6 +611,7 @@ fn corner(
             slip_sign: 0.0,
             anchor: None,
             corner: true,
+            held_back: false,
         })
     } else if a < -tension && b >= -tension {
         Some(slide(i, end_i))

@@ -138,12 +138,30 @@ pub struct ContactSystem {
     pub groups: Vec<(usize, std::ops::Range<usize>)>,
     /// Nodes whose state changed in this update.
     pub changes: usize,
+    /// Nodes kept in contact though their force pulls, after the predictor
+    /// (`Start::predicted`): the increment has not converged while any is.
+    pub pending: usize,
     /// Largest overlap (penetration or tangential drift) of a closed node.
     pub max_overlap: f64,
     pub pairs: Vec<PairResult>,
     /// Per rigid target: force on it [Rx, Ry] and moment Mz about its moved
     /// reference point.
     pub rigid: Vec<[f64; 3]>,
+    /// Per pair, the nodal decisions the rows were built from (empty for
+    /// the paper's decisions): `predict` and `rebuild` start from them.
+    pub(crate) decisions: Vec<Vec<super::nodal::Decision>>,
+}
+
+/// Per pair, the nodes the linearised problem decides otherwise than the
+/// iterate did (`predict`), with the state each is given.
+#[derive(Clone, Debug, Default)]
+pub struct Switched(Vec<Vec<(usize, super::nodal::Forced)>>);
+
+impl Switched {
+    /// How many nodes change.
+    pub fn count(&self) -> usize {
+        self.0.iter().map(Vec::len).sum()
+    }
 }
 
 impl ContactSystem {
@@ -473,6 +491,117 @@ pub fn update(
     flips: &mut Flips,
     log: &mut dyn FnMut(&str),
 ) -> Result<ContactSystem, String> {
+    build(problem, poses, u, r, eq, start, memory, flips, log, None)
+}
+
+/// The contact system at the same iterate as `previous` (built by `update`
+/// from these `u` and `r`), with the `switched` nodes given their new
+/// states and every other node's decision kept: the rows of the linearised
+/// problem's next active set. Only for the nodal decisions (`predict`
+/// gives nothing otherwise).
+#[allow(clippy::too_many_arguments)]
+pub fn rebuild(
+    problem: &Problem,
+    poses: &[[f64; 3]],
+    u: &[f64],
+    r: &[f64],
+    eq: &[u32],
+    start: &Start,
+    memory: &mut [PairMemory],
+    flips: &mut Flips,
+    log: &mut dyn FnMut(&str),
+    previous: &ContactSystem,
+    switched: &Switched,
+) -> Result<ContactSystem, String> {
+    build(
+        problem,
+        poses,
+        u,
+        r,
+        eq,
+        start,
+        memory,
+        flips,
+        log,
+        Some((previous, switched)),
+    )
+}
+
+/// A hash of every node's state as it would be after `switched`: the
+/// inner solves of an iteration stop when they meet a set of states again.
+pub fn state_key(memory: &[PairMemory], switched: &Switched) -> u64 {
+    use std::hash::{Hash, Hasher};
+    let mut h = std::collections::hash_map::DefaultHasher::new();
+    for (p, m) in memory.iter().enumerate() {
+        for (k, node) in m.nodes.iter().enumerate() {
+            let forced = switched
+                .0
+                .get(p)
+                .and_then(|s| s.iter().find(|(j, _)| *j == k));
+            let (state, sign) = match forced {
+                Some((_, super::nodal::Forced::Stick)) => (NodeState::Stick as u8, 0.0),
+                Some((_, super::nodal::Forced::Slip(s))) => (NodeState::Slip as u8, *s),
+                None => (node.state as u8, node.slip_sign),
+            };
+            (state, sign.to_bits()).hash(&mut h);
+        }
+    }
+    h.finish()
+}
+
+/// The nodes whose stick/slip state the linearised problem decides
+/// otherwise than `system`'s rows did: after solving with them, `u_new` the
+/// displacements reached and `force_new` the out-of-balance force per dof
+/// there as the solve predicts it (zero at prescribed dofs). Tolerances
+/// [force, length] as the iteration's equilibrium. None when every pair
+/// keeps its states, or when a pair uses the paper's decisions.
+#[allow(clippy::too_many_arguments)]
+pub fn predict(
+    problem: &Problem,
+    poses: &[[f64; 3]],
+    u_new: &[f64],
+    force_new: &[f64],
+    memory: &[PairMemory],
+    system: &ContactSystem,
+    tolerance: [f64; 2],
+) -> Result<Option<Switched>, String> {
+    if system.decisions.len() != problem.contacts.len() {
+        return Ok(None);
+    }
+    let mut out = Vec::with_capacity(problem.contacts.len());
+    for (p, pair) in problem.contacts.iter().enumerate() {
+        if pair.decisions != Decisions::Nodal {
+            return Ok(None);
+        }
+        let force = |n: usize| Vector2::new(force_new[2 * n], force_new[2 * n + 1]);
+        out.push(super::nodal::predict_pair(
+            problem,
+            pair,
+            poses,
+            u_new,
+            &force,
+            &memory[p],
+            &system.decisions[p],
+            tolerance,
+        )?);
+    }
+    let switched = Switched(out);
+    Ok((switched.count() > 0).then_some(switched))
+}
+
+#[allow(clippy::too_many_arguments)]
+fn build(
+    problem: &Problem,
+    poses: &[[f64; 3]],
+    u: &[f64],
+    r: &[f64],
+    eq: &[u32],
+    start: &Start,
+    memory: &mut [PairMemory],
+    flips: &mut Flips,
+    log: &mut dyn FnMut(&str),
+    keep: Option<(&ContactSystem, &Switched)>,
+) -> Result<ContactSystem, String> {
     let mut out = ContactSystem {
         rigid: vec![[0.0; 3]; problem.rigids.len()],
         ..Default::default()
@@ -483,18 +612,22 @@ pub fn update(
     }
     for (p, pair) in problem.contacts.iter().enumerate() {
         let result = match pair.decisions {
-            Decisions::Paper => paper_pair(
-                problem,
-                pair,
-                poses,
-                u,
-                r,
-                eq,
-                &mut memory[p],
-                &mut flips.counts[p],
-                log,
-                &mut out,
-            )?,
+            Decisions::Paper => {
+                let result = paper_pair(
+                    problem,
+                    pair,
+                    poses,
+                    u,
+                    r,
+                    eq,
+                    &mut memory[p],
+                    &mut flips.counts[p],
+                    log,
+                    &mut out,
+                )?;
+                out.decisions.push(Vec::new());
+                result
+            }
             Decisions::Nodal => super::nodal::update_pair(
                 problem,
                 pair,
@@ -507,6 +640,13 @@ pub fn update(
                 [&mut flips.counts[p], &mut flips.slips[p]],
                 log,
                 &mut out,
+                match keep {
+                    Some((previous, switched)) => super::nodal::Plan::Keep {
+                        decisions: &previous.decisions[p],
+                        forced: &switched.0[p],
+                    },
+                    None => super::nodal::Plan::Decide,
+                },
             )?,
         };
         out.pairs.push(result);
@@ -521,6 +661,11 @@ pub struct Start<'a> {
     pub u: &'a [f64],
     /// Rigid target poses at the start of the increment.
     pub poses: &'a [[f64; 3]],
+    /// The iterate is the first one after the increment's predictor (its
+    /// prescribed and rigid target motion carried through the tangent):
+    /// nodes in contact at the start of the increment are not released on
+    /// its forces (see `nodal::decide`).
+    pub predicted: bool,
 }
 
 /// The paper's Section 3 for one pair: recovered tractions, segment
