@@ -40,6 +40,7 @@ struct Prescribed {
 /// What one Newton solve of an increment did.
 struct Converged {
     iterations: usize,
+    solves: usize,
     residual: f64,
 }
 
@@ -259,11 +260,13 @@ impl Solver {
         let mut targets = vec![t_end];
         let mut bisections = 0;
         let mut iterations = 0;
+        let mut solves = 0;
         let mut residual = 0.0;
         while let Some(&t) = targets.last() {
             match self.increment(t, t0, t_end, &u0, &start.rigid, log) {
                 Ok(c) => {
                     iterations += c.iterations;
+                    solves += c.solves;
                     residual = c.residual;
                     targets.pop();
                 }
@@ -294,6 +297,7 @@ impl Solver {
             time: t_end,
             converged: true,
             iterations,
+            solves,
             substeps: bisections,
             residual,
             neqc: self.contact.as_ref().map_or(0, |c| c.neqc()),
@@ -421,6 +425,7 @@ impl Solver {
         let mut memory = self.state.contact.clone();
         pairs::begin_increment(&mut memory);
         let mut flips = Flips::default();
+        let mut solves = 0usize;
         let mut extra: Vec<(usize, usize, f64)> = Vec::new();
         // Tie multipliers, total: their forces C^T lambda act as loads.
         let mut lambda = self.state.ties.clone();
@@ -555,6 +560,7 @@ impl Solver {
                     self.commit(t, u, history, memory, poses.clone(), contact, lambda);
                     return Ok(Converged {
                         iterations: 0,
+                        solves,
                         residual: rho,
                     });
                 }
@@ -593,6 +599,7 @@ impl Solver {
                     self.commit(t, u, history, memory, poses.clone(), contact, lambda);
                     return Ok(Converged {
                         iterations: it,
+                        solves,
                         residual: rho,
                     });
                 }
@@ -622,6 +629,7 @@ impl Solver {
                     self.factor_valid = self.model.constant_tangent;
                 }
                 self.linear.solve(&mut rhs).map_err(|e| e.to_string())?;
+                solves += 1;
             } else {
                 // Eq. (18): [K + K_c, C^T; C, 0] [du; dlambda] = [r; overlap],
                 // the contact rows first, then the tie rows (C u = 0).
@@ -700,6 +708,7 @@ impl Solver {
                         }
                         full.push(b);
                     }
+                    solves += 1;
                     let solved = self
                         .augmented
                         .solve(&self.model.pattern, &self.k, &mut extra, &mut full)

@@ -58,6 +58,15 @@ pub struct PairNodes {
     pub tn: Vec<f64>,
     pub tt: Vec<f64>,
     pub state: Vec<NodeState>,
+    /// The normal contact force on each node (compression positive): the
+    /// multiplier the contact conditions hold on, whose sign the reported
+    /// traction of an 8-node side (a quadratic fit of these forces) need
+    /// not keep. Not written to the summary.
+    #[serde(skip)]
+    pub pn: Vec<f64>,
+    /// The tangential contact force on each node, in `tt`'s direction.
+    #[serde(skip)]
+    pub pt: Vec<f64>,
 }
 
 /// Resultants of one contact pair: the force the target exerts on the
@@ -88,6 +97,11 @@ pub struct StepResult {
     pub iterations: usize,
     /// Number of bisections used (0: the increment was taken whole).
     pub substeps: usize,
+    /// Linear solves summed over the sub-increments (one per Newton
+    /// iteration, and one more per change of the linearised problem's
+    /// stick/slip states within an iteration). Not written to the summary.
+    #[serde(skip)]
+    pub solves: usize,
     /// Final relative force residual.
     pub residual: f64,
     /// Number of contact equations (0 until contact exists).
@@ -150,6 +164,8 @@ impl StepResult {
                     tn: vec![0.0; m],
                     tt: vec![0.0; m],
                     state: vec![NodeState::Open; m],
+                    pn: vec![0.0; m],
+                    pt: vec![0.0; m],
                 };
                 let result = PairResult {
                     n_open: m,

@@ -207,6 +207,7 @@ fn converged_step() -> StepResult {
         converged: true,
         iterations: 3,
         substeps: 1,
+        solves: 3,
         residual: 1.5e-11,
         neqc: 0,
         // Not in alphabetical order: the file keeps this order.
@@ -365,6 +366,7 @@ fn summary_of_a_step_with_a_pair_and_a_rigid_target() {
         converged: true,
         iterations: 4,
         substeps: 0,
+        solves: 4,
         residual: 2.5e-10,
         neqc: 3,
         drivers: vec![
@@ -401,6 +403,8 @@ fn summary_of_a_step_with_a_pair_and_a_rigid_target() {
                     tn: vec![600.0, 0.125],
                     tt: vec![-0.0, 1e-3],
                     state: vec![NodeState::Stick, NodeState::Slip],
+                    pn: Vec::new(),
+                    pt: Vec::new(),
                 },
             },
         )],

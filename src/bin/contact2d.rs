@@ -638,6 +638,7 @@ mod tests {
             converged: true,
             iterations: 3,
             substeps: 0,
+            solves: 3,
             residual: 1e-9,
             neqc: 4,
             drivers: vec![

@@ -205,6 +205,9 @@ pub(super) fn update_pair(
     for (k, d) in decisions.iter().enumerate() {
         let old = mem.nodes[k];
         let node = &mut mem.nodes[k];
+        // The node's contact force [normal, tangential] in the frame its
+        // traction is reported in.
+        let mut node_force = [0.0; 2];
         node.state = d.state;
         node.corner = d.corner;
         node.corner_leaves += u32::from(old.corner && !d.corner);
@@ -238,6 +241,7 @@ pub(super) fn update_pair(
             result.fn_ -= f.dot(&normal);
             result.ft -= f.dot(&tangent);
             frames[k] = Some((-tangent, -normal));
+            node_force = [-f.dot(&normal), -f.dot(&tangent)];
             if let Target::Rigid(ri) = pair.target {
                 let (_, reference) = pairs::rigid_points(problem, ri, poses[ri]);
                 let xc = cp.point();
@@ -258,6 +262,8 @@ pub(super) fn update_pair(
         result.nodes.x.push(x[k].x);
         result.nodes.y.push(x[k].y);
         result.nodes.state.push(d.state);
+        result.nodes.pn.push(node_force[0]);
+        result.nodes.pt.push(node_force[1]);
     }
     // Lumped: each node's traction has the sign of its own force, which the
     // decisions above read (the consistent recovery of Eq. 26 spreads a

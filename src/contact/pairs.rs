@@ -1110,6 +1110,18 @@ fn paper_pair(
             node_tt[k]
         });
         result.nodes.state.push(state);
+        // The paper's decisions read tractions: its nodes' forces are taken
+        // as their tractions' signs.
+        result.nodes.pn.push(if state == NodeState::Open {
+            0.0
+        } else {
+            node_tn[k]
+        });
+        result.nodes.pt.push(if state == NodeState::Open {
+            0.0
+        } else {
+            node_tt[k]
+        });
     }
     // Reported tractions on 8-node sides: recovered with the sides' own
     // quadratic shape functions from the forces of the nodes in contact

@@ -86,6 +86,7 @@ impl Summary {
             iterations,
             substeps,
             residual: f64::NAN,
+            solves: 0,
             neqc: 0,
             drivers,
             pairs,

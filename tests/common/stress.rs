@@ -304,20 +304,26 @@ pub fn check_contact_conditions(
         let n = &now.nodes;
         let m = n.x.len();
         let tn_max = n.tn.iter().copied().fold(0.0f64, f64::max);
-        // Tension.
+        // Tension: on the nodes' normal contact forces, the multipliers the
+        // conditions hold on (an 8-node side's reported traction is a
+        // quadratic fit of them, which may dip below zero between positive
+        // forces at the edge of the contact).
+        let pn_max = n.pn.iter().copied().fold(0.0f64, f64::max);
         for k in 0..m {
-            if n.state[k] != NodeState::Open && n.tn[k] < -TENSION_TOLERANCE * tn_max {
+            if n.state[k] != NodeState::Open && n.pn[k] < -TENSION_TOLERANCE * pn_max {
                 // The neighbours' tractions tell an oscillation of the
                 // recovery (alternating signs) from a node pulled off.
                 let around: Vec<String> = (k.saturating_sub(1)..(k + 2).min(m))
                     .map(|j| format!("{:.3e}", n.tn[j]))
                     .collect();
                 out.push(format!(
-                    "t = {}: pair {name} node {k} (mesh {}) is {:?} in tension: tn = {:.3e} \
-                     (largest tn {:.3e}; tn of nodes {}..={}: {})",
+                    "t = {}: pair {name} node {k} (mesh {}) is {:?} in tension: p_n = {:.3e} \
+                     (largest {:.3e}), tn = {:.3e} (largest tn {:.3e}; tn of nodes {}..={}: {})",
                     cur.step.time,
                     pair.contactor[k],
                     n.state[k],
+                    n.pn[k],
+                    pn_max,
                     n.tn[k],
                     tn_max,
                     k.saturating_sub(1),
@@ -329,7 +335,7 @@ pub fn check_contact_conditions(
         // Friction against slip (a frictionless pair has none: its
         // reported tt is the recovery's, e.g. 1e-3 of tn on 8-node sides
         // against a curved rigid target).
-        if tn_max <= 0.0 || (pair.mu_s == 0.0 && pair.mu_d == 0.0) {
+        if pn_max <= 0.0 || (pair.mu_s == 0.0 && pair.mu_d == 0.0) {
             continue;
         }
         let position = |f: &Frame, k: usize| f.position(problem, pair.contactor[k]);
@@ -355,8 +361,10 @@ pub fn check_contact_conditions(
             if n.state[k] != NodeState::Slip || before.nodes.state[k] == NodeState::Open {
                 continue;
             }
-            let tt = n.tt[k];
-            if tt.abs() <= FRICTION_ROUND_OFF * tn_max {
+            // The node's friction force (an 8-node side's reported tt is a
+            // quadratic fit of these).
+            let tt = n.pt[k];
+            if tt.abs() <= FRICTION_ROUND_OFF * pn_max {
                 continue;
             }
             // The contactor's direction at k: toward the next node.
@@ -375,8 +383,9 @@ pub fn check_contact_conditions(
             if slip.abs() > slip_tol && slip * tt > 0.0 {
                 out.push(format!(
                     "t = {}: pair {name} node {k} (mesh {}) slides with its friction along its slip: \
-                     tt = {tt:.3e} (tn {:.3e}), slip {slip:.3e} over the increment (round-off {slip_tol:.1e})",
-                    cur.step.time, pair.contactor[k], n.tn[k]
+                     friction force {tt:.3e} (p_n {:.3e}, tt {:.3e}), slip {slip:.3e} over the \
+                     increment (round-off {slip_tol:.1e})",
+                    cur.step.time, pair.contactor[k], n.pn[k], n.tt[k]
                 ));
             }
         }
@@ -676,6 +685,11 @@ pub struct Stats {
     pub increments: usize,
     pub median: f64,
     pub max: usize,
+    /// Linear solves over the run, and the most in one increment (Newton
+    /// iterations plus the inner solves of the linearised problem's
+    /// stick/slip states).
+    pub solves: usize,
+    pub max_solves: usize,
     pub bisections: usize,
     pub failures: usize,
 }
@@ -699,6 +713,8 @@ impl Outcome {
             increments: iterations.len(),
             median: median(&iterations),
             max: iterations.iter().copied().max().unwrap_or(0),
+            solves: self.run.steps().map(|s| s.solves).sum(),
+            max_solves: self.run.steps().map(|s| s.solves).max().unwrap_or(0),
             bisections: self.run.steps().map(|s| s.substeps).sum(),
             failures: usize::from(self.run.failure.is_some()),
         }
@@ -786,21 +802,22 @@ impl Outcome {
 
     pub fn header() -> String {
         format!(
-            "{:<34} {:<12} {:>6} {:>5} {:>7} {:>4} {:>4} {:>5} {:>8}  check: computed / reference (rel. error, tolerance)",
-            "case", "mesh", "dofs", "incr", "it med", "max", "bis", "fail", "wall s"
+            "{:<34} {:<12} {:>6} {:>5} {:>7} {:>4} {:>4} {:>4} {:>5} {:>8}  check: computed / reference (rel. error, tolerance)",
+            "case", "mesh", "dofs", "incr", "it med", "max", "slv", "bis", "fail", "wall s"
         )
     }
 
     pub fn row(&self) -> String {
         let st = self.stats();
         let mut row = format!(
-            "{:<34} {:<12} {:>6} {:>5} {:>7.1} {:>4} {:>4} {:>5} {:>8.3}",
+            "{:<34} {:<12} {:>6} {:>5} {:>7.1} {:>4} {:>4} {:>4} {:>5} {:>8.3}",
             self.case,
             self.mesh,
             self.run.dofs,
             st.increments,
             st.median,
             st.max,
+            st.max_solves,
             st.bisections,
             match &self.run.failure {
                 None => "0".to_string(),

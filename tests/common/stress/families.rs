@@ -703,7 +703,13 @@ pub fn capstan_reversal(v: Variant) -> Outcome {
 /// scenes/rubber_sheet.toml (mu = 0.15): 2x is the 80 x 8 mesh of
 /// docs/contact.md item 12. No closed form (the paper's figures).
 pub fn rubber_sheet(v: Variant) -> Outcome {
-    let run = run_scene(load("rubber_sheet.toml", v, &[]));
+    // The default decisions (the shipped scene keeps the paper's, which
+    // tests/paper_rubber_sheet.rs checks against the paper).
+    let run = run_scene(load(
+        "rubber_sheet.toml",
+        v,
+        &[("decisions = \"paper\"", "decisions = \"nodal\"")],
+    ));
     let mesh = format!("{} {}x{}", v.element.keyword(), 40 * v.refine, 4 * v.refine);
     Outcome::new("rubber sheet", mesh, run)
 }
@@ -872,6 +878,16 @@ pub fn cases() -> Vec<Case> {
         ),
         case("shrink_fit_frictionless", shrink_fit_frictionless, ALL),
         case("shrink_fit_with_friction", shrink_fit_with_friction, ALL),
+        case(
+            "shrink_fit_nonmatching_frictionless",
+            shrink_fit_nonmatching_frictionless,
+            ALL,
+        ),
+        case(
+            "shrink_fit_nonmatching_with_friction",
+            shrink_fit_nonmatching_with_friction,
+            ALL,
+        ),
         case("moving_plane", moving_plane, ALL),
         case("incline", incline, ALL),
         case("block_held", block_held, ALL),
