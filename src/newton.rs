@@ -38,6 +38,18 @@ struct Prescribed {
 }
 
 /// What one Newton solve of an increment did.
+/// What the correction of one Newton iteration needs to know of it.
+struct Step<'a> {
+    t: f64,
+    it: usize,
+    u: &'a [f64],
+    dup: &'a [f64],
+    poses: &'a [[f64; 3]],
+    /// The iteration's equilibrium tolerances [force, length]: the inner
+    /// solves' stick/slip decisions do not change a node for less.
+    tolerance: [f64; 2],
+}
+
 struct Converged {
     iterations: usize,
     solves: usize,
@@ -631,193 +643,25 @@ impl Solver {
                 self.linear.solve(&mut rhs).map_err(|e| e.to_string())?;
                 solves += 1;
             } else {
-                // Eq. (18): [K + K_c, C^T; C, 0] [du; dlambda] = [r; overlap],
-                // the contact rows first, then the tie rows (C u = 0).
-                // Solved again while the linearised problem decides a node's
-                // stick/slip state otherwise than this iterate did (a slip
-                // front crossing a stick zone): its rows change, the
-                // tangent and the out-of-balance forces do not.
-                let eq = &self.model.eq;
-                let mut system: Option<ContactSystem> = contact.cloned();
-                let mut rhs_now = rhs.clone();
-                let mut inner = 0usize;
-                let mut seen: Vec<u64> = Vec::new();
-                type Kept = (Vec<f64>, Vec<PairMemory>, Option<ContactSystem>);
-                let mut kept: Option<Kept> = None;
-                let full = loop {
-                    extra.clear();
-                    let mut full = rhs_now.clone();
-                    let contact_rows = system.as_ref().map_or(&[][..], |c| &c.rows[..]);
-                    if let Some(c) = &system {
-                        for &(a, b, v) in &c.k {
-                            if eq[a] != PRESCRIBED && eq[b] != PRESCRIBED {
-                                extra.push((eq[a] as usize, eq[b] as usize, v));
-                            }
-                        }
-                    }
-                    let ties = self.problem.ties.iter().flat_map(|t| &t.rows);
-                    let tie_rows = ties.map(|r| {
-                        let violation: f64 = r.dofs.iter().map(|&(d, v)| v * u[d]).sum();
-                        (&r.dofs[..], -violation)
-                    });
-                    let rows = contact_rows
-                        .iter()
-                        .map(|r| (&r.dofs[..], r.rhs, &r.column[..]));
-                    let tie_rows = tie_rows.map(|(dofs, b)| (dofs, b, &[][..]));
-                    for (i, (dofs, rhs_i, column)) in rows.chain(tie_rows).enumerate() {
-                        let mut b = rhs_i;
-                        // A row whose free coefficients are round-off beside its
-                        // prescribed ones (a node held at a target node on a
-                        // symmetry plane, its contact point a hair inside the
-                        // next segment: `beta` = 1e-8) would fix its tiny free
-                        // part with a huge multiplier; it is a row on
-                        // prescribed dofs.
-                        let square = |free: bool| -> f64 {
-                            (dofs.iter())
-                                .filter(|&&(d, _)| (eq[d] != PRESCRIBED) == free)
-                                .map(|&(_, v)| v * v)
-                                .sum()
-                        };
-                        let free = square(true) > NEGLIGIBLE_ROW * NEGLIGIBLE_ROW * square(false);
-                        for &(d, v) in dofs {
-                            if eq[d] == PRESCRIBED {
-                                if it == 0 {
-                                    b -= v * dup[d];
-                                }
-                            } else if free {
-                                extra.push((n + i, eq[d] as usize, v));
-                                if column.is_empty() {
-                                    extra.push((eq[d] as usize, n + i, v));
-                                }
-                            }
-                        }
-                        // A sliding node's friction: the multiplier's column
-                        // differs from its row.
-                        for &(d, v) in column.iter().filter(|_| free) {
-                            if eq[d] != PRESCRIBED {
-                                extra.push((eq[d] as usize, n + i, v));
-                            }
-                        }
-                        if !free {
-                            // Every dof the row acts on is prescribed (a
-                            // sticking node on a symmetry plane against a
-                            // fixed target): the drivers already hold it; its
-                            // multiplier gets an identity row.
-                            extra.push((n + i, n + i, 1.0));
-                            b = 0.0;
-                        }
-                        full.push(b);
-                    }
-                    solves += 1;
-                    let solved = self
-                        .augmented
-                        .solve(&self.model.pattern, &self.k, &mut extra, &mut full)
-                        .map_err(|e| {
-                            format!("constraint system (NEQC {}): {e}", contact_rows.len())
-                        });
-                    // The states the linearised problem chose leave no
-                    // equilibrium near (every node of a free body sliding
-                    // where the iterate's linearisation is poor): keep the
-                    // solve before them; the outer iteration decides.
-                    if let Some((previous, states, rows)) = kept.take() {
-                        let wild = solved.is_err()
-                            || largest(&full[..n]).is_nan()
-                            || largest(&full[..n]) > 1e3 * self.size;
-                        if wild {
-                            memory = states;
-                            system = rows;
-                            break previous;
-                        }
-                    }
-                    solved?;
-                    let Some(sys) = system
-                        .as_ref()
-                        .filter(|_| inner < MAX_INNER && std::env::var_os("C2D_NOINNER").is_none())
-                    else {
-                        break full;
-                    };
-                    // Where the solve goes, and the out-of-balance force it
-                    // leaves at each dof (K du = r_c - C^T x - r).
-                    let mut u_new = u.clone();
-                    let mut force_new = vec![0.0; u.len()];
-                    for (dof, &q) in eq.iter().enumerate() {
-                        if q != PRESCRIBED {
-                            u_new[dof] += full[q as usize];
-                        } else if it == 0 {
-                            u_new[dof] += dup[dof];
-                        }
-                    }
-                    for &(d, f) in &sys.force {
-                        if eq[d] != PRESCRIBED {
-                            force_new[d] += f;
-                        }
-                    }
-                    for (i, row) in sys.rows.iter().enumerate() {
-                        let acting = if row.column.is_empty() {
-                            &row.dofs
-                        } else {
-                            &row.column
-                        };
-                        for &(d, v) in acting {
-                            if eq[d] != PRESCRIBED {
-                                force_new[d] -= full[n + i] * v;
-                            }
-                        }
-                    }
-                    let tolerance = [settings.force_tolerance * f_ref, gap_tol];
-                    let predicted = pairs::predict(
-                        &self.problem,
-                        &poses,
-                        &u_new,
-                        &force_new,
-                        &memory,
-                        sys,
-                        tolerance,
-                    )?;
-                    let Some(switched) = predicted else {
-                        break full;
-                    };
-                    // The linearised problem's decisions may cycle (a set of
-                    // states met before): the outer iteration decides then.
-                    let key = pairs::state_key(&memory, &switched);
-                    if seen.contains(&key) {
-                        break full;
-                    }
-                    seen.push(key);
-                    inner += 1;
-                    let mut clog =
-                        |m: &str| log(LogCategory::Contact, &format!("t = {t:.6e} it {it}: {m}"));
-                    clog(&format!(
-                        "solve {inner}: the linearised problem changes {} stick/slip states",
-                        switched.count()
-                    ));
-                    let start = pairs::Start {
-                        u: &self.state.u,
-                        poses: &self.state.rigid,
-                        predicted: it == 1,
-                    };
-                    kept = Some((full.clone(), memory.clone(), system.clone()));
-                    let rebuilt = pairs::rebuild(
-                        &self.problem,
-                        &poses,
-                        &u,
-                        &self.r,
-                        eq,
-                        &start,
-                        &mut memory,
-                        &mut flips,
-                        &mut clog,
-                        sys,
-                        &switched,
-                    )?;
-                    rhs_now.copy_from_slice(&rhs_base);
-                    for &(d, f) in &rebuilt.force {
-                        if eq[d] != PRESCRIBED {
-                            rhs_now[eq[d] as usize] += f;
-                        }
-                    }
-                    system = Some(rebuilt);
+                let step = Step {
+                    t,
+                    it,
+                    u: &u,
+                    dup: &dup,
+                    poses: &poses,
+                    tolerance: [settings.force_tolerance * f_ref, gap_tol],
                 };
+                let (full, system) = self.constrained_correction(
+                    &step,
+                    contact,
+                    &rhs_base,
+                    &rhs,
+                    &mut memory,
+                    &mut flips,
+                    &mut extra,
+                    &mut solves,
+                    log,
+                )?;
                 let contact_rows = system.as_ref().map_or(&[][..], |c| &c.rows[..]);
                 rhs.copy_from_slice(&full[..n]);
                 // The system's multipliers are the change that removes the
@@ -864,6 +708,232 @@ impl Solver {
             "no convergence in {} iterations",
             settings.max_iterations
         ))
+    }
+
+    /// Phase 4 with contact rows or ties: Eq. (18), `[K + K_c, C^T; C, 0]
+    /// [du; dlambda] = [r; overlap]`, the contact rows first, then the tie
+    /// rows (`C u = 0`); under the nodal decisions solved again while the
+    /// linearised problem decides a node's stick/slip state otherwise than
+    /// the iterate did (docs/contact.md section 8, inner solves). Returns
+    /// `[du; multipliers]` and the contact system it solves.
+    #[allow(clippy::too_many_arguments)]
+    fn constrained_correction(
+        &mut self,
+        step: &Step,
+        contact: Option<&ContactSystem>,
+        rhs_base: &[f64],
+        rhs: &[f64],
+        memory: &mut Vec<PairMemory>,
+        flips: &mut Flips,
+        extra: &mut Vec<(usize, usize, f64)>,
+        solves: &mut usize,
+        log: &mut dyn FnMut(LogCategory, &str),
+    ) -> Result<(Vec<f64>, Option<ContactSystem>), String> {
+        let (t, it, n) = (step.t, step.it, self.model.free_dofs());
+        let largest = |v: &[f64]| v.iter().fold(0.0f64, |a, x| a.max(x.abs()));
+        // Eq. (18): [K + K_c, C^T; C, 0] [du; dlambda] = [r; overlap],
+        // the contact rows first, then the tie rows (C u = 0).
+        // Solved again while the linearised problem decides a node's
+        // stick/slip state otherwise than this iterate did (a slip
+        // front crossing a stick zone): its rows change, the
+        // tangent and the out-of-balance forces do not.
+        let eq = &self.model.eq;
+        let mut system: Option<ContactSystem> = contact.cloned();
+        let mut rhs_now = rhs.to_vec();
+        let mut inner = 0usize;
+        let mut seen: Vec<u64> = Vec::new();
+        type Kept = (Vec<f64>, Vec<PairMemory>, Option<ContactSystem>);
+        let mut kept: Option<Kept> = None;
+        let full = loop {
+            let mut full = self.constraint_system(step, system.as_ref(), &rhs_now, extra);
+            let contact_rows = system.as_ref().map_or(&[][..], |c| &c.rows[..]);
+            *solves += 1;
+            let solved = self
+                .augmented
+                .solve(&self.model.pattern, &self.k, extra, &mut full)
+                .map_err(|e| format!("constraint system (NEQC {}): {e}", contact_rows.len()));
+            // The states the linearised problem chose leave no
+            // equilibrium near (every node of a free body sliding
+            // where the iterate's linearisation is poor): keep the
+            // solve before them; the outer iteration decides.
+            if let Some((previous, states, rows)) = kept.take() {
+                let wild = solved.is_err()
+                    || largest(&full[..n]).is_nan()
+                    || largest(&full[..n]) > 1e3 * self.size;
+                if wild {
+                    *memory = states;
+                    system = rows;
+                    break previous;
+                }
+            }
+            solved?;
+            let Some(sys) = system
+                .as_ref()
+                .filter(|_| inner < MAX_INNER && std::env::var_os("C2D_NOINNER").is_none())
+            else {
+                break full;
+            };
+            // Where the solve goes, and the out-of-balance force it
+            // leaves at each dof (K du = r_c - C^T x - r).
+            let mut u_new = step.u.to_vec();
+            let mut force_new = vec![0.0; step.u.len()];
+            for (dof, &q) in eq.iter().enumerate() {
+                if q != PRESCRIBED {
+                    u_new[dof] += full[q as usize];
+                } else if it == 0 {
+                    u_new[dof] += step.dup[dof];
+                }
+            }
+            for &(d, f) in &sys.force {
+                if eq[d] != PRESCRIBED {
+                    force_new[d] += f;
+                }
+            }
+            for (i, row) in sys.rows.iter().enumerate() {
+                let acting = if row.column.is_empty() {
+                    &row.dofs
+                } else {
+                    &row.column
+                };
+                for &(d, v) in acting {
+                    if eq[d] != PRESCRIBED {
+                        force_new[d] -= full[n + i] * v;
+                    }
+                }
+            }
+            let predicted = pairs::predict(
+                &self.problem,
+                step.poses,
+                &u_new,
+                &force_new,
+                memory,
+                sys,
+                step.tolerance,
+            )?;
+            let Some(switched) = predicted else {
+                break full;
+            };
+            // The linearised problem's decisions may cycle (a set of
+            // states met before): the outer iteration decides then.
+            let key = pairs::state_key(memory, &switched);
+            if seen.contains(&key) {
+                break full;
+            }
+            seen.push(key);
+            inner += 1;
+            let mut clog =
+                |m: &str| log(LogCategory::Contact, &format!("t = {t:.6e} it {it}: {m}"));
+            clog(&format!(
+                "solve {inner}: the linearised problem changes {} stick/slip states",
+                switched.count()
+            ));
+            let start = pairs::Start {
+                u: &self.state.u,
+                poses: &self.state.rigid,
+                predicted: it == 1,
+            };
+            kept = Some((full.clone(), memory.clone(), system.clone()));
+            let rebuilt = pairs::rebuild(
+                &self.problem,
+                step.poses,
+                step.u,
+                &self.r,
+                eq,
+                &start,
+                memory,
+                flips,
+                &mut clog,
+                sys,
+                &switched,
+            )?;
+            rhs_now.copy_from_slice(rhs_base);
+            for &(d, f) in &rebuilt.force {
+                if eq[d] != PRESCRIBED {
+                    rhs_now[eq[d] as usize] += f;
+                }
+            }
+            system = Some(rebuilt);
+        };
+        Ok((full, system))
+    }
+
+    /// The constraint rows of Eq. (18) into `extra` (triplets beside K) and
+    /// the full right-hand side `[rhs; row values]`: the contact system's
+    /// sliding gradient entries and rows (a sliding node's multiplier with
+    /// its own column), then the tie rows.
+    fn constraint_system(
+        &self,
+        step: &Step,
+        system: Option<&ContactSystem>,
+        rhs_now: &[f64],
+        extra: &mut Vec<(usize, usize, f64)>,
+    ) -> Vec<f64> {
+        let (eq, n, it) = (&self.model.eq, self.model.free_dofs(), step.it);
+        let (u, dup) = (step.u, step.dup);
+        extra.clear();
+        let mut full = rhs_now.to_vec();
+        let contact_rows = system.map_or(&[][..], |c| &c.rows[..]);
+        if let Some(c) = system {
+            for &(a, b, v) in &c.k {
+                if eq[a] != PRESCRIBED && eq[b] != PRESCRIBED {
+                    extra.push((eq[a] as usize, eq[b] as usize, v));
+                }
+            }
+        }
+        let ties = self.problem.ties.iter().flat_map(|t| &t.rows);
+        let tie_rows = ties.map(|r| {
+            let violation: f64 = r.dofs.iter().map(|&(d, v)| v * u[d]).sum();
+            (&r.dofs[..], -violation)
+        });
+        let rows = contact_rows
+            .iter()
+            .map(|r| (&r.dofs[..], r.rhs, &r.column[..]));
+        let tie_rows = tie_rows.map(|(dofs, b)| (dofs, b, &[][..]));
+        for (i, (dofs, rhs_i, column)) in rows.chain(tie_rows).enumerate() {
+            let mut b = rhs_i;
+            // A row whose free coefficients are round-off beside its
+            // prescribed ones (a node held at a target node on a
+            // symmetry plane, its contact point a hair inside the
+            // next segment: `beta` = 1e-8) would fix its tiny free
+            // part with a huge multiplier; it is a row on
+            // prescribed dofs.
+            let square = |free: bool| -> f64 {
+                (dofs.iter())
+                    .filter(|&&(d, _)| (eq[d] != PRESCRIBED) == free)
+                    .map(|&(_, v)| v * v)
+                    .sum()
+            };
+            let free = square(true) > NEGLIGIBLE_ROW * NEGLIGIBLE_ROW * square(false);
+            for &(d, v) in dofs {
+                if eq[d] == PRESCRIBED {
+                    if it == 0 {
+                        b -= v * dup[d];
+                    }
+                } else if free {
+                    extra.push((n + i, eq[d] as usize, v));
+                    if column.is_empty() {
+                        extra.push((eq[d] as usize, n + i, v));
+                    }
+                }
+            }
+            // A sliding node's friction: the multiplier's column
+            // differs from its row.
+            for &(d, v) in column.iter().filter(|_| free) {
+                if eq[d] != PRESCRIBED {
+                    extra.push((eq[d] as usize, n + i, v));
+                }
+            }
+            if !free {
+                // Every dof the row acts on is prescribed (a
+                // sticking node on a symmetry plane against a
+                // fixed target): the drivers already hold it; its
+                // multiplier gets an identity row.
+                extra.push((n + i, n + i, 1.0));
+                b = 0.0;
+            }
+            full.push(b);
+        }
+        full
     }
 
     fn commit(
