@@ -406,6 +406,16 @@ fn decide(
             }
             _ => (q.abs() > mu_stick * p_n.max(0.0)).then(|| -q.signum()),
         };
+        let slide = |s: f64| Decision {
+            state: NodeState::Slip,
+            point: Some(projection()),
+            lambda: p_n * (-n_s - s * pair.mu_d * n_r),
+            p_n,
+            slip_sign: s,
+            anchor: Some((ja, beta_a)),
+            corner: false,
+            held_back: false,
+        };
         let Some(s) = s else {
             let at = segments
                 .get(ja)
@@ -424,28 +434,9 @@ fn decide(
                 };
             }
             // The anchor is out of reach (the target has moved on): slide.
-            let s = if slip != 0.0 { slip.signum() } else { 1.0 };
-            return Decision {
-                state: NodeState::Slip,
-                point: Some(projection()),
-                lambda: p_n * (-n_s - s * pair.mu_d * n_r),
-                p_n,
-                slip_sign: s,
-                anchor: Some((ja, beta_a)),
-                corner: false,
-                held_back: false,
-            };
+            return slide(if slip != 0.0 { slip.signum() } else { 1.0 });
         };
-        Decision {
-            state: NodeState::Slip,
-            point: Some(projection()),
-            lambda: p_n * (-n_s - s * pair.mu_d * n_r),
-            p_n,
-            slip_sign: s,
-            anchor: Some((ja, beta_a)),
-            corner: false,
-            held_back: false,
-        }
+        slide(s)
     })();
     decision.held_back = held_back;
     decision
