@@ -494,7 +494,7 @@ fn check(kind: ElementKind, rigid: bool, wanted: &[NodeState], r_nodes: &[V2], s
     let start = pairs::Start {
         u: &p.u,
         poses: &poses,
-        predicted: false,
+        settling: false,
     };
     let sys = pairs::update(
         &p.problem,

@@ -40,7 +40,7 @@ fn a_node_flipping_open_and_closed_is_reported() {
     let start = pairs::Start {
         u: &u,
         poses: &poses,
-        predicted: false,
+        settling: false,
     };
     let error = loop {
         match pairs::update(

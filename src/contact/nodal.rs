@@ -33,7 +33,7 @@ pub(crate) struct Decision {
     /// Frictionless, held at a reflex corner of the target (two rows).
     corner: bool,
     /// Kept in contact after the predictor though its force pulls
-    /// (`Start::predicted`): the iteration has not converged while any is.
+    /// (`Start::settling`): the iteration has not converged while any is.
     held_back: bool,
 }
 
@@ -149,7 +149,7 @@ pub(super) fn update_pair(
             tension,
             frictionless,
             1e-10 * h,
-            start.predicted,
+            start.settling,
             forced,
         )
     };
@@ -299,7 +299,7 @@ fn decide(
     tension: f64,
     frictionless: bool,
     slip_tolerance: f64,
-    predicted: bool,
+    settling: bool,
     forced: Option<Forced>,
 ) -> Decision {
     let open = Decision {
@@ -341,12 +341,14 @@ fn decide(
     {
         // A sticking node pulled along the target as well slides first: held
         // at its anchor on a curved target, its pull shows partly as tension.
-        // After the predictor, a node that was in contact when the increment
-        // began keeps it one iteration more: the predictor carries a rigid
-        // target's rotation through the tangent, which stretches a body
-        // stuck to it and shows as tension at every node of the contact;
-        // the next iterate has the geometry right.
-        if !(predicted && old.anchor.is_some()) {
+        // While the iterate settles, a node in contact keeps it: the
+        // predictor carries a rigid target's rotation, or a long slide
+        // round a curved target, through the tangent, which stretches the
+        // body and leaves it off the target, and that shows as tension at
+        // every node of the contact (the incline tilted by 5 degrees, the
+        // capstan pulled 6 mm at once: every node released, the body free);
+        // the next iterates have the geometry right.
+        if !settling {
             return Decision { p_n, ..open };
         }
         held_back = true;

@@ -139,7 +139,7 @@ pub struct ContactSystem {
     /// Nodes whose state changed in this update.
     pub changes: usize,
     /// Nodes kept in contact though their force pulls, after the predictor
-    /// (`Start::predicted`): the increment has not converged while any is.
+    /// (`Start::settling`): the increment has not converged while any is.
     pub pending: usize,
     /// Largest overlap (penetration or tangential drift) of a closed node.
     pub max_overlap: f64,
@@ -661,11 +661,12 @@ pub struct Start<'a> {
     pub u: &'a [f64],
     /// Rigid target poses at the start of the increment.
     pub poses: &'a [[f64; 3]],
-    /// The iterate is the first one after the increment's predictor (its
-    /// prescribed and rigid target motion carried through the tangent):
-    /// nodes in contact at the start of the increment are not released on
-    /// its forces (see `nodal::decide`).
-    pub predicted: bool,
+    /// The iterate's geometry has not settled: the first after the
+    /// increment's predictor (its prescribed and rigid target motion carried
+    /// through the tangent), or one reached by a correction still large
+    /// against the increment's first. Its nodes in contact are not released
+    /// on its forces (see `nodal::decide`).
+    pub settling: bool,
 }
 
 /// The paper's Section 3 for one pair: recovered tractions, segment
