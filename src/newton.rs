@@ -47,6 +47,18 @@ struct Prescribed {
 }
 
 /// What one Newton solve of an increment did.
+/// An iterate's equilibrium residual against the problem's forces.
+struct Measure {
+    /// |r| / F.
+    rho: f64,
+    /// F: element forces, reactions, contact forces, or the tangent over
+    /// the motion at a strain of 1e-6 when nothing else has a scale.
+    f_ref: f64,
+    /// |r| is at round-off: the residual sums element forces of size F,
+    /// and K u of a body that moves without stress.
+    at_roundoff: bool,
+}
+
 /// What the correction of one Newton iteration needs to know of it.
 struct Step<'a> {
     t: f64,
@@ -456,109 +468,29 @@ impl Solver {
         for it in 0..=settings.max_iterations {
             history.copy_from_slice(&self.state.history);
             let need_k = with_contact || !(self.model.constant_tangent && self.factor_valid);
-            let k = if need_k { Some(&mut self.k[..]) } else { None };
-            let pred = if it == 0 {
-                Some((&dup[..], &mut kdu[..]))
-            } else {
-                None
+            let settling = it == 1 || (it > 1 && norm(&last_du) > SETTLING * du1);
+            let step = Step {
+                t,
+                it,
+                u: &u,
+                dup: &dup,
+                poses: &poses,
+                tolerance: [0.0; 2],
+                settling,
             };
-            self.model
-                .assemble(
-                    &self.problem,
-                    t,
-                    &u,
-                    &mut history,
-                    &mut self.r,
-                    k,
-                    None,
-                    pred,
-                    &mut self.ws,
-                )
-                .map_err(|e| e.to_string())?;
-            let tie_rows = self.problem.ties.iter().flat_map(|t| &t.rows);
-            for (row, &l) in tie_rows.zip(&lambda) {
-                for &(d, v) in &row.dofs {
-                    self.r[d] -= v * l;
-                }
-            }
-            let contact = if with_contact {
-                let mut clog =
-                    |m: &str| log(LogCategory::Contact, &format!("t = {t:.6e} it {it}: {m}"));
-                let start = pairs::Start {
-                    u: &self.state.u,
-                    poses: &self.state.rigid,
-                    settling: it == 1 || (it > 1 && norm(&last_du) > SETTLING * du1),
-                };
-                Some(pairs::update(
-                    &self.problem,
-                    &poses,
-                    &u,
-                    &self.r,
-                    &self.model.eq,
-                    &start,
-                    &mut memory,
-                    &mut flips,
-                    &mut clog,
-                )?)
-            } else {
-                None
-            };
-            let mut react2 = 0.0;
-            for (dof, &q) in self.model.eq.iter().enumerate() {
-                if q == PRESCRIBED {
-                    react2 += self.r[dof] * self.r[dof];
-                } else {
-                    let v = if it == 0 {
-                        self.r[dof] + kdu[dof]
-                    } else {
-                        self.r[dof]
-                    };
-                    rhs[q as usize] = -v;
-                }
-            }
-            let rhs_base = rhs.clone();
-            let mut contact_force2 = 0.0;
-            if let Some(c) = &contact {
-                for &(d, f) in &c.force {
-                    contact_force2 += f * f;
-                    let q = self.model.eq[d];
-                    if q != PRESCRIBED {
-                        rhs[q as usize] += f;
-                    }
-                }
-            }
-            // At a constrained node the multipliers take up the residual in
-            // the constrained directions: measure what they cannot.
-            let adjusted = match &contact {
-                Some(c) if c.neqc() > 0 => Some(equilibrium_residual(c, &self.model.eq, &rhs)),
-                _ => None,
-            };
-            let rnorm = norm(adjusted.as_deref().unwrap_or(&rhs));
-            if !rnorm.is_finite() {
-                return Err(format!("non-finite residual at iteration {it}"));
-            }
-            // The force scale of the problem: element forces, reactions,
-            // contact forces (never the first residual alone: a held input
-            // has a first residual at round-off).
-            // Below them, the round-off of K u: a body that moves without
-            // stress has no other force to compare with.
-            if need_k {
-                self.k_max = (self.diagonal_at.iter())
-                    .map(|&i| self.k[i].abs())
-                    .fold(0.0, f64::max);
-            }
-
-            let f_phys = self
-                .ws
-                .force_scale
-                .max(react2.sqrt())
-                .max(contact_force2.sqrt());
-            // The force of the tangent over the motion at a strain of 1e-6:
-            // the scale when nothing else has one (a body moving unstressed).
-            let f_motion = self.k_max * u_max;
-            let f_ref = f_phys.max(1e-6 * f_motion).max(f64::MIN_POSITIVE);
-            let f_round = 1e-13 * f_phys + 1e-14 * f_motion;
-            let rho = rnorm / f_ref;
+            let contact = self.residual(
+                &step,
+                need_k,
+                &mut history,
+                &mut kdu,
+                &lambda,
+                &mut memory,
+                &mut flips,
+                log,
+            )?;
+            let (rhs_base, m) =
+                self.measure(it, &kdu, contact.as_ref(), need_k, u_max, &mut rhs)?;
+            let (rho, f_ref, at_roundoff) = (m.rho, m.f_ref, m.at_roundoff);
             let (neqc, changes, overlap) = contact
                 .as_ref()
                 .map_or((0, 0, 0.0), |c| (c.neqc(), c.changes, c.max_overlap));
@@ -567,9 +499,6 @@ impl Solver {
             let gap_tol = settings.displacement_tolerance * du1.max(1e-3 * self.size);
             let pending = contact.as_ref().map_or(0, |c| c.pending);
             let contact_ok = changes == 0 && pending == 0 && overlap <= gap_tol;
-            // Round-off: the residual sums element forces of size f_phys,
-            // and K u of a body that moves without stress.
-            let at_roundoff = rnorm <= f_round;
             let force_ok = rho <= settings.force_tolerance || at_roundoff;
             if it == 0 {
                 // Nothing moved and the state is in equilibrium to the
@@ -661,7 +590,7 @@ impl Solver {
                     dup: &dup,
                     poses: &poses,
                     tolerance: [settings.force_tolerance * f_ref, gap_tol],
-                    settling: it == 1 || (it > 1 && norm(&last_du) > SETTLING * du1),
+                    settling,
                 };
                 let (full, system) = self.constrained_correction(
                     &step,
@@ -719,6 +648,149 @@ impl Solver {
         Err(format!(
             "no convergence in {} iterations",
             settings.max_iterations
+        ))
+    }
+
+    /// Phases 1 and 2: the out-of-balance forces `r = F_int - R_ext` at the
+    /// iterate (with the tie forces; iteration 0 also carries the prescribed
+    /// increment through the tangent into `kdu`), the tangent when
+    /// `need_k`, and the contact system: search, forces, decisions, rows
+    /// (`pairs::update`).
+    #[allow(clippy::too_many_arguments)]
+    fn residual(
+        &mut self,
+        step: &Step,
+        need_k: bool,
+        history: &mut [f64],
+        kdu: &mut [f64],
+        lambda: &[f64],
+        memory: &mut [PairMemory],
+        flips: &mut Flips,
+        log: &mut dyn FnMut(LogCategory, &str),
+    ) -> Result<Option<ContactSystem>, String> {
+        let (t, it) = (step.t, step.it);
+        let pred = if it == 0 { Some((step.dup, kdu)) } else { None };
+        let k = if need_k { Some(&mut self.k[..]) } else { None };
+        self.model
+            .assemble(
+                &self.problem,
+                t,
+                step.u,
+                history,
+                &mut self.r,
+                k,
+                None,
+                pred,
+                &mut self.ws,
+            )
+            .map_err(|e| e.to_string())?;
+        let tie_rows = self.problem.ties.iter().flat_map(|t| &t.rows);
+        for (row, &l) in tie_rows.zip(lambda) {
+            for &(d, v) in &row.dofs {
+                self.r[d] -= v * l;
+            }
+        }
+        let contact = if !self.problem.contacts.is_empty() {
+            let mut clog =
+                |m: &str| log(LogCategory::Contact, &format!("t = {t:.6e} it {it}: {m}"));
+            let start = pairs::Start {
+                u: &self.state.u,
+                poses: &self.state.rigid,
+                settling: step.settling,
+            };
+            Some(pairs::update(
+                &self.problem,
+                step.poses,
+                step.u,
+                &self.r,
+                &self.model.eq,
+                &start,
+                memory,
+                flips,
+                &mut clog,
+            )?)
+        } else {
+            None
+        };
+        Ok(contact)
+    }
+
+    /// Phase 3's figures: the right-hand side `-r` (with the predictor's
+    /// `K du_p` at iteration 0) into `rhs`, returned without the contact
+    /// forces and left in `rhs` with them, and the equilibrium residual
+    /// against the problem's force scale (docs/contact.md section 8).
+    fn measure(
+        &mut self,
+        it: usize,
+        kdu: &[f64],
+        contact: Option<&ContactSystem>,
+        need_k: bool,
+        u_max: f64,
+        rhs: &mut [f64],
+    ) -> Result<(Vec<f64>, Measure), String> {
+        let mut react2 = 0.0;
+        for (dof, &q) in self.model.eq.iter().enumerate() {
+            if q == PRESCRIBED {
+                react2 += self.r[dof] * self.r[dof];
+            } else {
+                let v = if it == 0 {
+                    self.r[dof] + kdu[dof]
+                } else {
+                    self.r[dof]
+                };
+                rhs[q as usize] = -v;
+            }
+        }
+        let rhs_base = rhs.to_vec();
+        let mut contact_force2 = 0.0;
+        if let Some(c) = contact {
+            for &(d, f) in &c.force {
+                contact_force2 += f * f;
+                let q = self.model.eq[d];
+                if q != PRESCRIBED {
+                    rhs[q as usize] += f;
+                }
+            }
+        }
+        // At a constrained node the multipliers take up the residual in
+        // the constrained directions: measure what they cannot.
+        let adjusted = match contact {
+            Some(c) if c.neqc() > 0 => Some(equilibrium_residual(c, &self.model.eq, rhs)),
+            _ => None,
+        };
+        let rnorm = norm(adjusted.as_deref().unwrap_or(rhs));
+        if !rnorm.is_finite() {
+            return Err(format!("non-finite residual at iteration {it}"));
+        }
+        // The force scale of the problem: element forces, reactions,
+        // contact forces (never the first residual alone: a held input
+        // has a first residual at round-off).
+        // Below them, the round-off of K u: a body that moves without
+        // stress has no other force to compare with.
+        if need_k {
+            self.k_max = (self.diagonal_at.iter())
+                .map(|&i| self.k[i].abs())
+                .fold(0.0, f64::max);
+        }
+
+        let f_phys = self
+            .ws
+            .force_scale
+            .max(react2.sqrt())
+            .max(contact_force2.sqrt());
+        // The force of the tangent over the motion at a strain of 1e-6:
+        // the scale when nothing else has one (a body moving unstressed).
+        let f_motion = self.k_max * u_max;
+        let f_ref = f_phys.max(1e-6 * f_motion).max(f64::MIN_POSITIVE);
+        let f_round = 1e-13 * f_phys + 1e-14 * f_motion;
+        let rho = rnorm / f_ref;
+        Ok((
+            rhs_base,
+            Measure {
+                rho,
+                f_ref,
+                at_roundoff: rnorm <= f_round,
+            },
         ))
     }
 
