@@ -851,10 +851,7 @@ impl Solver {
                 }
             }
             solved?;
-            let Some(sys) = system
-                .as_ref()
-                .filter(|_| inner < MAX_INNER && std::env::var_os("C2D_NOINNER").is_none())
-            else {
+            let Some(sys) = system.as_ref().filter(|_| inner < MAX_INNER) else {
                 break full;
             };
             // Where the solve goes, and the out-of-balance force it
