@@ -595,7 +595,7 @@ impl Solver {
                 let (full, system) = self.constrained_correction(
                     &step,
                     contact,
-                    &rhs_base,
+                    rhs_base.as_deref(),
                     &rhs,
                     &mut memory,
                     &mut flips,
@@ -727,7 +727,7 @@ impl Solver {
         need_k: bool,
         u_max: f64,
         rhs: &mut [f64],
-    ) -> Result<(Vec<f64>, Measure), String> {
+    ) -> Result<(Option<Vec<f64>>, Measure), String> {
         let mut react2 = 0.0;
         for (dof, &q) in self.model.eq.iter().enumerate() {
             if q == PRESCRIBED {
@@ -741,7 +741,9 @@ impl Solver {
                 rhs[q as usize] = -v;
             }
         }
-        let rhs_base = rhs.to_vec();
+        // The right-hand side without the contact forces: the inner solves
+        // rebuild it with their own rows.
+        let rhs_base = contact.map(|_| rhs.to_vec());
         let mut contact_force2 = 0.0;
         if let Some(c) = contact {
             for &(d, f) in &c.force {
@@ -805,7 +807,7 @@ impl Solver {
         &mut self,
         step: &Step,
         contact: Option<&ContactSystem>,
-        rhs_base: &[f64],
+        rhs_base: Option<&[f64]>,
         rhs: &[f64],
         memory: &mut Vec<PairMemory>,
         flips: &mut Flips,
@@ -815,6 +817,7 @@ impl Solver {
     ) -> Result<(Vec<f64>, Option<ContactSystem>), String> {
         let (t, it, n) = (step.t, step.it, self.model.free_dofs());
         let largest = |v: &[f64]| v.iter().fold(0.0f64, |a, x| a.max(x.abs()));
+        let inner_solves = pairs::inner_solves(&self.problem);
         // Eq. (18): [K + K_c, C^T; C, 0] [du; dlambda] = [r; overlap],
         // the contact rows first, then the tie rows (C u = 0).
         // Solved again while the linearised problem decides a node's
@@ -851,7 +854,11 @@ impl Solver {
                 }
             }
             solved?;
-            let Some(sys) = system.as_ref().filter(|_| inner < MAX_INNER) else {
+            let Some((sys, rhs_base)) = system
+                .as_ref()
+                .zip(rhs_base)
+                .filter(|_| inner_solves && inner < MAX_INNER)
+            else {
                 break full;
             };
             // Where the solve goes, and the out-of-balance force it
@@ -871,12 +878,7 @@ impl Solver {
                 }
             }
             for (i, row) in sys.rows.iter().enumerate() {
-                let acting = if row.column.is_empty() {
-                    &row.dofs
-                } else {
-                    &row.column
-                };
-                for &(d, v) in acting {
+                for &(d, v) in row.acting() {
                     if eq[d] != PRESCRIBED {
                         force_new[d] -= full[n + i] * v;
                     }
@@ -1080,16 +1082,8 @@ fn equilibrium_residual(c: &ContactSystem, eq: &[u32], rhs: &[f64]) -> Vec<f64> 
         if comps.is_empty() {
             continue;
         }
-        // The direction the multiplier acts in: its column.
-        fn acting(row: &pairs::Row) -> &[(usize, f64)] {
-            if row.column.is_empty() {
-                &row.dofs
-            } else {
-                &row.column
-            }
-        }
         let coeff = |row: &pairs::Row, d: usize| {
-            acting(row)
+            row.acting()
                 .iter()
                 .filter(|e| e.0 == d)
                 .map(|e| e.1)
@@ -1109,7 +1103,7 @@ fn equilibrium_residual(c: &ContactSystem, eq: &[u32], rhs: &[f64]) -> Vec<f64> 
             continue;
         };
         for (row, m) in rs.iter().zip(mu.iter()) {
-            for &(d, v) in acting(row) {
+            for &(d, v) in row.acting() {
                 if let Some(q) = free(d) {
                     out[q] -= v * m;
                 }

@@ -45,6 +45,24 @@ fn parse(line: &str) -> Option<Iteration> {
 
 /// The Newton attempts of the log (one per increment attempted), without
 /// those that failed (a Warning `increment to t = ... failed` follows them).
+/// The Newton and warning lines of the log of `problem` run over its
+/// load history (`label` names the run in a failure).
+fn newton_log(problem: contact2d::problem::Problem, label: &str) -> Vec<(LogCategory, String)> {
+    let times = problem.times.clone();
+    let mut solver = Solver::new(problem).unwrap();
+    let mut log = Vec::new();
+    for &t in &times {
+        solver
+            .advance(t, &mut |c, m| {
+                if matches!(c, LogCategory::Newton | LogCategory::Warning) {
+                    log.push((c, m.to_string()));
+                }
+            })
+            .unwrap_or_else(|e| panic!("{label} t = {t}: {e}"));
+    }
+    log
+}
+
 fn attempts(log: &[(LogCategory, String)]) -> Vec<Vec<Iteration>> {
     let mut out: Vec<Vec<Iteration>> = Vec::new();
     let mut current: Vec<Iteration> = Vec::new();
@@ -149,17 +167,7 @@ fn the_convergence_criterion_tells_quadratic_from_linear() {
 fn hertz_newton_converges_quadratically_once_the_contact_set_settles() {
     let problem = common::shipped_scene("hertz_plane_strain.toml", &[]);
     let times = problem.times.clone();
-    let mut solver = Solver::new(problem).unwrap();
-    let mut log = Vec::new();
-    for &t in &times {
-        solver
-            .advance(t, &mut |c, m| {
-                if matches!(c, LogCategory::Newton | LogCategory::Warning) {
-                    log.push((c, m.to_string()));
-                }
-            })
-            .unwrap_or_else(|e| panic!("t = {t}: {e}"));
-    }
+    let log = newton_log(problem, "hertz");
     let attempts = attempts(&log);
     assert!(attempts.len() >= times.len(), "{log:?}");
     let mut failures = Vec::new();
@@ -217,18 +225,7 @@ fn frictional_newton_converges_quadratically_once_the_states_settle() {
     ] {
         let mut problem = common::shipped_scene("verification/sliding_block.toml", edits);
         problem.solver.max_bisections = 0;
-        let times = problem.times.clone();
-        let mut solver = Solver::new(problem).unwrap();
-        let mut log = Vec::new();
-        for &t in &times {
-            solver
-                .advance(t, &mut |c, m| {
-                    if matches!(c, LogCategory::Newton | LogCategory::Warning) {
-                        log.push((c, m.to_string()));
-                    }
-                })
-                .unwrap_or_else(|e| panic!("{label} t = {t}: {e}"));
-        }
+        let log = newton_log(problem, label);
         let mut checked = 0;
         for a in attempts(&log) {
             let ratios = settled(&a);

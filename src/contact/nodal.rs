@@ -173,14 +173,7 @@ pub(super) fn update_pair(
         {
             out.changes += 1;
             if (d.state == NodeState::Open) != (old.state == NodeState::Open) {
-                flips[k] += 1;
-                if flips[k] > MAX_FLIPS {
-                    return Err(format!(
-                        "pair '{}' node {k} (mesh node {}) alternates between open and contact \
-                         ({} changes in this increment)",
-                        pair.name, pair.contactor[k], flips[k]
-                    ));
-                }
+                pairs::count_flip(pair, k, flips)?;
             } else {
                 slips[k] += 1;
                 if slips[k] > MAX_SLIPS {

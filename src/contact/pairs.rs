@@ -126,6 +126,18 @@ pub struct Row {
     pub column: Vec<(usize, f64)>,
 }
 
+impl Row {
+    /// The direction the row's multiplier acts in on the displacement rows:
+    /// its column (a sliding node's friction), or the row itself.
+    pub fn acting(&self) -> &[(usize, f64)] {
+        if self.column.is_empty() {
+            &self.dofs
+        } else {
+            &self.column
+        }
+    }
+}
+
 /// The contact part of the system for one iteration.
 #[derive(Clone, Debug, Default)]
 pub struct ContactSystem {
@@ -525,6 +537,33 @@ pub fn rebuild(
         log,
         Some((previous, switched)),
     )
+}
+
+/// One more change of node `k` between open and contact in this
+/// increment: past `MAX_FLIPS` the increment fails, naming the node.
+pub(super) fn count_flip(pair: &ContactPair, k: usize, flips: &mut [usize]) -> Result<(), String> {
+    flips[k] += 1;
+    if flips[k] > MAX_FLIPS {
+        return Err(format!(
+            "pair '{}' node {k} (mesh node {}) alternates between open and contact \
+             ({} changes in this increment)",
+            pair.name, pair.contactor[k], flips[k]
+        ));
+    }
+    Ok(())
+}
+
+/// Whether the inner solves can change anything: every pair decides
+/// nodally (`rebuild` keeps the nodal decisions only) and one has friction.
+pub fn inner_solves(problem: &Problem) -> bool {
+    problem
+        .contacts
+        .iter()
+        .all(|p| p.decisions == Decisions::Nodal)
+        && problem
+            .contacts
+            .iter()
+            .any(|p| p.mu_s != 0.0 || p.mu_d != 0.0)
 }
 
 /// A hash of every node's state as it would be after `switched`: the
@@ -1024,14 +1063,7 @@ fn paper_pair(
             NodeState::Open => {}
         }
         if (state == NodeState::Open) != (old.state == NodeState::Open) {
-            flips[k] += 1;
-            if flips[k] > MAX_FLIPS {
-                return Err(format!(
-                    "pair '{}' node {k} (mesh node {}) alternates between open and contact \
-                         ({} changes in this increment)",
-                    pair.name, pair.contactor[k], flips[k]
-                ));
-            }
+            count_flip(pair, k, flips)?;
         }
         at_corner &= state != NodeState::Open;
         if state != old.state || at_corner != old.corner {

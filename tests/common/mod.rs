@@ -9,9 +9,9 @@ use contact2d::problem::*;
 use std::collections::BTreeMap;
 use std::path::PathBuf;
 
-/// The shipped scene `name` (a path under scenes/) with each `(old, new)`
-/// replaced once; each `old` must occur.
-pub fn shipped_scene(name: &str, edits: &[(&str, &str)]) -> Problem {
+/// The text of the shipped scene `name` (a path under scenes/) with each
+/// `(old, new)` replaced once (each `old` must occur), and its path.
+pub fn scene_text(name: &str, edits: &[(&str, &str)]) -> (String, PathBuf) {
     let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
         .join("scenes")
         .join(name);
@@ -20,6 +20,13 @@ pub fn shipped_scene(name: &str, edits: &[(&str, &str)]) -> Problem {
         assert!(text.contains(old), "{name} has no {old:?}");
         text = text.replacen(old, new, 1);
     }
+    (text, path)
+}
+
+/// The shipped scene `name` (a path under scenes/) with each `(old, new)`
+/// replaced once; each `old` must occur.
+pub fn shipped_scene(name: &str, edits: &[(&str, &str)]) -> Problem {
+    let (text, path) = scene_text(name, edits);
     contact2d::scene::parse(&text, &path).unwrap_or_else(|e| panic!("{e}"))
 }
 

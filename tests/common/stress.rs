@@ -14,7 +14,6 @@ use contact2d::newton::Solver;
 use contact2d::problem::{Problem, Target};
 use contact2d::results::{LogCategory, NodeState, StepResult};
 use std::fmt::Write as _;
-use std::path::PathBuf;
 use std::time::Instant;
 
 pub mod families;
@@ -154,14 +153,7 @@ pub fn variant_text(text: &str, v: Variant) -> String {
 /// The scene `name` (a path under scenes/) with each `(old, new)` replaced
 /// once (each must occur), then made into variant `v`.
 pub fn load(name: &str, v: Variant, edits: &[(&str, &str)]) -> Problem {
-    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("scenes")
-        .join(name);
-    let mut text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{name}: {e}"));
-    for (old, new) in edits {
-        assert!(text.contains(old), "{name} has no {old:?}");
-        text = text.replacen(old, new, 1);
-    }
+    let (text, path) = super::scene_text(name, edits);
     let text = variant_text(&text, v);
     contact2d::scene::parse(&text, &path).unwrap_or_else(|e| panic!("{name} {}: {e}", v.label()))
 }
@@ -625,11 +617,8 @@ impl Check {
         tolerance: f64,
     ) -> Check {
         Check {
-            what: what.into(),
-            computed,
-            reference,
-            tolerance,
             absolute: true,
+            ..Check::relative(what, computed, reference, tolerance)
         }
     }
 
