@@ -234,7 +234,6 @@ mod cattaneo_mindlin {
     use super::*;
     /// The 120-division cylinder on tests/data/cattaneo_block_120.msh.
     #[test]
-    #[ignore = "issue 11 open: the left stick-zone edge 0.040 from Johnson's c (1.2 contactor segments; tolerance one segment, 0.032) under the nodal decisions; 39604 unknowns, 23 s"]
     fn q4_120() {
         families::cattaneo_refined(Variant::Q4_1X).assert();
     }
