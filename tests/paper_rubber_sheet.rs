@@ -33,7 +33,9 @@ struct Case {
 }
 
 fn run(name: &'static str, contact: &str) -> Case {
-    let problem = common::shipped_scene(SCENE, &[(CONTACT, contact)]);
+    // The paper's decisions (the scene runs the default ones).
+    let contact = format!("{contact}\ndecisions = \"paper\"");
+    let problem = common::shipped_scene(SCENE, &[(CONTACT, &contact)]);
     let times = problem.times.clone();
     let mut solver = Solver::new(problem).unwrap();
     let (mut pairs, mut segments, mut bisections) = (Vec::new(), Vec::new(), 0);

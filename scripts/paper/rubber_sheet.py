@@ -71,7 +71,9 @@ def figure(binary, out_dir, work_dir):
     fig, axes = plt.subplots(2, len(TIMES), figsize=(16, 7), sharex="col")
     lines = []
     for i, (label, coefficients, style) in enumerate(CASES):
-        steps, seconds = solve(binary, base.replace(SHIPPED, coefficients), f"rubber_sheet_{i}", work_dir)
+        # The paper's decisions (the scene runs the default ones).
+        paper = coefficients + '\ndecisions = "paper"'
+        steps, seconds = solve(binary, base.replace(SHIPPED, paper), f"rubber_sheet_{i}", work_dir)
         for j, t in enumerate(TIMES):
             step = steps[t]
             pair = step["pairs"][PAIR]
