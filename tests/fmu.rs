@@ -902,6 +902,64 @@ fn committed_model_descriptions_are_current() {
     );
 }
 
+/// A name of FMI 2.0's structured naming convention as the descriptions
+/// use it: identifiers (a letter or '_', then letters, digits or '_')
+/// joined by '.', each optionally indexed by `[n]`, n >= 1.
+fn structured_name(name: &str) -> bool {
+    name.split('.').all(|part| {
+        let (id, index) = match part.split_once('[') {
+            Some((id, rest)) => (id, Some(rest)),
+            None => (part, None),
+        };
+        let mut chars = id.chars();
+        let id_ok = chars
+            .next()
+            .is_some_and(|c| c.is_ascii_alphabetic() || c == '_')
+            && chars.all(|c| c.is_ascii_alphanumeric() || c == '_');
+        let index_ok = index.is_none_or(|r| {
+            r.strip_suffix(']')
+                .and_then(|n| n.parse::<u32>().ok())
+                .is_some_and(|n| n >= 1)
+        });
+        id_ok && index_ok
+    })
+}
+
+/// Every shipped scene's variables have structured names, unique; every
+/// output is in <Outputs> with no dependency on an input (there is no
+/// direct feedthrough: outputs change in doStep only).
+#[test]
+fn model_structure_and_names() {
+    assert!(structured_name("press.Rx") && structured_name("contact.tn[12]"));
+    for bad in ["press-1.Rx", "2a.b", "a..b", "a.tn[0]", "a.tn[x]", "a b"] {
+        assert!(!structured_name(bad), "{bad}");
+    }
+    for scene in shipped_scenes() {
+        let problem = contact2d::scene::load(&scene).unwrap();
+        let vars = variables(&problem);
+        let mut names: Vec<&str> = vars.iter().map(|v| v.name.as_str()).collect();
+        for n in &names {
+            assert!(structured_name(n), "{}: {n}", scene.display());
+        }
+        names.sort();
+        names.dedup();
+        assert_eq!(names.len(), vars.len(), "{}: names unique", scene.display());
+        let xml = model_description(&problem);
+        let outputs = xml
+            .split("<Outputs>")
+            .nth(1)
+            .and_then(|rest| rest.split("</Outputs>").next())
+            .unwrap();
+        let listed = outputs.matches("<Unknown ").count();
+        let independent = outputs.matches(r#"dependencies="""#).count();
+        let n_out = vars
+            .iter()
+            .filter(|v| v.causality == contact2d::fmi::variables::Causality::Output)
+            .count();
+        assert_eq!((listed, independent), (n_out, n_out), "{}", scene.display());
+    }
+}
+
 /// `contact2d export` writes the committed description, the library and
 /// the scene.
 #[test]

@@ -1037,6 +1037,28 @@ fn duplicate_and_bad_names() {
         SceneErrorKind::InvalidValue,
         r#"scenes/t.toml:33: driver[1].name = "press.y": a driver name must not contain '.'"#,
     );
+    // Names that begin FMU variable names follow FMI 2.0's structured
+    // naming (model descriptions declare it): identifiers between dots.
+    let fmi = "so by FMI 2.0's structured naming each part between '.' must be a letter or '_' followed by letters, digits or '_'";
+    let e = bad("name = \"press\"", "name = \"press-1\"");
+    assert_error(
+        &e,
+        SceneErrorKind::InvalidValue,
+        &format!(
+            r#"scenes/t.toml:33: driver[1].name = "press-1": a driver name begins the FMU's variable names ('press-1.<key>'), {fmi}"#
+        ),
+    );
+    let e = bad("name = \"steel\"", "name = \"steel.2a\"");
+    assert_error(
+        &e,
+        SceneErrorKind::InvalidValue,
+        &format!(
+            r#"scenes/t.toml:7: material[0].name = "steel.2a": a material name begins the FMU's variable names ('steel.2a.<key>'), {fmi}"#
+        ),
+    );
+    // Bodies, functions and ties are not in variable names: no such rule.
+    let ok = scene::parse(&BASE.replace("\"wheel", "\"wheel-2"), Path::new(FILE));
+    assert!(ok.is_ok(), "{ok:?}");
 }
 
 #[test]

@@ -202,9 +202,11 @@ pub fn model_description(problem: &Problem) -> String {
     }
     let _ = writeln!(x, "  </ModelVariables>");
     let _ = writeln!(x, "  <ModelStructure>");
+    // No direct feedthrough: an output changes only in doStep, never when
+    // an input is set, so it depends on no input at the same instant.
     let _ = writeln!(x, "    <Outputs>");
     for i in &outputs {
-        let _ = writeln!(x, r#"      <Unknown index="{i}"/>"#);
+        let _ = writeln!(x, r#"      <Unknown index="{i}" dependencies=""/>"#);
     }
     let _ = writeln!(x, "    </Outputs>");
     let _ = writeln!(x, "    <InitialUnknowns>");

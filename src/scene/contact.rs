@@ -35,6 +35,7 @@ impl Resolver<'_> {
                 "rigid",
                 rigids.iter().map(|r| r.name.as_str()),
                 Some(" (a contact target with '.' is a body's edge set)"),
+                true,
             )?;
             if let Some(d) = drivers.iter().position(|d| &d.name == r.name.get_ref()) {
                 return Err(self.src.at(
@@ -174,6 +175,7 @@ impl Resolver<'_> {
                 "contact",
                 pairs.iter().map(|p| p.name.as_str()),
                 Some(""),
+                true,
             )?;
             let contactor_key = key("contactor");
             let edges = self.edge_set(&c.contactor, &contactor_key)?;

@@ -198,6 +198,9 @@ impl<'a> Resolver<'a> {
 
     /// A new name for a `what`: not empty, unique among `seen`, and free of
     /// '.' where `no_dots` gives the reason (names joined with others by '.').
+    /// A name in the FMU's variable names (`fmi`: materials, drivers, rigid
+    /// targets, contact pairs) is also checked against FMI 2.0's structured
+    /// naming convention, which the model description declares.
     fn new_name<'n>(
         &self,
         name: &Spanned<String>,
@@ -205,6 +208,7 @@ impl<'a> Resolver<'a> {
         what: &str,
         seen: impl IntoIterator<Item = &'n str>,
         no_dots: Option<&str>,
+        fmi: bool,
     ) -> Result<(), SceneError> {
         let n = name.get_ref();
         if n.is_empty() {
@@ -215,6 +219,17 @@ impl<'a> Resolver<'a> {
                 name.span(),
                 key,
                 format!("a {what} name must not contain '.'{reason}"),
+            ));
+        }
+        if fmi && !n.split('.').all(fmi_identifier) {
+            return Err(self.invalid(
+                name.span(),
+                key,
+                format!(
+                    "a {what} name begins the FMU's variable names ('{n}.<key>'), so by FMI 2.0's \
+                     structured naming each part between '.' must be a letter or '_' followed by \
+                     letters, digits or '_'"
+                ),
             ));
         }
         if seen.into_iter().any(|s| s == n) {
@@ -276,6 +291,7 @@ impl<'a> Resolver<'a> {
                 "material",
                 seen,
                 None,
+                true,
             )?;
             let spec = match head.model.get_ref() {
                 ModelName::LinearElastic => {
@@ -358,6 +374,7 @@ impl<'a> Resolver<'a> {
                 "function",
                 seen,
                 None,
+                false,
             )?;
             let points = f.points.get_ref();
             if points.is_empty() {
@@ -414,6 +431,7 @@ impl<'a> Resolver<'a> {
                 "body",
                 seen,
                 Some(" (sets are named <body>.<set>)"),
+                false,
             )?;
             let Some(material) = self
                 .materials
@@ -595,6 +613,7 @@ impl<'a> Resolver<'a> {
                 "driver",
                 seen,
                 Some(""),
+                true,
             )?;
             let nodes = self.node_set(&d.set, &format!("driver[{i}].set"))?;
             let ux = self.optional_scaled(d.ux.as_ref(), &format!("driver[{i}].ux"))?;
@@ -881,4 +900,14 @@ pub fn mesh_files(path: &Path) -> Result<Vec<std::path::PathBuf>, SceneError> {
         .filter_map(|b| b.get("mesh")?.get("file")?.as_str())
         .map(std::path::PathBuf::from)
         .collect())
+}
+
+/// An identifier of FMI 2.0's structured naming convention (its `BaseName`;
+/// quoted names are not used): a letter or '_', then letters, digits or '_'.
+fn fmi_identifier(part: &str) -> bool {
+    let mut chars = part.chars();
+    chars
+        .next()
+        .is_some_and(|c| c.is_ascii_alphabetic() || c == '_')
+        && chars.all(|c| c.is_ascii_alphanumeric() || c == '_')
 }

@@ -17,6 +17,7 @@ impl Resolver<'_> {
                 "tie",
                 ties.iter().map(|t| t.name.as_str()),
                 Some(""),
+                false,
             )?;
             let nodes = self.node_set(&t.nodes, &key("nodes"))?;
             let body = self.set_body(&t.nodes, &key("nodes"))?;
