@@ -417,8 +417,12 @@ impl Solver {
         self.problem
             .contacts
             .iter()
-            .map(|p| p.name.clone())
             .zip(pairs)
+            .map(|(p, mut result)| {
+                (result.stick_length, result.slip_length) =
+                    crate::results::PairResult::zone_lengths(&result.nodes, p.closed);
+                (p.name.clone(), result)
+            })
             .collect()
     }
 

@@ -85,7 +85,40 @@ pub struct PairResult {
     pub n_stick: usize,
     pub n_slip: usize,
     pub n_open: usize,
+    /// Length of the contactor surface that sticks, and that slides, in the
+    /// current configuration ([`PairResult::zone_lengths`]).
+    #[serde(default)]
+    pub stick_length: f64,
+    #[serde(default)]
+    pub slip_length: f64,
     pub nodes: PairNodes,
+}
+
+impl PairResult {
+    /// The contactor's stick and slip zone lengths from its nodes' states
+    /// and current positions, segment by segment (`closed`: the last node
+    /// joins the first): a segment whose two nodes share a state counts
+    /// whole to it; one between a sticking and a sliding node half to each;
+    /// one between a node in contact and an open node half to the node in
+    /// contact (the zone's edge lies within it, at its midpoint on
+    /// average); one between two open nodes to neither.
+    pub fn zone_lengths(nodes: &PairNodes, closed: bool) -> (f64, f64) {
+        let m = nodes.state.len();
+        let segments = if closed { m } else { m.saturating_sub(1) };
+        let (mut stick, mut slip) = (0.0, 0.0);
+        for a in 0..segments {
+            let b = (a + 1) % m;
+            let length = (nodes.x[b] - nodes.x[a]).hypot(nodes.y[b] - nodes.y[a]);
+            for k in [a, b] {
+                match nodes.state[k] {
+                    NodeState::Stick => stick += 0.5 * length,
+                    NodeState::Slip => slip += 0.5 * length,
+                    NodeState::Open => {}
+                }
+            }
+        }
+        (stick, slip)
+    }
 }
 
 /// One converged (or failed) increment.
@@ -182,5 +215,37 @@ impl StepResult {
             pairs,
             ..Default::default()
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Five nodes 1 apart on a line, open-stick-stick-slip-open: the
+    /// stick zone is the segment between the sticking nodes plus half a
+    /// segment to each neighbour (2.0), the slip zone half a segment to
+    /// each of its neighbours (1.0); closing the chain adds the segment
+    /// from the last node back to the first (both open: nothing).
+    #[test]
+    fn zone_lengths_by_half_segments() {
+        use NodeState::*;
+        let nodes = PairNodes {
+            x: vec![0.0, 1.0, 2.0, 3.0, 4.0],
+            y: vec![0.0; 5],
+            state: vec![Open, Stick, Stick, Slip, Open],
+            ..Default::default()
+        };
+        assert_eq!(PairResult::zone_lengths(&nodes, false), (2.0, 1.0));
+        assert_eq!(PairResult::zone_lengths(&nodes, true), (2.0, 1.0));
+        // A ring of three sliding nodes: its whole perimeter slides.
+        let ring = PairNodes {
+            x: vec![0.0, 3.0, 0.0],
+            y: vec![0.0, 0.0, 4.0],
+            state: vec![Slip; 3],
+            ..Default::default()
+        };
+        assert_eq!(PairResult::zone_lengths(&ring, true), (0.0, 12.0));
+        assert_eq!(PairResult::zone_lengths(&ring, false), (0.0, 8.0));
     }
 }

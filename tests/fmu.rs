@@ -218,6 +218,7 @@ impl Inst {
                 "n_stick",
                 "n_slip",
                 "n_open",
+                "_length",
                 "state[",
                 ".tn[",
                 ".tt[",
@@ -388,6 +389,15 @@ fn steps_match_the_solver() {
         close(inst.real("flat.Ry"), step.drivers[2].1.ry, "flat.Ry");
         assert_eq!(inst.int("contact.n_slip") as usize, pair.n_slip);
         assert_eq!(inst.int("contact.n_open") as usize, pair.n_open);
+        // Frictionless: the zone in contact slides; a quarter model shows
+        // half of Hertz's 2a.
+        close(
+            inst.real("contact.slip_length"),
+            pair.slip_length,
+            "slip_length",
+        );
+        assert_eq!(inst.real("contact.stick_length"), 0.0);
+        assert!(pair.slip_length > 0.0);
         for (i, (&tn, &x)) in pair.nodes.tn.iter().zip(&pair.nodes.x).enumerate() {
             close(inst.real(&format!("contact.tn[{}]", i + 1)), tn, "tn");
             close(inst.real(&format!("contact.x[{}]", i + 1)), x, "x");

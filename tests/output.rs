@@ -343,6 +343,7 @@ fn summary_records_a_failed_step_last() {
     let unknown = serde_json::json!({
         "Fx": null, "Fy": null, "Fn": null, "Ft": null,
         "n_stick": null, "n_slip": null, "n_open": null,
+        "stick_length": null, "slip_length": null,
         "nodes": { "x": [], "y": [], "tn": [], "tt": [], "state": [] },
     });
     assert_eq!(
@@ -397,6 +398,8 @@ fn summary_of_a_step_with_a_pair_and_a_rigid_target() {
                 n_stick: 1,
                 n_slip: 1,
                 n_open: 0,
+                stick_length: 0.6,
+                slip_length: 0.65,
                 nodes: PairNodes {
                     x: vec![0.25, 1.5],
                     y: vec![2.0, 1.9375],
@@ -442,6 +445,8 @@ fn summary_of_a_step_with_a_pair_and_a_rigid_target() {
           "n_stick": 1,
           "n_slip": 1,
           "n_open": 0,
+          "stick_length": 0.6,
+          "slip_length": 0.65,
           "nodes": {
             "x": [
               0.25,

@@ -41,6 +41,8 @@ pub enum PairField {
     NStick,
     NSlip,
     NOpen,
+    StickLength,
+    SlipLength,
 }
 
 /// A per-node array of a contact pair's result.
@@ -353,6 +355,20 @@ pub fn variables(problem: &Problem) -> Vec<Variable> {
                 Quantity::None,
                 "number of open contactor nodes",
             ),
+            (
+                PairField::StickLength,
+                "stick_length",
+                Type::Real,
+                Quantity::Length,
+                "length of the contactor surface that sticks (current configuration)",
+            ),
+            (
+                PairField::SlipLength,
+                "slip_length",
+                Type::Real,
+                Quantity::Length,
+                "length of the contactor surface that slides (current configuration)",
+            ),
         ] {
             add(
                 format!("{}.{key}", pair.name),
@@ -520,6 +536,8 @@ pub fn output(binding: &Binding, result: &StepResult) -> Option<f64> {
                 PairField::NStick => p.n_stick as f64,
                 PairField::NSlip => p.n_slip as f64,
                 PairField::NOpen => p.n_open as f64,
+                PairField::StickLength => p.stick_length,
+                PairField::SlipLength => p.slip_length,
             }
         }
         Binding::Node { pair, field, k } => {

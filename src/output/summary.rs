@@ -44,7 +44,8 @@ impl Summary {
     /// them. What it does not know is written as `null`: the final residual,
     /// every driver's Rx and Ry, every rigid target's Rx, Ry and Mz (rigid
     /// targets follow the drivers, as in a converged step), and every pair's
-    /// Fx, Fy, Fn, Ft, n_stick, n_slip and n_open. A pair's `nodes` holds
+    /// Fx, Fy, Fn, Ft, n_stick, n_slip, n_open, stick_length and
+    /// slip_length. A pair's `nodes` holds
     /// five empty arrays: the node count is not known here, and a reader
     /// that loops over the nodes of every step needs no special case.
     pub fn failed_step(
@@ -190,7 +191,7 @@ impl Serialize for PairJson<'_> {
         let p = self.0;
         let known = !p.nodes.state.is_empty();
         let count = |n: usize| known.then_some(n);
-        let mut st = s.serialize_struct("Pair", 8)?;
+        let mut st = s.serialize_struct("Pair", 10)?;
         st.serialize_field("Fx", &p.fx)?;
         st.serialize_field("Fy", &p.fy)?;
         st.serialize_field("Fn", &p.fn_)?;
@@ -198,6 +199,9 @@ impl Serialize for PairJson<'_> {
         st.serialize_field("n_stick", &count(p.n_stick))?;
         st.serialize_field("n_slip", &count(p.n_slip))?;
         st.serialize_field("n_open", &count(p.n_open))?;
+        let length = |l: f64| known.then_some(l);
+        st.serialize_field("stick_length", &length(p.stick_length))?;
+        st.serialize_field("slip_length", &length(p.slip_length))?;
         st.serialize_field("nodes", &p.nodes)?;
         st.end()
     }

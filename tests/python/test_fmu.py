@@ -57,6 +57,8 @@ def assert_matches_summary(slave, step, force_scale, length_scale):
             _close(slave.real(f"{pair}.{comp}"), res[comp], force_scale, f"t = {t}: {pair}.{comp}")
         for comp in ("n_stick", "n_slip", "n_open"):
             assert slave.int(f"{pair}.{comp}") == res[comp], f"t = {t}: {pair}.{comp}"
+        for comp in ("stick_length", "slip_length"):
+            _close(slave.real(f"{pair}.{comp}"), res[comp], length_scale, f"t = {t}: {pair}.{comp}")
         nodes = res["nodes"]
         assert slave.nodes(pair, "state") == nodes["state"], f"t = {t}: {pair}.state"
         traction_scale = max(1.0, max(abs(v) for v in nodes["tn"]))
@@ -64,7 +66,10 @@ def assert_matches_summary(slave, step, force_scale, length_scale):
             _close(slave.nodes(pair, what), nodes[what], traction_scale, f"t = {t}: {pair}.{what}")
         for what in ("x", "y"):
             _close(slave.nodes(pair, what), nodes[what], length_scale, f"t = {t}: {pair}.{what}")
-        checked |= {f"{pair}.{c}" for c in ("Fx", "Fy", "Fn", "Ft", "n_stick", "n_slip", "n_open")}
+        checked |= {
+            f"{pair}.{c}"
+            for c in ("Fx", "Fy", "Fn", "Ft", "n_stick", "n_slip", "n_open", "stick_length", "slip_length")
+        }
         checked |= {f"{pair}.{w}[{k}]" for w in nodes for k in range(1, len(nodes[w]) + 1)}
     assert slave.int("solver.iterations") == step["iterations"], f"t = {t}"
     assert slave.int("solver.substeps") == step["substeps"], f"t = {t}"

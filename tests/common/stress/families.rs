@@ -881,6 +881,22 @@ fn cattaneo_checks(out: &mut Outcome) {
         0.0,
         h,
     ));
+    // The pair's reported zone lengths (current configuration, half a
+    // segment per node: the same midpoint reading, so each edge within h):
+    // the stick zone 2c, the two slip zones 2 (a - c).
+    let p = pair(step, "interface");
+    out.checks.push(Check::absolute(
+        "stick length",
+        p.stick_length,
+        2.0 * c,
+        2.0 * h,
+    ));
+    out.checks.push(Check::absolute(
+        "slip length",
+        p.slip_length,
+        2.0 * (a - c),
+        4.0 * h,
+    ));
 }
 
 pub fn cattaneo_shipped(_: Variant) -> Outcome {
