@@ -205,6 +205,17 @@ impl Solver {
         &self.problem
     }
 
+    /// Takes the tunable parameters of `from` (each pair's friction
+    /// coefficients, the solver settings) for the increments to come; the
+    /// converged state is kept. `from` is this solver's problem with only
+    /// those changed, checked (`Problem::check_parameters`).
+    pub fn set_tunables(&mut self, from: &Problem) {
+        for (c, f) in self.problem.contacts.iter_mut().zip(&from.contacts) {
+            (c.mu_s, c.mu_d) = (f.mu_s, f.mu_d);
+        }
+        self.problem.solver = from.solver.clone();
+    }
+
     pub fn state(&self) -> &State {
         &self.state
     }

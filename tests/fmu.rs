@@ -1141,3 +1141,119 @@ fn every_shipped_scene_steps_as_the_solver() {
         }
     }
 }
+
+/// The friction coefficients and the solver settings are tunable: set
+/// between steps they act from the next step on, as the same change made
+/// on a solver does; a combination that breaks a rule (mu_d > mu_s) is
+/// refused and the values kept; fixed parameters stay refused; a saved
+/// state carries the values it was saved with.
+#[test]
+fn tunable_parameters_between_steps() {
+    let scene = repo().join("scenes/verification/sliding_block.toml");
+    let problem = contact2d::scene::load(&scene).unwrap();
+    let xml = model_description(&problem);
+    for (name, variability) in [
+        ("base.mu_s", "tunable"),
+        ("base.mu_d", "tunable"),
+        ("solver.tolerance", "tunable"),
+        ("solver.max_iterations", "tunable"),
+        ("rubberish.E", "fixed"),
+    ] {
+        let line = xml
+            .lines()
+            .find(|l| l.contains(&format!("name=\"{name}\"")))
+            .unwrap();
+        assert!(
+            line.contains(&format!("variability=\"{variability}\"")),
+            "{line}"
+        );
+    }
+
+    let u = unpack(&scene, "tunable");
+    let inst = Inst::new(&u, "tunable");
+    inst.init();
+    let mut solver = Solver::new(problem.clone()).unwrap();
+    // The drag: top.ux = 0.2 drag(t), top.uy = -0.01 press(t).
+    let drag = |t: f64| {
+        if t <= 1.0 {
+            0.0
+        } else if t <= 3.0 {
+            (t - 1.0) / 2.0
+        } else {
+            1.0 - 0.5 * (t - 3.0)
+        }
+    };
+    let l = lib();
+    let mut saved: fmi2FMUstate = null_mut();
+    let mut t0 = 0.0;
+    for (k, &t) in problem.times.iter().enumerate().take(20) {
+        if k == 12 {
+            unsafe {
+                assert_eq!(
+                    (l.fmi2GetFMUstate.as_ref().unwrap())(inst.c, &mut saved),
+                    OK
+                )
+            };
+            // While the block slides (t = 1.22): friction 0.3 / 0.2 to
+            // 0.5 / 0.4, a tighter tolerance.
+            assert_eq!(inst.set_real("base.mu_s", 0.5), OK);
+            assert_eq!(inst.set_real("base.mu_d", 0.4), OK);
+            assert_eq!(inst.set_real("solver.tolerance", 1e-10), OK);
+            let mut tuned = solver.problem().clone();
+            tuned.contacts[0].mu_s = 0.5;
+            tuned.contacts[0].mu_d = 0.4;
+            tuned.solver.force_tolerance = 1e-10;
+            tuned.solver.displacement_tolerance = 1e-10;
+            solver.set_tunables(&tuned);
+            // Refused together, nothing changed: mu_d above mu_s.
+            assert_eq!(inst.set_real("base.mu_d", 0.6), ERROR);
+            assert!(
+                inst.last_message().contains("mu_d must not exceed mu_s"),
+                "{}",
+                inst.last_message()
+            );
+            assert_eq!(inst.real("base.mu_d"), 0.4);
+            // Fixed: refused between steps.
+            assert_eq!(inst.set_real("rubberish.E", 2000.0), ERROR);
+        }
+        assert_eq!(inst.set_real("top.ux", 0.2 * drag(t)), OK);
+        assert_eq!(inst.set_real("top.uy", -0.01 * t.min(1.0)), OK);
+        assert_eq!(inst.step(t0, t - t0), OK, "t = {t}");
+        let step = solver.advance(t, &mut |_, _| {}).unwrap();
+        let pair = &step.pairs[0].1;
+        let scale = pair.fn_.abs().max(1e-12);
+        for (name, value) in [("base.Fn", pair.fn_), ("base.Ft", pair.ft)] {
+            assert!(
+                (inst.real(name) - value).abs() <= 1e-9 * scale,
+                "t = {t}: {name} FMU {} solver {value}",
+                inst.real(name)
+            );
+        }
+        // Sliding at both ends of the change: |Ft| = mu_d Fn.
+        if k == 11 || k == 19 {
+            let mu_d = if k == 11 { 0.2 } else { 0.4 };
+            assert_eq!(pair.n_stick, 0, "t = {t}: the block slides");
+            assert!(
+                ((pair.ft.abs() / pair.fn_) - mu_d).abs() <= 1e-6,
+                "t = {t}: |Ft|/Fn = {}",
+                pair.ft.abs() / pair.fn_
+            );
+        }
+        t0 = t;
+    }
+    // Back to t = 1.22, saved before the change: mu_d 0.2 again, and the
+    // next step slides with it.
+    unsafe { assert_eq!((l.fmi2SetFMUstate.as_ref().unwrap())(inst.c, saved), OK) };
+    assert_eq!(inst.real("base.mu_d"), 0.2);
+    let (t0, t) = (problem.times[11], problem.times[12]);
+    assert_eq!(inst.set_real("top.ux", 0.2 * drag(t)), OK);
+    assert_eq!(inst.step(t0, t - t0), OK);
+    let ratio = inst.real("base.Ft").abs() / inst.real("base.Fn");
+    assert!((ratio - 0.2).abs() <= 1e-6, "|Ft|/Fn = {ratio}");
+    unsafe {
+        assert_eq!(
+            (l.fmi2FreeFMUstate.as_ref().unwrap())(inst.c, &mut saved),
+            OK
+        )
+    };
+}

@@ -161,6 +161,7 @@ pub fn model_description(problem: &Problem) -> String {
     let mut outputs = Vec::new();
     for (i, v) in vars.iter().enumerate() {
         let (causality, variability) = match (v.causality, v.ty) {
+            (Causality::Parameter, _) if v.tunable() => ("parameter", "tunable"),
             (Causality::Parameter, _) => ("parameter", "fixed"),
             (Causality::Input, _) => ("input", "continuous"),
             (Causality::Output, Type::Real) => ("output", "continuous"),

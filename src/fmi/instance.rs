@@ -303,10 +303,12 @@ impl Instance {
     }
 
     /// May variable `i` be set now? Parameters before the solver is built,
-    /// inputs until the instance terminates, outputs never.
+    /// tunable ones also between steps, inputs until the instance
+    /// terminates, outputs never.
     fn settable(&mut self, call: &str, i: usize) -> Result<(), Status> {
         let v = &self.vars[i];
         let ok = match v.causality {
+            Causality::Parameter if v.tunable() && self.mode == Mode::StepComplete => true,
             Causality::Parameter => matches!(self.mode, Mode::Instantiated | Mode::Initialization),
             Causality::Input => matches!(
                 self.mode,
@@ -342,10 +344,32 @@ impl Instance {
             }
             checked.push((i, value));
         }
+        let before = self.reals.clone();
         for (i, value) in checked {
             self.reals[i] = value;
         }
-        Status::Ok
+        self.retune("fmi2SetReal", |me| me.reals = before)
+    }
+
+    /// After tunable parameters were set between steps: checks them
+    /// together (mu_d <= mu_s) and hands them to the solver for the steps
+    /// to come, or undoes the call (`undo`) and refuses it.
+    fn retune(&mut self, call: &str, undo: impl FnOnce(&mut Self)) -> Status {
+        if self.mode != Mode::StepComplete {
+            return Status::Ok;
+        }
+        match self.configured_problem() {
+            Ok(p) => {
+                if let Some(solver) = self.solver.as_mut() {
+                    solver.set_tunables(&p);
+                }
+                Status::Ok
+            }
+            Err(msg) => {
+                undo(self);
+                self.error(format!("{call}: rejected, the parameters kept: {msg}"))
+            }
+        }
     }
 
     /// Range check of one Real value.
@@ -387,10 +411,11 @@ impl Instance {
             }
             checked.push((i, value));
         }
+        let before = self.ints.clone();
         for (i, value) in checked {
             self.ints[i] = value;
         }
-        Status::Ok
+        self.retune("fmi2SetInteger", |me| me.ints = before)
     }
 
     pub fn set_string(&mut self, vrs: &[u32], values: &[String]) -> Status {
@@ -562,7 +587,8 @@ impl Instance {
     }
 
     /// Restores a state saved from an instance of the same FMU with the
-    /// same parameters; accepted after a failed step or an internal error.
+    /// same fixed parameters (the tunable ones come back with the state);
+    /// accepted after a failed step or an internal error.
     pub fn set_state(&mut self, snap: &Snapshot) -> Status {
         if let Err(s) = self.require(
             "fmi2SetFMUstate",
@@ -581,8 +607,10 @@ impl Instance {
         {
             return self.error("fmi2SetFMUstate: the state does not fit this FMU's variables");
         }
+        // The fixed parameters must agree; the tunable ones are part of the
+        // state and are restored with it.
         for (i, v) in self.vars.iter().enumerate() {
-            if v.causality != Causality::Parameter {
+            if v.causality != Causality::Parameter || v.tunable() {
                 continue;
             }
             let differs = match v.ty {
@@ -618,7 +646,8 @@ impl Instance {
         self.last = snap.last.clone();
         self.steps = snap.steps;
         self.mode = Mode::StepComplete;
-        Status::Ok
+        // Saved by this FMU, so its tunables passed the checks then.
+        self.retune("fmi2SetFMUstate", |_| {})
     }
 
     /// Marks the instance failed after a caught panic.

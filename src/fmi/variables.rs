@@ -119,6 +119,23 @@ pub struct Variable {
     pub binding: Binding,
 }
 
+impl Variable {
+    /// A parameter a master may change between steps (`variability =
+    /// "tunable"`): the friction coefficients and the solver settings. The
+    /// material constants and the output folder are fixed once the solver
+    /// is built.
+    pub fn tunable(&self) -> bool {
+        self.causality == Causality::Parameter
+            && matches!(
+                self.binding,
+                Binding::Friction { .. }
+                    | Binding::Tolerance
+                    | Binding::MaxIterations
+                    | Binding::MaxSubsteps
+            )
+    }
+}
+
 /// The variables of a problem, in value-reference order.
 pub fn variables(problem: &Problem) -> Vec<Variable> {
     let mut list = Vec::new();
