@@ -1257,3 +1257,78 @@ fn tunable_parameters_between_steps() {
         )
     };
 }
+
+/// Input derivatives: a step reaches value + h * derivative, as the scene's
+/// own ramp does, and the input then holds that value; the derivative acts
+/// for one step; a Discarded step keeps both; bad calls are refused and
+/// change nothing.
+#[test]
+fn input_derivatives_extrapolate_over_the_step() {
+    let u = hertz();
+    let inst = Inst::new(&u, "derivatives");
+    inst.init();
+    let l = lib();
+    let set_der = |names: &[&str], orders: &[i32], values: &[f64]| -> fmi2Status {
+        let vrs: Vec<u32> = names.iter().map(|n| inst.vr(n)).collect();
+        unsafe {
+            (l.fmi2SetRealInputDerivatives.as_ref().unwrap())(
+                inst.c,
+                vrs.as_ptr(),
+                vrs.len(),
+                orders.as_ptr(),
+                values.as_ptr(),
+            )
+        }
+    };
+    let problem = contact2d::scene::load(&repo().join("scenes/hertz_plane_strain.toml")).unwrap();
+    let mut solver = Solver::new(problem).unwrap();
+    // press.uy = -0.07 t: at each communication point t the master sets
+    // the value at t and the slope; the step reaches the scene's value at
+    // t + h.
+    for k in 0..4 {
+        let t = 0.25 * k as f64;
+        assert_eq!(inst.set_real("press.uy", -0.07 * t), OK);
+        assert_eq!(set_der(&["press.uy"], &[1], &[-0.07]), OK);
+        assert_eq!(inst.step(t, 0.25), OK);
+        let step = solver.advance(t + 0.25, &mut |_, _| {}).unwrap();
+        let fn_ = step.pairs[0].1.fn_;
+        assert!(
+            (inst.real("contact.Fn") - fn_).abs() <= 1e-9 * fn_,
+            "t = {}: FMU {} solver {fn_}",
+            t + 0.25,
+            inst.real("contact.Fn")
+        );
+        // The input holds the value it reached.
+        assert!((inst.real("press.uy") + 0.07 * (t + 0.25)).abs() <= 1e-15);
+    }
+    // The derivative acted for one step only: a step with none holds the
+    // input, the state is in equilibrium (no iteration).
+    assert_eq!(inst.step(1.0, 0.25), OK);
+    assert_eq!(inst.int("solver.iterations"), 0);
+
+    // Refused, nothing changed: an output, order 2, a non-finite value.
+    assert_eq!(set_der(&["contact.Fn"], &[1], &[1.0]), ERROR);
+    assert!(inst.last_message().contains("not an input"));
+    assert_eq!(set_der(&["press.uy"], &[2], &[1.0]), ERROR);
+    assert!(inst.last_message().contains("order 2"));
+    assert_eq!(
+        set_der(&["press.uy", "press.uy"], &[1, 1], &[1.0, f64::NAN]),
+        ERROR
+    );
+    assert!(inst.last_message().contains("not a finite number"));
+    assert_eq!(inst.step(1.25, 0.25), OK);
+    assert_eq!(inst.int("solver.iterations"), 0, "no derivative was taken");
+
+    // A step that cannot converge (the press driven 1000 times the model
+    // into the flat in one step, no bisection) is Discarded: the input and
+    // its derivative stay, and a master retrying with a smaller h
+    // extrapolates over that h.
+    assert_eq!(inst.set_int("solver.max_substeps", 0), OK);
+    assert_eq!(inst.set_int("solver.max_iterations", 2), OK);
+    assert_eq!(set_der(&["press.uy"], &[1], &[-1.0e4]), OK);
+    assert_eq!(inst.step(1.5, 0.25), DISCARD);
+    assert!((inst.real("press.uy") + 0.07).abs() <= 1e-15);
+    assert_eq!(inst.set_int("solver.max_iterations", 25), OK);
+    assert_eq!(inst.step(1.5, 1e-7), OK);
+    assert!((inst.real("press.uy") + 0.07 + 1e-3).abs() <= 1e-12);
+}

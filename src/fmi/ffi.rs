@@ -656,16 +656,17 @@ const _: fmi2SetRealInputDerivativesTYPE = Some(fmi2SetRealInputDerivatives);
 #[unsafe(no_mangle)]
 pub extern "C" fn fmi2SetRealInputDerivatives(
     c: fmi2Component,
-    _vr: *const fmi2ValueReference,
-    _nvr: usize,
-    _order: *const fmi2Integer,
-    _value: *const fmi2Real,
+    vr: *const fmi2ValueReference,
+    nvr: usize,
+    order: *const fmi2Integer,
+    value: *const fmi2Real,
 ) -> fmi2Status {
-    unsupported(
-        c,
-        "fmi2SetRealInputDerivatives",
-        "canInterpolateInputs is false (inputs are reached linearly within a step)",
-    )
+    with(c, "fmi2SetRealInputDerivatives", |inst, _| {
+        match unsafe { (slice(vr, nvr), slice(order, nvr), slice(value, nvr)) } {
+            (Some(vr), Some(o), Some(v)) => inst.set_real_input_derivatives(vr, o, v),
+            _ => null(inst, "fmi2SetRealInputDerivatives", "vr, order or value"),
+        }
+    })
 }
 
 const _: fmi2GetRealOutputDerivativesTYPE = Some(fmi2GetRealOutputDerivatives);

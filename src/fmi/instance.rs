@@ -65,6 +65,10 @@ pub struct Instance {
     /// by variable index (unused entries stay 0).
     reals: Vec<f64>,
     ints: Vec<i32>,
+    /// First time derivative of each Real input for the next step
+    /// (`fmi2SetRealInputDerivatives`), by variable index; zero after each
+    /// step.
+    derivatives: Vec<f64>,
     output_dir: String,
     start_time: f64,
     solver: Option<Solver>,
@@ -109,6 +113,7 @@ impl Instance {
             by_vr,
             reals: vec![0.0; n],
             ints: vec![0; n],
+            derivatives: vec![0.0; n],
             output_dir: String::new(),
             start_time: 0.0,
             solver: None,
@@ -125,6 +130,7 @@ impl Instance {
 
     /// Start values of the parameters and inputs.
     fn load_starts(&mut self) {
+        self.derivatives.fill(0.0);
         for (i, v) in self.vars.iter().enumerate() {
             match &v.start {
                 Some(Start::Real(x)) => self.reals[i] = *x,
@@ -351,6 +357,47 @@ impl Instance {
         self.retune("fmi2SetReal", |me| me.reals = before)
     }
 
+    /// `fmi2SetRealInputDerivatives`: first derivatives (order 1) of Real
+    /// inputs, for the next step only. Checks all first: a rejected call
+    /// changes nothing.
+    pub fn set_real_input_derivatives(
+        &mut self,
+        vrs: &[u32],
+        orders: &[i32],
+        values: &[f64],
+    ) -> Status {
+        const CALL: &str = "fmi2SetRealInputDerivatives";
+        let mut checked = Vec::with_capacity(vrs.len());
+        for ((&vr, &order), &value) in vrs.iter().zip(orders).zip(values) {
+            let i = match self.variable(CALL, vr, Type::Real) {
+                Ok(i) => i,
+                Err(s) => return s,
+            };
+            let name = self.vars[i].name.clone();
+            if self.vars[i].causality != Causality::Input {
+                return self.error(format!("{CALL}: '{name}' is not an input"));
+            }
+            if let Err(s) = self.settable(CALL, i) {
+                return s;
+            }
+            if order != 1 {
+                return self.error(format!(
+                    "{CALL}: {name} order {order} rejected: only first derivatives (order 1) are taken"
+                ));
+            }
+            if !value.is_finite() {
+                return self.error(format!(
+                    "{CALL}: {name} derivative {value:?} rejected: not a finite number"
+                ));
+            }
+            checked.push((i, value));
+        }
+        for (i, value) in checked {
+            self.derivatives[i] = value;
+        }
+        Status::Ok
+    }
+
     /// After tunable parameters were set between steps: checks them
     /// together (mu_d <= mu_s) and hands them to the solver for the steps
     /// to come, or undoes the call (`undo`) and refuses it.
@@ -480,9 +527,11 @@ impl Instance {
     }
 
     /// One quasi-static increment from t to t + h with the inputs' current
-    /// values as the prescribed values at t + h. A step that does not
-    /// converge within `solver.max_substeps` bisections returns Discard and
-    /// leaves the state at t.
+    /// values as the prescribed values at t + h, or, for an input given a
+    /// derivative, its value plus h times the derivative (then the input
+    /// holds that value). A step that does not converge within
+    /// `solver.max_substeps` bisections returns Discard and leaves the state
+    /// (and the inputs and their derivatives) at t.
     pub fn do_step(&mut self, t: f64, h: f64) -> Status {
         if let Err(s) = self.require("fmi2DoStep", &[Mode::StepComplete]) {
             return s;
@@ -501,13 +550,14 @@ impl Instance {
         let Some(solver) = self.solver.as_mut() else {
             return self.error("fmi2DoStep: no solver (internal)");
         };
+        let target = |i: usize| self.reals[i] + h * self.derivatives[i];
         for (i, v) in self.vars.iter().enumerate() {
             match v.binding {
                 Binding::DriverInput { driver, component } => {
-                    solver.set_input(driver, component, Some(self.reals[i]))
+                    solver.set_input(driver, component, Some(target(i)))
                 }
                 Binding::RigidInput { rigid, component } => {
-                    solver.set_rigid_input(rigid, component, Some(self.reals[i]))
+                    solver.set_rigid_input(rigid, component, Some(target(i)))
                 }
                 _ => {}
             }
@@ -518,6 +568,10 @@ impl Instance {
             Ok(step) => {
                 self.last = step;
                 self.steps += 1;
+                for i in 0..self.vars.len() {
+                    self.reals[i] += h * self.derivatives[i];
+                }
+                self.derivatives.fill(0.0);
                 self.write_vtk()
             }
             Err(SolveError::NotConverged { time, reason }) => {
@@ -642,6 +696,7 @@ impl Instance {
         solver.restore(snap.state.clone());
         self.reals.clone_from(&snap.reals);
         self.ints.clone_from(&snap.ints);
+        self.derivatives.fill(0.0);
         self.output_dir.clone_from(&snap.output_dir);
         self.last = snap.last.clone();
         self.steps = snap.steps;
