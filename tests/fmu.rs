@@ -1332,3 +1332,59 @@ fn input_derivatives_extrapolate_over_the_step() {
     assert_eq!(inst.step(1.5, 1e-7), OK);
     assert!((inst.real("press.uy") + 0.07 + 1e-3).abs() <= 1e-12);
 }
+
+/// A frictionless pair made frictional between steps, and frictionless
+/// again: the FMU follows a solver tuned the same way; lowering mu_s below
+/// mu_d alone is refused, both in one call are taken.
+#[test]
+fn friction_switched_on_and_off_between_steps() {
+    let u = hertz();
+    let inst = Inst::new(&u, "friction on off");
+    inst.init();
+    let l = lib();
+    let set_mu = |mu_s: f64, mu_d: f64| -> fmi2Status {
+        let vrs = [inst.vr("contact.mu_s"), inst.vr("contact.mu_d")];
+        let values = [mu_s, mu_d];
+        unsafe { (l.fmi2SetReal.as_ref().unwrap())(inst.c, vrs.as_ptr(), 2, values.as_ptr()) }
+    };
+    let problem = contact2d::scene::load(&repo().join("scenes/hertz_plane_strain.toml")).unwrap();
+    let mut solver = Solver::new(problem).unwrap();
+    let tune = |solver: &mut Solver, mu: f64| {
+        let mut p = solver.problem().clone();
+        (p.contacts[0].mu_s, p.contacts[0].mu_d) = (mu, mu);
+        solver.set_tunables(&p);
+    };
+    for k in 0..4 {
+        if k == 2 {
+            assert_eq!(set_mu(0.3, 0.3), OK);
+            tune(&mut solver, 0.3);
+        }
+        step_hertz(&inst, k, k + 1);
+        let step = solver
+            .advance(0.25 * (k + 1) as f64, &mut |_, _| {})
+            .unwrap();
+        let pair = &step.pairs[0].1;
+        assert!((inst.real("contact.Ft") - pair.ft).abs() <= 1e-9 * pair.fn_);
+        assert_eq!(inst.int("contact.n_stick") as usize, pair.n_stick);
+        if k >= 2 {
+            // Pressed on with friction: the contact zone's new part sticks.
+            assert!(
+                pair.n_stick > 0 && pair.ft.abs() > 1e-3 * pair.fn_,
+                "{pair:?}"
+            );
+        }
+    }
+    assert_eq!(inst.set_real("contact.mu_s", 0.0), ERROR);
+    assert!(inst.last_message().contains("mu_d must not exceed mu_s"));
+    assert_eq!(set_mu(0.0, 0.0), OK);
+    tune(&mut solver, 0.0);
+    // The flat moved sideways: frictionless, it carries no tangential force.
+    assert_eq!(inst.set_real("flat.ux", 0.01), OK);
+    assert_eq!(inst.step(1.0, 0.25), OK);
+    solver.set_rigid_input(0, 0, Some(0.01));
+    let step = solver.advance(1.25, &mut |_, _| {}).unwrap();
+    let pair = &step.pairs[0].1;
+    assert_eq!(pair.n_stick, 0);
+    assert!(pair.ft.abs() <= 1e-9 * pair.fn_, "{}", pair.ft);
+    assert!((inst.real("contact.Fn") - pair.fn_).abs() <= 1e-9 * pair.fn_);
+}
