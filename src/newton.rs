@@ -81,6 +81,8 @@ struct Converged {
 
 pub struct Solver {
     problem: Problem,
+    /// Driver forces of the increment being solved (`driver_forces`).
+    step_forces: Vec<[f64; 2]>,
     model: Model,
     linear: LinearSolver,
     prescribed: Vec<Prescribed>,
@@ -158,6 +160,7 @@ impl Solver {
             contact: problem.contacts.iter().map(PairMemory::new).collect(),
             rigid: pairs::scene_poses(&problem, 0.0),
             ties: vec![0.0; problem.ties.iter().map(|t| t.rows.len()).sum()],
+            driver_forces: scene_forces(&problem, 0.0),
         };
         let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
         let rigid_points = problem.rigids.iter().flat_map(|r| r.points.iter());
@@ -181,7 +184,9 @@ impl Solver {
             .collect::<Result<Vec<_>, _>>()?;
         let inputs = vec![[None, None]; problem.drivers.len()];
         let rigid_inputs = vec![[None; 3]; problem.rigids.len()];
+        let step_forces = state.driver_forces.clone();
         Ok(Solver {
+            step_forces,
             problem,
             model,
             linear,
@@ -271,6 +276,27 @@ impl Solver {
             .collect()
     }
 
+    /// Force [x, y] of each driver at time t within the step t0 -> t1 (the
+    /// set's resultant, on its force components): an overridden component
+    /// runs linearly from its value at the start of the step, `start`.
+    fn driver_forces(&self, t: f64, t0: f64, t1: f64, start: &[[f64; 2]]) -> Vec<[f64; 2]> {
+        let scene = scene_forces(&self.problem, t);
+        (0..self.problem.drivers.len())
+            .map(|d| {
+                let mut f = scene[d];
+                for c in 0..2 {
+                    if let (Some(v), Some(_)) =
+                        (self.inputs[d][c], self.problem.drivers[d].force(c))
+                    {
+                        let s = start.get(d).map_or(0.0, |s| s[c]);
+                        f[c] = s + (v - s) * (t - t0) / (t1 - t0);
+                    }
+                }
+                f
+            })
+            .collect()
+    }
+
     /// Value of a prescribed dof at time t within the step t0 -> t1.
     fn prescribed_value(&self, p: &Prescribed, t: f64, t0: f64, t1: f64, u0: &[f64]) -> f64 {
         match self.inputs[p.driver][p.component] {
@@ -309,7 +335,7 @@ impl Solver {
         let mut solves = 0;
         let mut residual = 0.0;
         while let Some(&t) = targets.last() {
-            match self.increment(t, t0, t_end, &u0, &start.rigid, log) {
+            match self.increment(t, t0, t_end, &u0, &start.rigid, &start.driver_forces, log) {
                 Ok(c) => {
                     iterations += c.iterations;
                     solves += c.solves;
@@ -377,6 +403,26 @@ impl Solver {
                 out[p.driver].1.ry += f;
             }
         }
+        // Force components: the force applied, and the mean displacement it
+        // produced.
+        for (d, driver) in self.problem.drivers.iter().enumerate() {
+            for c in (0..2).filter(|&c| driver.force(c).is_some()) {
+                let f = self.state.driver_forces.get(d).map_or(0.0, |f| f[c]);
+                let n = driver.nodes.len().max(1) as f64;
+                let mean = driver
+                    .nodes
+                    .iter()
+                    .map(|&k| self.state.u[2 * k + c])
+                    .sum::<f64>()
+                    / n;
+                let r = &mut out[d].1;
+                if c == 0 {
+                    (r.rx, r.ux) = (f, Some(mean));
+                } else {
+                    (r.ry, r.uy) = (f, Some(mean));
+                }
+            }
+        }
         if let Some(c) = &self.contact {
             for (rigid, f) in self.problem.rigids.iter().zip(&c.rigid) {
                 out.push((
@@ -385,6 +431,7 @@ impl Solver {
                         rx: f[0],
                         ry: f[1],
                         mz: Some(f[2]),
+                        ..Default::default()
                     },
                 ));
             }
@@ -448,10 +495,12 @@ impl Solver {
         t1: f64,
         u0: &[f64],
         rigid0: &[[f64; 3]],
+        forces0: &[[f64; 2]],
         log: &mut dyn FnMut(LogCategory, &str),
     ) -> Result<Converged, String> {
         let settings = self.problem.solver.clone();
         let poses = self.rigid_poses(t, t0, t1, rigid0);
+        self.step_forces = self.driver_forces(t, t0, t1, forces0);
         let mut u = self.state.u.clone();
         let mut dup = vec![0.0; u.len()];
         for p in &self.prescribed {
@@ -699,6 +748,16 @@ impl Solver {
                 &mut self.ws,
             )
             .map_err(|e| e.to_string())?;
+        // Force components of the drivers: each node of the set carries an
+        // equal share of the resultant (a dead load).
+        for (driver, f) in self.problem.drivers.iter().zip(&self.step_forces) {
+            let share = 1.0 / driver.nodes.len().max(1) as f64;
+            for c in (0..2).filter(|&c| driver.force(c).is_some()) {
+                for &n in &driver.nodes {
+                    self.r[2 * n + c] -= share * f[c];
+                }
+            }
+        }
         let tie_rows = self.problem.ties.iter().flat_map(|t| &t.rows);
         for (row, &l) in tie_rows.zip(lambda) {
             for &(d, v) in &row.dofs {
@@ -1050,6 +1109,7 @@ impl Solver {
         self.state.contact = memory;
         self.state.rigid = poses;
         self.state.ties = ties;
+        self.state.driver_forces.clone_from(&self.step_forces);
         self.contact = contact;
     }
 
@@ -1126,6 +1186,14 @@ fn equilibrium_residual(c: &ContactSystem, eq: &[u32], rhs: &[f64]) -> Vec<f64> 
         }
     }
     out
+}
+
+/// Force [x, y] of each driver's force components at time t as the scene
+/// gives them (0 on the other components).
+fn scene_forces(problem: &Problem, t: f64) -> Vec<[f64; 2]> {
+    (problem.drivers.iter())
+        .map(|d| [0, 1].map(|c| d.force(c).map_or(0.0, |s| s.at(t, &problem.functions))))
+        .collect()
 }
 
 #[cfg(test)]

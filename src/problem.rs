@@ -115,14 +115,30 @@ impl Scaled {
     }
 }
 
-/// Prescribed displacement components of a node set. A component that is
-/// `None` is free. Its reaction is reported under the driver's name.
+/// Prescribed components of a node set: a displacement (`ux`, `uy`) or a
+/// force (`fx`, `fy`: the set's resultant, shared equally by its nodes), at
+/// most one of the two per component. A component with neither is free.
+/// Its reaction (or its applied force) is reported under the driver's name.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Driver {
     pub name: String,
     pub nodes: Vec<usize>,
     pub ux: Option<Scaled>,
     pub uy: Option<Scaled>,
+    pub fx: Option<Scaled>,
+    pub fy: Option<Scaled>,
+}
+
+impl Driver {
+    /// The prescribed displacement of component c (0 x, 1 y).
+    pub fn displacement(&self, c: usize) -> Option<&Scaled> {
+        [&self.ux, &self.uy][c].as_ref()
+    }
+
+    /// The prescribed force (the set's resultant) of component c.
+    pub fn force(&self, c: usize) -> Option<&Scaled> {
+        [&self.fx, &self.fy][c].as_ref()
+    }
 }
 
 /// Edge pressure (positive pushes into the body). A follower pressure acts

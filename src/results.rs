@@ -13,6 +13,12 @@ pub struct DriverResult {
     /// Moment about the reference point (rigid targets only).
     #[serde(rename = "Mz", default, skip_serializing_if = "Option::is_none")]
     pub mz: Option<f64>,
+    /// On a force component: the mean displacement of the driver's nodes
+    /// (what the force produced); `Rx`/`Ry` are then the applied force.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub ux: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub uy: Option<f64>,
 }
 
 /// Contact state of a contactor node (the summary's and the FMU's codes).

@@ -20,6 +20,10 @@ pub struct State {
     /// tie's rows in order): the tie forces.
     #[serde(default)]
     pub ties: Vec<f64>,
+    /// Force [x, y] each driver applies at `time` on its force components
+    /// (the set's resultant; 0 on displacement components), in scene order.
+    #[serde(default)]
+    pub driver_forces: Vec<[f64; 2]>,
 }
 
 impl State {

@@ -33,6 +33,8 @@ fn squeeze(kind: ElementKind, kinematics: Kinematics) -> (f64, f64, f64, Vec<f64
         nodes: p.mesh.node_sets["left"].clone(),
         ux: Some(Scaled::constant(0.0)),
         uy: None,
+        fx: None,
+        fy: None,
     });
     p.drivers.push(Driver {
         name: "press".into(),
@@ -42,6 +44,8 @@ fn squeeze(kind: ElementKind, kinematics: Kinematics) -> (f64, f64, f64, Vec<f64
             scale: -(GAP + SQUEEZE),
             function: Some(0),
         }),
+        fx: None,
+        fy: None,
     });
     p.times = vec![0.5, 1.0];
     let mut s = Solver::new(p).unwrap();

@@ -1388,3 +1388,61 @@ fn friction_switched_on_and_off_between_steps() {
     assert!(pair.ft.abs() <= 1e-9 * pair.fn_, "{}", pair.ft);
     assert!((inst.real("contact.Fn") - pair.fn_).abs() <= 1e-9 * pair.fn_);
 }
+
+/// A force input (`<driver>.Fy`, a driver that prescribes a force): the
+/// cantilever's tip load set to its full value reaches equilibrium in one
+/// doStep, with the displacement it produced as the output `<driver>.uy`;
+/// the same as the scene's four increments (elastic, so path-independent
+/// to the Newton tolerance), and a held force converges at once.
+#[test]
+fn force_input_reaches_equilibrium_in_one_step() {
+    let text = std::fs::read_to_string(repo().join("scenes/verification/cantilever_tip_load.toml"))
+        .unwrap()
+        .replace(
+            "[[force]]\nset = \"beam.tip\"\nfy = { function = \"ramp\", scale = -80.0 }",
+            "[[driver]]\nname = \"tip\"\nset = \"beam.tip\"\nfy = { function = \"ramp\", scale = -80.0 }",
+        );
+    assert!(text.contains("name = \"tip\""));
+    let dir = std::env::temp_dir().join(format!("contact2d-force-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene = dir.join("cantilever_force.toml");
+    std::fs::write(&scene, &text).unwrap();
+    let problem = contact2d::scene::load(&scene).unwrap();
+    let names: Vec<String> = variables(&problem).into_iter().map(|v| v.name).collect();
+    assert!(names.contains(&"tip.Fy".into()) && names.contains(&"tip.uy".into()));
+    assert!(!names.contains(&"tip.Fx".into()) && !names.contains(&"tip.ux".into()));
+
+    let mut solver = Solver::new(problem.clone()).unwrap();
+    for &t in &problem.times {
+        solver.advance(t, &mut |_, _| {}).unwrap();
+    }
+    let node = problem.mesh.node_sets["beam.tip"][0];
+    let uy = solver.state().u[2 * node + 1];
+
+    let u = unpack(&scene, "force");
+    let inst = Inst::new(&u, "force");
+    inst.init();
+    assert_eq!(inst.real("tip.Fy"), 0.0);
+    assert_eq!(inst.set_real("tip.Fy", -80.0), OK);
+    assert_eq!(inst.step(0.0, 1.0), OK);
+    assert_eq!(inst.real("tip.Ry"), -80.0);
+    let fmu_uy = inst.real("tip.uy");
+    assert!(
+        (fmu_uy - uy).abs() <= 1e-6 * uy.abs(),
+        "FMU {fmu_uy}, scene {uy}"
+    );
+    // Mattiasson (1981), k = 1: v/L = 0.30172 (tests/scenes.rs, 0.2 %).
+    assert!((-fmu_uy / 10.0 / 0.30172 - 1.0).abs() < 2e-3, "{fmu_uy}");
+    // Held: no iteration.
+    assert_eq!(inst.step(1.0, 0.5), OK);
+    assert_eq!(inst.int("solver.iterations"), 0);
+    assert_eq!(inst.real("tip.uy"), fmu_uy);
+    // A non-finite force is refused by name.
+    assert_eq!(inst.set_real("tip.Fy", f64::NAN), ERROR);
+    assert!(
+        inst.last_message().contains("tip.Fy"),
+        "{}",
+        inst.last_message()
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

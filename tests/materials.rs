@@ -17,6 +17,8 @@ fn driver(name: &str, nodes: Vec<usize>, ux: Option<Scaled>, uy: Option<Scaled>)
         nodes,
         ux,
         uy,
+        fx: None,
+        fy: None,
     }
 }
 

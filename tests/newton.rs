@@ -27,6 +27,8 @@ fn cantilever(k: f64) -> (Solver, usize) {
         nodes: left,
         ux: Some(Scaled::constant(0.0)),
         uy: Some(Scaled::constant(0.0)),
+        fx: None,
+        fy: None,
     });
     let tip = common::nodes_where(&p.mesh, |x, y| {
         (x - l).abs() < 1e-12 && (y - h / 2.0).abs() < 1e-12

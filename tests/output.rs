@@ -201,7 +201,12 @@ fn pvd_lists_the_series_in_order() {
 }
 
 fn converged_step() -> StepResult {
-    let r = |rx, ry| DriverResult { rx, ry, mz: None };
+    let r = |rx, ry| DriverResult {
+        rx,
+        ry,
+        mz: None,
+        ..Default::default()
+    };
     StepResult {
         time: 0.5,
         converged: true,
@@ -377,6 +382,7 @@ fn summary_of_a_step_with_a_pair_and_a_rigid_target() {
                     rx: 0.0,
                     ry: 1200.0,
                     mz: None,
+                    ..Default::default()
                 },
             ),
             (
@@ -385,6 +391,7 @@ fn summary_of_a_step_with_a_pair_and_a_rigid_target() {
                     rx: 30.0,
                     ry: -1200.0,
                     mz: Some(-37.5),
+                    ..Default::default()
                 },
             ),
         ],

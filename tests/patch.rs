@@ -42,6 +42,8 @@ fn check(kind: ElementKind, analysis: AnalysisKind, kinematics: Kinematics, h: [
                 scale: h[1][0] * x + h[1][1] * y,
                 function: Some(0),
             }),
+            fx: None,
+            fy: None,
         });
     }
     let mut s = Solver::new(p).unwrap();

@@ -463,7 +463,7 @@ fn missing_key() {
     assert_error(
         &e,
         SceneErrorKind::MissingKey,
-        "scenes/t.toml:26: driver[0].ux = (missing): a driver prescribes ux, uy or both",
+        "scenes/t.toml:26: driver[0].ux = (missing): a driver prescribes at least one component: ux or fx, uy or fy",
     );
     let e = bad("generator = \"disk\", ", "");
     assert_error(

@@ -479,14 +479,18 @@ fn describe(scene: &Path, p: &Problem) -> String {
         let _ = writeln!(o, "  (none)");
     }
     for d in &p.drivers {
-        let comp = |c: &Option<Scaled>| c.as_ref().map_or("free".to_string(), |s| scaled(s, p));
+        let comp = |c: usize| match (d.displacement(c), d.force(c)) {
+            (Some(s), _) => format!("{} = {}", ["ux", "uy"][c], scaled(s, p)),
+            (None, Some(s)) => format!("{} = {} (resultant)", ["fx", "fy"][c], scaled(s, p)),
+            (None, None) => format!("{} = free", ["ux", "uy"][c]),
+        };
         let _ = writeln!(
             o,
-            "  {}: {} nodes, ux = {}, uy = {}",
+            "  {}: {} nodes, {}, {}",
             d.name,
             d.nodes.len(),
-            comp(&d.ux),
-            comp(&d.uy)
+            comp(0),
+            comp(1)
         );
     }
 
@@ -650,6 +654,7 @@ mod tests {
                         rx: 1.0,
                         ry: -2.0,
                         mz: Some(0.25),
+                        ..Default::default()
                     },
                 ),
             ],

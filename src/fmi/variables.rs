@@ -58,7 +58,8 @@ pub enum NodeField {
 /// Where a variable's value lives.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Binding {
-    /// Prescribed component (0 ux, 1 uy) of a driver.
+    /// Prescribed component (0 x, 1 y) of a driver: a displacement
+    /// (`<driver>.ux`) or a force (`<driver>.Fx`), as the scene prescribes it.
     DriverInput {
         driver: usize,
         component: usize,
@@ -66,6 +67,12 @@ pub enum Binding {
     /// Pose component (0 ux, 1 uy, 2 theta) of a rigid target.
     RigidInput {
         rigid: usize,
+        component: usize,
+    },
+    /// Mean displacement (0 ux, 1 uy) of a driver's nodes on a component
+    /// it prescribes as a force.
+    DriverDisplacement {
+        driver: usize,
         component: usize,
     },
     /// Reaction (0 Rx, 1 Ry, 2 Mz) of entry `index` of `StepResult::drivers`.
@@ -252,24 +259,35 @@ pub fn variables(problem: &Problem) -> Vec<Variable> {
     // Inputs: the prescribed components at the end of the step.
     let f = &problem.functions;
     for (d, driver) in problem.drivers.iter().enumerate() {
-        for (component, (key, value)) in [("ux", &driver.ux), ("uy", &driver.uy)]
-            .into_iter()
-            .enumerate()
-        {
-            if let Some(value) = value {
-                add(
-                    format!("{}.{key}", driver.name),
-                    Type::Real,
-                    Input,
-                    Quantity::Length,
-                    format!("prescribed displacement {key} of driver '{}'", driver.name),
-                    Some(Start::Real(value.at(0.0, f))),
-                    Binding::DriverInput {
-                        driver: d,
-                        component,
-                    },
-                );
-            }
+        for component in 0..2 {
+            let (key, what, quantity, value) =
+                match (driver.displacement(component), driver.force(component)) {
+                    (Some(v), _) => (
+                        ["ux", "uy"][component],
+                        "prescribed displacement",
+                        Quantity::Length,
+                        v,
+                    ),
+                    (None, Some(v)) => (
+                        ["Fx", "Fy"][component],
+                        "prescribed force (the set's resultant, shared equally by its nodes)",
+                        Quantity::Force,
+                        v,
+                    ),
+                    (None, None) => continue,
+                };
+            add(
+                format!("{}.{key}", driver.name),
+                Type::Real,
+                Input,
+                quantity,
+                format!("{what} {key} of driver '{}'", driver.name),
+                Some(Start::Real(value.at(0.0, f))),
+                Binding::DriverInput {
+                    driver: d,
+                    component,
+                },
+            );
         }
     }
     for (r, rigid) in problem.rigids.iter().enumerate() {
@@ -318,6 +336,26 @@ pub fn variables(problem: &Problem) -> Vec<Variable> {
                 format!("{key} exerted by '{name}' on the body to impose its motion"),
                 None,
                 Binding::Reaction { index, component },
+            );
+        }
+    }
+    for (d, driver) in problem.drivers.iter().enumerate() {
+        for component in (0..2).filter(|&c| driver.force(c).is_some()) {
+            let key = ["ux", "uy"][component];
+            add(
+                format!("{}.{key}", driver.name),
+                Type::Real,
+                Output,
+                Quantity::Length,
+                format!(
+                    "mean displacement {key} of the nodes of driver '{}' under its force",
+                    driver.name
+                ),
+                None,
+                Binding::DriverDisplacement {
+                    driver: d,
+                    component,
+                },
             );
         }
     }
@@ -520,8 +558,7 @@ pub fn input(binding: &Binding, problem: &Problem, t: f64) -> Option<f64> {
     match *binding {
         Binding::DriverInput { driver, component } => {
             let d = &problem.drivers[driver];
-            let c = if component == 0 { &d.ux } else { &d.uy };
-            c.as_ref().map(|c| c.at(t, f))
+            (d.displacement(component).or(d.force(component))).map(|c| c.at(t, f))
         }
         Binding::RigidInput { rigid, component } => {
             let r = &problem.rigids[rigid];
@@ -535,6 +572,10 @@ pub fn input(binding: &Binding, problem: &Problem, t: f64) -> Option<f64> {
 /// None for a binding that is not an output).
 pub fn output(binding: &Binding, result: &StepResult) -> Option<f64> {
     Some(match *binding {
+        Binding::DriverDisplacement { driver, component } => {
+            let r = &result.drivers.get(driver)?.1;
+            [r.ux, r.uy][component]?
+        }
         Binding::Reaction { index, component } => {
             let r = &result.drivers.get(index)?.1;
             match component {

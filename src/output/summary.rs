@@ -60,6 +60,7 @@ impl Summary {
             rx: f64::NAN,
             ry: f64::NAN,
             mz,
+            ..Default::default()
         };
         let drivers = (driver_names.into_iter().map(|n| (n, unknown(None))))
             .chain(

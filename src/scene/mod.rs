@@ -618,18 +618,33 @@ impl<'a> Resolver<'a> {
             let nodes = self.node_set(&d.set, &format!("driver[{i}].set"))?;
             let ux = self.optional_scaled(d.ux.as_ref(), &format!("driver[{i}].ux"))?;
             let uy = self.optional_scaled(d.uy.as_ref(), &format!("driver[{i}].uy"))?;
-            if ux.is_none() && uy.is_none() {
+            let fx = self.optional_scaled(d.fx.as_ref(), &format!("driver[{i}].fx"))?;
+            let fy = self.optional_scaled(d.fy.as_ref(), &format!("driver[{i}].fy"))?;
+            if ux.is_none() && uy.is_none() && fx.is_none() && fy.is_none() {
                 return Err(self.src.missing(
                     span,
                     format!("driver[{i}].ux"),
-                    "a driver prescribes ux, uy or both",
+                    "a driver prescribes at least one component: ux or fx, uy or fy",
                 ));
+            }
+            for (u, f, c) in [(&ux, &fx, 'x'), (&uy, &fy, 'y')] {
+                if u.is_some() && f.is_some() {
+                    return Err(self.invalid(
+                        span,
+                        format!("driver[{i}].f{c}"),
+                        format!(
+                            "u{c} and f{c} both given: a component is prescribed as a displacement or as a force, not both"
+                        ),
+                    ));
+                }
             }
             drivers.push(Driver {
                 name: d.name.get_ref().clone(),
                 nodes,
                 ux,
                 uy,
+                fx,
+                fy,
             });
         }
         Ok(drivers)

@@ -227,6 +227,8 @@ pub(super) struct Driver {
     pub set: Spanned<String>,
     pub ux: Option<ValueSpec>,
     pub uy: Option<ValueSpec>,
+    pub fx: Option<ValueSpec>,
+    pub fy: Option<ValueSpec>,
 }
 
 /// A rigid target: a polyline given by its points, or an arc.
