@@ -51,6 +51,10 @@ pub struct Workspace {
     /// sqrt of the sum of squares of every element force entry of the last
     /// assembly: the scale of the round-off in the residual.
     pub force_scale: f64,
+    /// Edge pressures to apply instead of the scene's at t, by index into
+    /// `problem.pressures` (the solver's, when an input overrides one);
+    /// empty: the scene's.
+    pub pressures: Vec<f64>,
     out: ElementOutput,
     x0: Vec<[f64; 2]>,
     u: Vec<[f64; 2]>,
@@ -60,6 +64,7 @@ impl Workspace {
     pub fn new() -> Self {
         Workspace {
             force_scale: 0.0,
+            pressures: Vec::new(),
             out: ElementOutput::new(),
             x0: Vec::with_capacity(8),
             u: Vec::with_capacity(8),
@@ -322,8 +327,9 @@ impl Model {
     ) {
         let mesh = &problem.mesh;
         let tl = self.kinematics == Kinematics::TotalLagrangian;
-        for pr in &problem.pressures {
-            let p = pr.value.at(t, &problem.functions);
+        for (i, pr) in problem.pressures.iter().enumerate() {
+            let p = (ws.pressures.get(i).copied())
+                .unwrap_or_else(|| pr.value.at(t, &problem.functions));
             let current = tl && pr.follower;
             for edge in &pr.edges {
                 let el = &mesh.elements[edge.element];

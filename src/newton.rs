@@ -83,6 +83,9 @@ pub struct Solver {
     problem: Problem,
     /// Driver forces of the increment being solved (`driver_forces`).
     step_forces: Vec<[f64; 2]>,
+    /// Override of each edge pressure's value at the end of the step (the
+    /// FMU's `<name>.p`), None: the scene's.
+    pressure_inputs: Vec<Option<f64>>,
     model: Model,
     linear: LinearSolver,
     prescribed: Vec<Prescribed>,
@@ -161,6 +164,7 @@ impl Solver {
             rigid: pairs::scene_poses(&problem, 0.0),
             ties: vec![0.0; problem.ties.iter().map(|t| t.rows.len()).sum()],
             driver_forces: scene_forces(&problem, 0.0),
+            pressures: scene_pressures(&problem, 0.0),
         };
         let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
         let rigid_points = problem.rigids.iter().flat_map(|r| r.points.iter());
@@ -184,9 +188,11 @@ impl Solver {
             .collect::<Result<Vec<_>, _>>()?;
         let inputs = vec![[None, None]; problem.drivers.len()];
         let rigid_inputs = vec![[None; 3]; problem.rigids.len()];
+        let pressure_inputs = vec![None; problem.pressures.len()];
         let step_forces = state.driver_forces.clone();
         Ok(Solver {
             step_forces,
+            pressure_inputs,
             problem,
             model,
             linear,
@@ -276,6 +282,27 @@ impl Solver {
             .collect()
     }
 
+    /// Override edge pressure `i`'s value at the end of the step (None:
+    /// the scene's); reached linearly from its converged value.
+    pub fn set_pressure_input(&mut self, i: usize, value: Option<f64>) {
+        self.pressure_inputs[i] = value;
+    }
+
+    /// Each edge pressure at time t within the step t0 -> t1: an overridden
+    /// one runs linearly from its value at the start of the step, `start`.
+    fn pressures_at(&self, t: f64, t0: f64, t1: f64, start: &[f64]) -> Vec<f64> {
+        let scene = scene_pressures(&self.problem, t);
+        (self.pressure_inputs.iter().zip(scene).enumerate())
+            .map(|(i, (input, p))| match input {
+                Some(v) => {
+                    let s = start.get(i).copied().unwrap_or(0.0);
+                    s + (v - s) * (t - t0) / (t1 - t0)
+                }
+                None => p,
+            })
+            .collect()
+    }
+
     /// Force [x, y] of each driver at time t within the step t0 -> t1 (the
     /// set's resultant, on its force components): an overridden component
     /// runs linearly from its value at the start of the step, `start`.
@@ -335,7 +362,8 @@ impl Solver {
         let mut solves = 0;
         let mut residual = 0.0;
         while let Some(&t) = targets.last() {
-            match self.increment(t, t0, t_end, &u0, &start.rigid, &start.driver_forces, log) {
+            let (forces0, pressures0) = (&start.driver_forces, &start.pressures);
+            match self.increment(t, t0, t_end, &u0, &start.rigid, forces0, pressures0, log) {
                 Ok(c) => {
                     iterations += c.iterations;
                     solves += c.solves;
@@ -496,11 +524,13 @@ impl Solver {
         u0: &[f64],
         rigid0: &[[f64; 3]],
         forces0: &[[f64; 2]],
+        pressures0: &[f64],
         log: &mut dyn FnMut(LogCategory, &str),
     ) -> Result<Converged, String> {
         let settings = self.problem.solver.clone();
         let poses = self.rigid_poses(t, t0, t1, rigid0);
         self.step_forces = self.driver_forces(t, t0, t1, forces0);
+        self.ws.pressures = self.pressures_at(t, t0, t1, pressures0);
         let mut u = self.state.u.clone();
         let mut dup = vec![0.0; u.len()];
         for p in &self.prescribed {
@@ -1110,6 +1140,7 @@ impl Solver {
         self.state.rigid = poses;
         self.state.ties = ties;
         self.state.driver_forces.clone_from(&self.step_forces);
+        self.state.pressures.clone_from(&self.ws.pressures);
         self.contact = contact;
     }
 
@@ -1186,6 +1217,13 @@ fn equilibrium_residual(c: &ContactSystem, eq: &[u32], rhs: &[f64]) -> Vec<f64> 
         }
     }
     out
+}
+
+/// Value of each edge pressure at time t as the scene gives it.
+fn scene_pressures(problem: &Problem, t: f64) -> Vec<f64> {
+    (problem.pressures.iter())
+        .map(|p| p.value.at(t, &problem.functions))
+        .collect()
 }
 
 /// Force [x, y] of each driver's force components at time t as the scene

@@ -148,6 +148,8 @@ pub struct Pressure {
     pub edges: Vec<Edge>,
     pub value: Scaled,
     pub follower: bool,
+    /// A named pressure is an FMU input, `<name>.p`.
+    pub name: Option<String>,
 }
 
 /// Concentrated force applied at each node of a set (dead load).

@@ -24,6 +24,9 @@ pub struct State {
     /// (the set's resultant; 0 on displacement components), in scene order.
     #[serde(default)]
     pub driver_forces: Vec<[f64; 2]>,
+    /// Value of each edge pressure at `time`, in scene order.
+    #[serde(default)]
+    pub pressures: Vec<f64>,
 }
 
 impl State {

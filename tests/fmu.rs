@@ -1446,3 +1446,38 @@ fn force_input_reaches_equilibrium_in_one_step() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A named edge pressure is the input `<name>.p`: the bar of
+/// tests/pressure_input.rs pulled by p = -20 on its end (F = 40) in one
+/// step, its wall's reaction -40 and the end's stretch F L / (E A).
+#[test]
+fn pressure_input_in_the_fmu() {
+    let text = "[analysis]\nkind = \"plane_stress\"\nthickness = 2.0\nkinematics = \"small_strain\"\n\n\
+        [[material]]\nname = \"steel\"\nmodel = \"linear_elastic\"\nE = 1000.0\nnu = 0.0\n\n\
+        [[body]]\nname = \"bar\"\nmaterial = \"steel\"\nelement = \"q8\"\n\
+        mesh = { generator = \"rectangle\", origin = [0.0, 0.0], size = [10.0, 1.0], divisions = [8, 2] }\n\n\
+        [[driver]]\nname = \"wall\"\nset = \"bar.left\"\nux = 0.0\n\n\
+        [[driver]]\nname = \"corner\"\nset = \"bar.bottom_left\"\nuy = 0.0\n\n\
+        [[pressure]]\nname = \"pull\"\nset = \"bar.right\"\nvalue = 0.0\nfollower = false\n\n\
+        [steps]\ndt = 1.0\nt_end = 1.0\n";
+    let dir = std::env::temp_dir().join(format!("contact2d-pressure-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene = dir.join("bar.toml");
+    std::fs::write(&scene, text).unwrap();
+    let u = unpack(&scene, "pressure");
+    let inst = Inst::new(&u, "pressure");
+    inst.init();
+    assert_eq!(inst.real("pull.p"), 0.0);
+    assert_eq!(inst.set_real("pull.p", -20.0), OK);
+    assert_eq!(inst.step(0.0, 1.0), OK);
+    assert!(
+        (inst.real("wall.Rx") + 40.0).abs() <= 1e-10,
+        "{}",
+        inst.real("wall.Rx")
+    );
+    // Released again: the bar springs back.
+    assert_eq!(inst.set_real("pull.p", 0.0), OK);
+    assert_eq!(inst.step(1.0, 1.0), OK);
+    assert!(inst.real("wall.Rx").abs() <= 1e-10);
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -115,12 +115,14 @@ fn tangent_matches_finite_differences() {
                         edges,
                         value: Scaled::constant(35.0),
                         follower,
+                        name: None,
                     });
                     let right = p.mesh.edge_sets["right"].clone();
                     p.pressures.push(Pressure {
                         edges: right,
                         value: Scaled::constant(-20.0),
                         follower,
+                        name: None,
                     });
                     p.body_forces.push(BodyForce {
                         body: 0,

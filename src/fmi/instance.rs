@@ -559,6 +559,9 @@ impl Instance {
                 Binding::RigidInput { rigid, component } => {
                     solver.set_rigid_input(rigid, component, Some(target(i)))
                 }
+                Binding::PressureInput { pressure } => {
+                    solver.set_pressure_input(pressure, Some(target(i)))
+                }
                 _ => {}
             }
         }

@@ -64,6 +64,10 @@ pub enum Binding {
         driver: usize,
         component: usize,
     },
+    /// Value of a named edge pressure (`problem.pressures[pressure]`).
+    PressureInput {
+        pressure: usize,
+    },
     /// Pose component (0 ux, 1 uy, 2 theta) of a rigid target.
     RigidInput {
         rigid: usize,
@@ -289,6 +293,18 @@ pub fn variables(problem: &Problem) -> Vec<Variable> {
                 },
             );
         }
+    }
+    for (i, pressure) in problem.pressures.iter().enumerate() {
+        let Some(name) = &pressure.name else { continue };
+        add(
+            format!("{name}.p"),
+            Type::Real,
+            Input,
+            Quantity::Stress,
+            format!("edge pressure '{name}' (positive pushes into the body)"),
+            Some(Start::Real(pressure.value.at(0.0, f))),
+            Binding::PressureInput { pressure: i },
+        );
     }
     for (r, rigid) in problem.rigids.iter().enumerate() {
         for (component, (key, value, quantity)) in [
@@ -564,6 +580,7 @@ pub fn input(binding: &Binding, problem: &Problem, t: f64) -> Option<f64> {
             let r = &problem.rigids[rigid];
             Some([&r.ux, &r.uy, &r.theta][component].at(t, f))
         }
+        Binding::PressureInput { pressure } => Some(problem.pressures[pressure].value.at(t, f)),
         _ => None,
     }
 }

@@ -752,14 +752,26 @@ impl<'a> Resolver<'a> {
     }
 
     fn pressures(&self, list: &[raw::Pressure]) -> Result<Vec<Pressure>, SceneError> {
-        let resolve = |(i, p): (usize, &raw::Pressure)| {
-            Ok(Pressure {
+        let mut pressures: Vec<Pressure> = Vec::new();
+        for (i, p) in list.iter().enumerate() {
+            if let Some(name) = &p.name {
+                self.new_name(
+                    name,
+                    format!("pressure[{i}].name"),
+                    "pressure",
+                    pressures.iter().filter_map(|p| p.name.as_deref()),
+                    Some(""),
+                    true,
+                )?;
+            }
+            pressures.push(Pressure {
                 edges: self.edge_set(&p.set, &format!("pressure[{i}].set"))?,
                 value: self.scaled(&p.value, &format!("pressure[{i}].value"))?,
                 follower: p.follower.unwrap_or(true),
-            })
-        };
-        list.iter().enumerate().map(resolve).collect()
+                name: p.name.as_ref().map(|n| n.get_ref().clone()),
+            });
+        }
+        Ok(pressures)
     }
 
     fn body_forces(&self, list: &[raw::BodyForce]) -> Result<Vec<BodyForce>, SceneError> {

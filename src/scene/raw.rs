@@ -307,6 +307,7 @@ pub(super) enum RecoveryName {
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(super) struct Pressure {
+    pub name: Option<Spanned<String>>,
     pub set: Spanned<String>,
     pub value: ValueSpec,
     pub follower: Option<bool>,
