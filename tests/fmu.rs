@@ -4,6 +4,8 @@
 //! NULL and zero-length arguments, rejected inputs and parameters, a
 //! discarded step and its retry, and instances on two threads.
 
+mod common;
+
 use contact2d::fmi::description::{guid, model_description};
 use contact2d::fmi::variables::variables;
 use contact2d::newton::Solver;
@@ -1452,18 +1454,16 @@ fn force_input_reaches_equilibrium_in_one_step() {
 /// step, its wall's reaction -40 and the end's stretch F L / (E A).
 #[test]
 fn pressure_input_in_the_fmu() {
-    let text = "[analysis]\nkind = \"plane_stress\"\nthickness = 2.0\nkinematics = \"small_strain\"\n\n\
-        [[material]]\nname = \"steel\"\nmodel = \"linear_elastic\"\nE = 1000.0\nnu = 0.0\n\n\
-        [[body]]\nname = \"bar\"\nmaterial = \"steel\"\nelement = \"q8\"\n\
-        mesh = { generator = \"rectangle\", origin = [0.0, 0.0], size = [10.0, 1.0], divisions = [8, 2] }\n\n\
-        [[driver]]\nname = \"wall\"\nset = \"bar.left\"\nux = 0.0\n\n\
-        [[driver]]\nname = \"corner\"\nset = \"bar.bottom_left\"\nuy = 0.0\n\n\
-        [[pressure]]\nname = \"pull\"\nset = \"bar.right\"\nvalue = 0.0\nfollower = false\n\n\
-        [steps]\ndt = 1.0\nt_end = 1.0\n";
+    let text = common::bar_scene(
+        "q8",
+        [8, 2],
+        "[[pressure]]\nname = \"pull\"\nset = \"bar.right\"\nvalue = 0.0\nfollower = false",
+        1.0,
+    );
     let dir = std::env::temp_dir().join(format!("contact2d-pressure-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let scene = dir.join("bar.toml");
-    std::fs::write(&scene, text).unwrap();
+    std::fs::write(&scene, &text).unwrap();
     let u = unpack(&scene, "pressure");
     let inst = Inst::new(&u, "pressure");
     inst.init();

@@ -33,44 +33,13 @@ fn run(solver: &mut Solver) -> contact2d::results::StepResult {
 /// right. Exact for the bilinear element: u = F L / (E h t) at the end.
 #[test]
 fn bar_pulled_by_a_force_stretches_by_f_l_over_e_a() {
-    let text = r#"
-[analysis]
-kind = "plane_stress"
-thickness = 2.0
-kinematics = "small_strain"
-
-[[material]]
-name = "steel"
-model = "linear_elastic"
-E = 1000.0
-nu = 0.0
-
-[[body]]
-name = "bar"
-material = "steel"
-element = "q4"
-mesh = { generator = "rectangle", origin = [0.0, 0.0], size = [10.0, 1.0], divisions = [8, 1] }
-
-[[driver]]
-name = "wall"
-set = "bar.left"
-ux = 0.0
-
-[[driver]]
-name = "corner"
-set = "bar.bottom_left"
-uy = 0.0
-
-[[driver]]
-name = "pull"
-set = "bar.right"
-fx = 40.0
-
-[steps]
-dt = 1.0
-t_end = 1.0
-"#;
-    let problem = contact2d::scene::parse(text, Path::new("scenes/bar.toml")).unwrap();
+    let text = common::bar_scene(
+        "q4",
+        [8, 1],
+        "[[driver]]\nname = \"pull\"\nset = \"bar.right\"\nfx = 40.0",
+        1.0,
+    );
+    let problem = contact2d::scene::parse(&text, Path::new("scenes/bar.toml")).unwrap();
     let mut solver = Solver::new(problem).unwrap();
     let step = run(&mut solver);
     let pull = &step.drivers[2].1;

@@ -9,47 +9,16 @@ use contact2d::newton::Solver;
 use contact2d::scene::SceneErrorKind;
 use std::path::Path;
 
-/// A bar in plane stress, nu = 0 (thickness 2, height 1, length 10, E =
-/// 1000), held in x at its left end; a named pressure on its right edge,
-/// zero in the scene.
-const BAR: &str = r#"
-[analysis]
-kind = "plane_stress"
-thickness = 2.0
-kinematics = "small_strain"
-
-[[material]]
-name = "steel"
-model = "linear_elastic"
-E = 1000.0
-nu = 0.0
-
-[[body]]
-name = "bar"
-material = "steel"
-element = "q8"
-mesh = { generator = "rectangle", origin = [0.0, 0.0], size = [10.0, 1.0], divisions = [8, 2] }
-
-[[driver]]
-name = "wall"
-set = "bar.left"
-ux = 0.0
-
-[[driver]]
-name = "corner"
-set = "bar.bottom_left"
-uy = 0.0
-
-[[pressure]]
-name = "pull"
-set = "bar.right"
-value = 0.0
-follower = false
-
-[steps]
-dt = 1.0
-t_end = 2.0
-"#;
+/// The bar of `common::bar_scene` (Q8) with a named pressure on its right
+/// edge, zero in the scene, over two increments.
+fn bar_text() -> String {
+    common::bar_scene(
+        "q8",
+        [8, 2],
+        "[[pressure]]\nname = \"pull\"\nset = \"bar.right\"\nvalue = 0.0\nfollower = false",
+        2.0,
+    )
+}
 
 fn bar(text: &str) -> Solver {
     Solver::new(contact2d::scene::parse(text, Path::new("scenes/bar.toml")).unwrap()).unwrap()
@@ -57,7 +26,7 @@ fn bar(text: &str) -> Solver {
 
 #[test]
 fn pressure_input_pulls_the_bar_by_f_l_over_e_a() {
-    let mut s = bar(BAR);
+    let mut s = bar(&bar_text());
     let right: Vec<usize> = s.problem().mesh.node_sets["bar.right"].clone();
     // p = -20 (a pull) on the end of height 1 and thickness 2: F = 40,
     // u = F L / (E A) = 40 * 10 / (1000 * 2) = 0.2 at every node of the
@@ -79,7 +48,7 @@ fn pressure_input_pulls_the_bar_by_f_l_over_e_a() {
     assert_eq!(step.iterations, 0);
     // Back to the scene's value (0): unloaded.
     s.set_pressure_input(0, None);
-    let mut again = bar(&BAR.replace("t_end = 2.0", "t_end = 3.0"));
+    let mut again = bar(&bar_text().replace("t_end = 2.0", "t_end = 3.0"));
     again.set_pressure_input(0, Some(-20.0));
     again.advance(1.0, &mut |_, _| {}).unwrap();
     again.set_pressure_input(0, None);
@@ -92,10 +61,10 @@ fn pressure_input_pulls_the_bar_by_f_l_over_e_a() {
 /// its own time (two increments of 0.5) ends where one does.
 #[test]
 fn pressure_input_runs_linearly_over_the_step() {
-    let mut one = bar(BAR);
+    let mut one = bar(&bar_text());
     one.set_pressure_input(0, Some(-20.0));
     one.advance(1.0, &mut |_, _| {}).unwrap();
-    let mut two = bar(BAR);
+    let mut two = bar(&bar_text());
     two.set_pressure_input(0, Some(-10.0));
     two.advance(0.5, &mut |_, _| {}).unwrap();
     two.set_pressure_input(0, Some(-20.0));
@@ -109,18 +78,18 @@ fn pressure_input_runs_linearly_over_the_step() {
 #[test]
 fn pressure_names_follow_the_fmu_rules() {
     let parse = |t: &str| contact2d::scene::parse(t, Path::new("scenes/bar.toml"));
-    let e = parse(&BAR.replace("name = \"pull\"", "name = \"pull-1\"")).unwrap_err();
+    let e = parse(&bar_text().replace("name = \"pull\"", "name = \"pull-1\"")).unwrap_err();
     assert_eq!(e.kind, SceneErrorKind::InvalidValue);
     assert!(
         e.to_string().contains("pressure[0].name = \"pull-1\""),
         "{e}"
     );
-    let twice = BAR.replace(
+    let twice = bar_text().replace(
         "[steps]",
         "[[pressure]]\nname = \"pull\"\nset = \"bar.top\"\nvalue = 1.0\n\n[steps]",
     );
     let e = parse(&twice).unwrap_err();
     assert_eq!(e.kind, SceneErrorKind::Duplicate, "{e}");
     // Unnamed pressures stay as they were.
-    assert!(parse(&BAR.replace("name = \"pull\"\n", "")).is_ok());
+    assert!(parse(&bar_text().replace("name = \"pull\"\n", "")).is_ok());
 }

@@ -356,3 +356,47 @@ pub fn bottom_on_flat(p: &mut Problem, level: f64) -> Vec<usize> {
     });
     bottom
 }
+
+/// A bar 10 x 1 in plane stress (thickness 2, E = 1000, nu = 0), held in x
+/// at its left end (driver `wall`) and in y at its bottom-left corner
+/// (`corner`), with `load` (scene text: a driver or a pressure on
+/// `bar.right`) and increments of 1 up to `t_end`. Pulled by F on its end,
+/// it stretches by F L / (E A) = F / 200, exactly for a uniform stress.
+pub fn bar_scene(element: &str, divisions: [usize; 2], load: &str, t_end: f64) -> String {
+    format!(
+        r#"[analysis]
+kind = "plane_stress"
+thickness = 2.0
+kinematics = "small_strain"
+
+[[material]]
+name = "steel"
+model = "linear_elastic"
+E = 1000.0
+nu = 0.0
+
+[[body]]
+name = "bar"
+material = "steel"
+element = "{element}"
+mesh = {{ generator = "rectangle", origin = [0.0, 0.0], size = [10.0, 1.0], divisions = [{}, {}] }}
+
+[[driver]]
+name = "wall"
+set = "bar.left"
+ux = 0.0
+
+[[driver]]
+name = "corner"
+set = "bar.bottom_left"
+uy = 0.0
+
+{load}
+
+[steps]
+dt = 1.0
+t_end = {t_end:?}
+"#,
+        divisions[0], divisions[1]
+    )
+}
