@@ -273,7 +273,7 @@ impl Solver {
                 let mut pose = [0.0; 3];
                 for c in 0..3 {
                     pose[c] = match self.rigid_inputs[r][c] {
-                        Some(v) => start[c] + (v - start[c]) * (t - t0) / (t1 - t0),
+                        Some(v) => toward(start[c], v, t, t0, t1),
                         None => scene[c],
                     };
                 }
@@ -293,11 +293,8 @@ impl Solver {
     fn pressures_at(&self, t: f64, t0: f64, t1: f64, start: &[f64]) -> Vec<f64> {
         let scene = scene_pressures(&self.problem, t);
         (self.pressure_inputs.iter().zip(scene).enumerate())
-            .map(|(i, (input, p))| match input {
-                Some(v) => {
-                    let s = start.get(i).copied().unwrap_or(0.0);
-                    s + (v - s) * (t - t0) / (t1 - t0)
-                }
+            .map(|(i, (input, p))| match *input {
+                Some(v) => toward(start.get(i).copied().unwrap_or(0.0), v, t, t0, t1),
                 None => p,
             })
             .collect()
@@ -316,7 +313,7 @@ impl Solver {
                         (self.inputs[d][c], self.problem.drivers[d].force(c))
                     {
                         let s = start.get(d).map_or(0.0, |s| s[c]);
-                        f[c] = s + (v - s) * (t - t0) / (t1 - t0);
+                        f[c] = toward(s, v, t, t0, t1);
                     }
                 }
                 f
@@ -327,10 +324,7 @@ impl Solver {
     /// Value of a prescribed dof at time t within the step t0 -> t1.
     fn prescribed_value(&self, p: &Prescribed, t: f64, t0: f64, t1: f64, u0: &[f64]) -> f64 {
         match self.inputs[p.driver][p.component] {
-            Some(v) => {
-                let start = u0[p.dof];
-                start + (v - start) * (t - t0) / (t1 - t0)
-            }
+            Some(v) => toward(u0[p.dof], v, t, t0, t1),
             None => {
                 let d = &self.problem.drivers[p.driver];
                 let comp = if p.component == 0 { &d.ux } else { &d.uy };
@@ -812,6 +806,7 @@ impl Solver {
                 memory,
                 flips,
                 &mut clog,
+                None,
             )?)
         } else {
             None
@@ -1020,7 +1015,7 @@ impl Solver {
                 settling: step.settling,
             };
             kept = Some((full.clone(), memory.clone(), system.clone()));
-            let rebuilt = pairs::rebuild(
+            let rebuilt = pairs::update(
                 &self.problem,
                 step.poses,
                 step.u,
@@ -1030,8 +1025,7 @@ impl Solver {
                 memory,
                 flips,
                 &mut clog,
-                sys,
-                &switched,
+                Some((sys, &switched)),
             )?;
             rhs_now.copy_from_slice(rhs_base);
             for &(d, f) in &rebuilt.force {
@@ -1217,6 +1211,12 @@ fn equilibrium_residual(c: &ContactSystem, eq: &[u32], rhs: &[f64]) -> Vec<f64> 
         }
     }
     out
+}
+
+/// An input's value at time t within the step t0 -> t1: linear from its
+/// converged value `start` at t0 to the value `target` set for t1.
+fn toward(start: f64, target: f64, t: f64, t0: f64, t1: f64) -> f64 {
+    start + (target - start) * (t - t0) / (t1 - t0)
 }
 
 /// Value of each edge pressure at time t as the scene gives it.

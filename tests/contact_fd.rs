@@ -506,6 +506,7 @@ fn check(kind: ElementKind, rigid: bool, wanted: &[NodeState], r_nodes: &[V2], s
         &mut mem,
         &mut Flips::default(),
         &mut |s: &str| log.push(s.to_string()),
+        None,
     )
     .unwrap_or_else(|e| panic!("{e}"));
     let code = assembled(&sys, ndof);

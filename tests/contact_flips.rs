@@ -53,6 +53,7 @@ fn a_node_flipping_open_and_closed_is_reported() {
             &mut memory,
             &mut flips,
             &mut |m: &str| log.push(m.to_string()),
+            None,
         ) {
             Ok(_) => states.push(memory[0].nodes[0].state),
             Err(e) => break e,

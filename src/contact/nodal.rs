@@ -175,14 +175,7 @@ pub(super) fn update_pair(
             if (d.state == NodeState::Open) != (old.state == NodeState::Open) {
                 pairs::count_flip(pair, k, flips)?;
             } else {
-                slips[k] += 1;
-                if slips[k] > MAX_SLIPS {
-                    return Err(format!(
-                        "pair '{}' node {k} (mesh node {}) alternates between stick and slip \
-                         ({} changes in this increment)",
-                        pair.name, pair.contactor[k], slips[k]
-                    ));
-                }
+                pairs::count_change(pair, k, slips, MAX_SLIPS, "stick and slip")?;
             }
             if old.state != NodeState::Open && d.state == NodeState::Open {
                 log(&format!(

@@ -160,7 +160,7 @@ pub struct ContactSystem {
     /// reference point.
     pub rigid: Vec<[f64; 3]>,
     /// Per pair, the nodal decisions the rows were built from (empty for
-    /// the paper's decisions): `predict` and `rebuild` start from them.
+    /// the paper's decisions): `predict` and `update` with `keep` start from them.
     pub(crate) decisions: Vec<Vec<super::nodal::Decision>>,
 }
 
@@ -487,74 +487,34 @@ fn from_segment_state(s: SegmentState) -> NodeState {
     }
 }
 
-/// The contact part of the system at displacements `u` and rigid target
-/// poses `poses` ([ux, uy, theta] per rigid target), from
-/// the out-of-balance forces `r` (F_int - R_ext, contact excluded) and the
-/// memory after the previous iteration, which it updates. `eq` maps dofs to
-/// equations (PRESCRIBED for prescribed dofs).
-pub fn update(
-    problem: &Problem,
-    poses: &[[f64; 3]],
-    u: &[f64],
-    r: &[f64],
-    eq: &[u32],
-    start: &Start,
-    memory: &mut [PairMemory],
-    flips: &mut Flips,
-    log: &mut dyn FnMut(&str),
-) -> Result<ContactSystem, String> {
-    build(problem, poses, u, r, eq, start, memory, flips, log, None)
-}
-
-/// The contact system at the same iterate as `previous` (built by `update`
-/// from these `u` and `r`), with the `switched` nodes given their new
-/// states and every other node's decision kept: the rows of the linearised
-/// problem's next active set. Only for the nodal decisions (`predict`
-/// gives nothing otherwise).
-#[allow(clippy::too_many_arguments)]
-pub fn rebuild(
-    problem: &Problem,
-    poses: &[[f64; 3]],
-    u: &[f64],
-    r: &[f64],
-    eq: &[u32],
-    start: &Start,
-    memory: &mut [PairMemory],
-    flips: &mut Flips,
-    log: &mut dyn FnMut(&str),
-    previous: &ContactSystem,
-    switched: &Switched,
-) -> Result<ContactSystem, String> {
-    build(
-        problem,
-        poses,
-        u,
-        r,
-        eq,
-        start,
-        memory,
-        flips,
-        log,
-        Some((previous, switched)),
-    )
-}
-
-/// One more change of node `k` between open and contact in this
-/// increment: past `MAX_FLIPS` the increment fails, naming the node.
-pub(super) fn count_flip(pair: &ContactPair, k: usize, flips: &mut [usize]) -> Result<(), String> {
-    flips[k] += 1;
-    if flips[k] > MAX_FLIPS {
+/// One more change of node `k` between two states (`what`: "open and
+/// contact", "stick and slip") in this increment: past `max` the increment
+/// fails, naming the node.
+pub(super) fn count_change(
+    pair: &ContactPair,
+    k: usize,
+    counts: &mut [usize],
+    max: usize,
+    what: &str,
+) -> Result<(), String> {
+    counts[k] += 1;
+    if counts[k] > max {
         return Err(format!(
-            "pair '{}' node {k} (mesh node {}) alternates between open and contact \
+            "pair '{}' node {k} (mesh node {}) alternates between {what} \
              ({} changes in this increment)",
-            pair.name, pair.contactor[k], flips[k]
+            pair.name, pair.contactor[k], counts[k]
         ));
     }
     Ok(())
 }
 
+/// One more change of node `k` between open and contact (`MAX_FLIPS`).
+pub(super) fn count_flip(pair: &ContactPair, k: usize, flips: &mut [usize]) -> Result<(), String> {
+    count_change(pair, k, flips, MAX_FLIPS, "open and contact")
+}
+
 /// Whether the inner solves can change anything: every pair decides
-/// nodally (`rebuild` keeps the nodal decisions only) and one has friction.
+/// nodally (`update` with `keep` keeps the nodal decisions only) and one has friction.
 pub fn inner_solves(problem: &Problem) -> bool {
     problem
         .contacts
@@ -628,8 +588,18 @@ pub fn predict(
     Ok((switched.count() > 0).then_some(switched))
 }
 
+/// The contact part of the system at displacements `u` and rigid target
+/// poses `poses` ([ux, uy, theta] per rigid target), from the out-of-balance
+/// forces `r` (F_int - R_ext, contact excluded) and the memory after the
+/// previous iteration, which it updates. `eq` maps dofs to equations
+/// (PRESCRIBED for prescribed dofs).
+///
+/// `keep`: the system `update` built at this same iterate (from these `u`
+/// and `r`) and the nodes the linearised problem switched (`predict`): those
+/// get their new states, every other node keeps its decision, giving the
+/// rows of the linearised problem's next active set (nodal decisions only).
 #[allow(clippy::too_many_arguments)]
-fn build(
+pub fn update(
     problem: &Problem,
     poses: &[[f64; 3]],
     u: &[f64],
