@@ -350,11 +350,23 @@ impl Instance {
             }
             checked.push((i, value));
         }
-        let before = self.reals.clone();
+        let before = self
+            .tunes(checked.iter().map(|c| c.0))
+            .then(|| self.reals.clone());
         for (i, value) in checked {
             self.reals[i] = value;
         }
-        self.retune("fmi2SetReal", |me| me.reals = before)
+        match before {
+            Some(before) => self.retune("fmi2SetReal", |me| me.reals = before),
+            None => Status::Ok,
+        }
+    }
+
+    /// Does a call setting variables `set` change a tunable parameter of a
+    /// built solver? Only then is the problem checked again (`retune`): an
+    /// input set every step costs no more than storing it.
+    fn tunes(&self, mut set: impl Iterator<Item = usize>) -> bool {
+        self.mode == Mode::StepComplete && set.any(|i| self.vars[i].tunable())
     }
 
     /// `fmi2SetRealInputDerivatives`: first derivatives (order 1) of Real
@@ -402,9 +414,6 @@ impl Instance {
     /// together (mu_d <= mu_s) and hands them to the solver for the steps
     /// to come, or undoes the call (`undo`) and refuses it.
     fn retune(&mut self, call: &str, undo: impl FnOnce(&mut Self)) -> Status {
-        if self.mode != Mode::StepComplete {
-            return Status::Ok;
-        }
         match self.configured_problem() {
             Ok(p) => {
                 if let Some(solver) = self.solver.as_mut() {
@@ -458,11 +467,16 @@ impl Instance {
             }
             checked.push((i, value));
         }
-        let before = self.ints.clone();
+        let before = self
+            .tunes(checked.iter().map(|c| c.0))
+            .then(|| self.ints.clone());
         for (i, value) in checked {
             self.ints[i] = value;
         }
-        self.retune("fmi2SetInteger", |me| me.ints = before)
+        match before {
+            Some(before) => self.retune("fmi2SetInteger", |me| me.ints = before),
+            None => Status::Ok,
+        }
     }
 
     pub fn set_string(&mut self, vrs: &[u32], values: &[String]) -> Status {
