@@ -11,7 +11,7 @@ import pytest
 from fmpy import simulate_fmu
 from fmpy.validation import validate_fmu
 
-from conftest import SCENES
+from conftest import REPO, SCENES
 
 # As in test_fmu.py: FMU and CLI agree to round-off (the inputs may differ in
 # the last bit, Newton stops at |r|/|r0| <= 1e-9), relative to the force.
@@ -124,3 +124,22 @@ def test_libcosim_loads_sets_the_input_and_steps(fmus, cli_summary):
         assert got > previous, "pressing harder, more force"
         assert abs(got - fn[k]) <= RTOL * fn[-1], (t, got, fn[k])
         previous = got
+
+
+SHIPPED = sorted((REPO / "scenes").glob("*.toml")) + sorted((REPO / "scenes" / "verification").glob("*.toml"))
+
+
+@pytest.mark.parametrize("scene", SHIPPED, ids=[p.stem for p in SHIPPED])
+def test_every_shipped_fmu_validates(contact2d, tmp_path, scene):
+    """fmpy's validation and fmutool's check find no problem in the FMU of
+    any shipped scene (the machine example's capstan: test_winding_machine)."""
+    fmu = tmp_path / f"{scene.stem}.fmu"
+    done = subprocess.run([str(contact2d), "export", str(scene), "-o", str(fmu)], capture_output=True, text=True, timeout=300)
+    assert done.returncode == 0, done.stderr
+    assert validate_fmu(str(fmu)) == []
+    fmutool = Path(sys.executable).with_name("fmutool")
+    done = subprocess.run([str(fmutool), "-input", str(fmu), "-check"], capture_output=True, text=True, timeout=120)
+    out = done.stdout + done.stderr
+    assert done.returncode == 0, out
+    assert "No semantic error against the FMI-2 standard." in out, out
+    assert "ERROR" not in out, out
