@@ -396,7 +396,7 @@ impl Solver {
             residual,
             neqc: self.contact.as_ref().map_or(0, |c| c.neqc()),
             drivers: self.driver_results(),
-            pairs: self.pair_results(),
+            pairs: self.pair_results(Some(&start.contact))?,
             ties: self.tie_results(),
         })
     }
@@ -483,25 +483,39 @@ impl Solver {
             .collect()
     }
 
-    /// Contact pair results of the last converged increment.
-    pub fn last_pairs(&self) -> Vec<(String, crate::results::PairResult)> {
-        self.pair_results()
+    /// Contact pair results of the last converged increment (slip: none
+    /// known, zero).
+    pub fn last_pairs(&self) -> Result<Vec<(String, crate::results::PairResult)>, SolveError> {
+        self.pair_results(None)
     }
 
-    fn pair_results(&self) -> Vec<(String, crate::results::PairResult)> {
+    /// Contact pair results of the converged state, with each node's gap and
+    /// its slip since `start` (the contact memory when the step began).
+    fn pair_results(
+        &self,
+        start: Option<&[PairMemory]>,
+    ) -> Result<Vec<(String, crate::results::PairResult)>, SolveError> {
         let pairs = self
             .contact
             .as_ref()
             .map(|c| c.pairs.clone())
             .unwrap_or_default();
-        self.problem
-            .contacts
-            .iter()
-            .zip(pairs)
-            .map(|(p, mut result)| {
+        let state = &self.state;
+        (self.problem.contacts.iter().enumerate().zip(pairs))
+            .map(|((i, p), mut result)| {
                 (result.stick_length, result.slip_length) =
                     crate::results::PairResult::zone_lengths(&result.nodes, p.closed);
-                (p.name.clone(), result)
+                let (gap, slip) = crate::contact::outputs::gaps_and_slips(
+                    &self.problem,
+                    p,
+                    &state.u,
+                    &state.rigid,
+                    &state.contact[i],
+                    start.and_then(|s| s.get(i)),
+                )
+                .map_err(SolveError::Invalid)?;
+                (result.nodes.gap, result.nodes.slip) = (gap, slip);
+                Ok((p.name.clone(), result))
             })
             .collect()
     }

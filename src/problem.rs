@@ -308,6 +308,9 @@ pub struct Problem {
     pub times: Vec<f64>,
     pub solver: SolverSettings,
     pub units: Units,
+    /// The scene's `[parameters]` (FMU parameters; the scene already
+    /// carries their values wherever its expressions use them).
+    pub parameters: Vec<crate::scene::Parameter>,
 }
 
 /// Length unit of a scene's coordinates and displacements.

@@ -64,6 +64,16 @@ pub struct PairNodes {
     pub tn: Vec<f64>,
     pub tt: Vec<f64>,
     pub state: Vec<NodeState>,
+    /// Normal gap to the target (positive clear of it, negative into it):
+    /// zero to Newton's tolerance at a node in contact
+    /// (`contact::outputs::gaps_and_slips`).
+    #[serde(default)]
+    pub gap: Vec<f64>,
+    /// Slip over the last step relative to the target, along the contactor
+    /// (the direction of `tt`: friction opposes it); zero for a node not in
+    /// contact at both ends of the step.
+    #[serde(default)]
+    pub slip: Vec<f64>,
     /// The normal contact force on each node (compression positive): the
     /// multiplier the contact conditions hold on, whose sign the reported
     /// traction of an 8-node side (a quadratic fit of these forces) need
@@ -191,18 +201,28 @@ impl StepResult {
                 (r.name.clone(), rest)
             }))
             .collect();
+        let poses = crate::contact::pairs::scene_poses(problem, time);
         let pairs = problem
             .contacts
             .iter()
             .map(|c| {
                 let m = c.contactor.len();
                 let at = |n: usize, i: usize| problem.mesh.nodes[n][i] + u[2 * n + i];
+                // Every node open: its gap is its distance to the target (a
+                // degenerate target segment, which the first step reports,
+                // leaves it unknown).
+                let rest = crate::contact::PairMemory::new(c);
+                let gap =
+                    crate::contact::outputs::gaps_and_slips(problem, c, u, &poses, &rest, None)
+                        .map_or_else(|_| vec![f64::NAN; m], |(gap, _)| gap);
                 let nodes = PairNodes {
                     x: c.contactor.iter().map(|&n| at(n, 0)).collect(),
                     y: c.contactor.iter().map(|&n| at(n, 1)).collect(),
                     tn: vec![0.0; m],
                     tt: vec![0.0; m],
                     state: vec![NodeState::Open; m],
+                    gap,
+                    slip: vec![0.0; m],
                     pn: vec![0.0; m],
                     pt: vec![0.0; m],
                 };

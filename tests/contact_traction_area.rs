@@ -53,7 +53,7 @@ fn squeeze(kind: ElementKind, kinematics: Kinematics) -> (f64, f64, f64, Vec<f64
         let r = s.advance(t, &mut |_, _| {}).unwrap();
         assert!(r.converged);
     }
-    let pairs = s.last_pairs();
+    let pairs = s.last_pairs().unwrap();
     let pair = &pairs[0].1;
     let n = &pair.nodes;
     assert!(n.state.iter().all(|&st| st == NodeState::Slip), "{n:?}");

@@ -226,6 +226,8 @@ impl Inst {
                 ".tt[",
                 ".x[",
                 ".y[",
+                ".gap[",
+                ".slip[",
                 "solver.iterations",
                 "solver.substeps",
                 "solver.residual",
@@ -403,6 +405,17 @@ fn steps_match_the_solver() {
         for (i, (&tn, &x)) in pair.nodes.tn.iter().zip(&pair.nodes.x).enumerate() {
             close(inst.real(&format!("contact.tn[{}]", i + 1)), tn, "tn");
             close(inst.real(&format!("contact.x[{}]", i + 1)), x, "x");
+            // Gap and slip: lengths of the order of the displacements.
+            let gap = inst.real(&format!("contact.gap[{}]", i + 1));
+            assert!((gap - pair.nodes.gap[i]).abs() <= 1e-12, "gap {gap}");
+            let slip = inst.real(&format!("contact.slip[{}]", i + 1));
+            assert!((slip - pair.nodes.slip[i]).abs() <= 1e-12, "slip {slip}");
+            // In contact: on the target; open: clear of it.
+            if pair.nodes.state[i] == contact2d::results::NodeState::Open {
+                assert!(gap > 0.0, "open node {i} with gap {gap}");
+            } else {
+                assert!(gap.abs() < 1e-9, "node {i} in contact with gap {gap}");
+            }
             assert_eq!(
                 inst.int(&format!("contact.state[{}]", i + 1)),
                 i32::from(pair.nodes.state[i])
@@ -1479,5 +1492,106 @@ fn pressure_input_in_the_fmu() {
     assert_eq!(inst.set_real("pull.p", 0.0), OK);
     assert_eq!(inst.step(1.0, 1.0), OK);
     assert!(inst.real("wall.Rx").abs() <= 1e-10);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A scene's `[parameters]` are FMU parameters: set before initialisation,
+/// they change every value of the scene that uses them (here the bar's
+/// length and its end force: F L / (E A) exact), with the scene's checks
+/// and file:line errors; a value that would change the interface (the
+/// number of contactor nodes of the pair `under`, which the bar never
+/// touches: 1 below it) is refused at fmi2ExitInitializationMode.
+#[test]
+fn scene_parameters_are_fmu_parameters() {
+    let text = common::bar_scene(
+        "q4",
+        [8, 1],
+        "[[driver]]\nname = \"pull\"\nset = \"bar.right\"\nfx = \"= force\"\n\n\
+         [[rigid]]\nname = \"floor\"\npoints = [[20.0, -1.0], [-20.0, -1.0]]\n\n\
+         [[contact]]\nname = \"under\"\ncontactor = \"bar.bottom\"\ntarget = \"floor\"",
+        1.0,
+    )
+    .replacen(
+        "size = [10.0, 1.0], divisions = [8, 1]",
+        "size = [\"= length\", 1.0], divisions = [\"= 2 * half\", 1]",
+        1,
+    );
+    let text = format!("[parameters]\nlength = 10.0\nhalf = 4\nforce = 40.0\n\n{text}");
+    let dir = std::env::temp_dir().join(format!("contact2d-params-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene = dir.join("bar.toml");
+    std::fs::write(&scene, &text).unwrap();
+    let u = unpack(&scene, "params");
+    let vars = variables(&contact2d::scene::load(&scene).unwrap());
+    let length = vars.iter().find(|v| v.name == "length").unwrap();
+    assert_eq!(
+        length.causality,
+        contact2d::fmi::variables::Causality::Parameter
+    );
+
+    // Defaults: F L / (E A) = 40 * 10 / 2000.
+    let inst = Inst::new(&u, "defaults");
+    assert_eq!(inst.real("length"), 10.0);
+    inst.init();
+    assert_eq!(inst.step(0.0, 1.0), OK);
+    assert!((inst.real("pull.ux") - 0.2).abs() < 1e-12);
+    assert_eq!(inst.real("under.gap[1]"), 1.0);
+
+    // Longer and pulled less: 10 * 15 / 2000.
+    let inst = Inst::new(&u, "set");
+    assert_eq!(inst.set_real("length", 15.0), OK);
+    assert_eq!(inst.set_real("force", 10.0), OK);
+    inst.init();
+    assert_eq!(inst.real("length"), 15.0);
+    assert_eq!(inst.step(0.0, 1.0), OK);
+    assert!((inst.real("pull.ux") - 0.075).abs() < 1e-12);
+
+    // A length the generator refuses: an error at initialisation that names
+    // the scene line and the expression.
+    let inst = Inst::new(&u, "negative");
+    assert_eq!(inst.set_real("length", -1.0), OK);
+    let l = lib();
+    unsafe {
+        assert_eq!(
+            (l.fmi2SetupExperiment.as_ref().unwrap())(inst.c, 0, 0.0, 0.0, 0, 0.0),
+            OK
+        );
+        assert_eq!(
+            (l.fmi2EnterInitializationMode.as_ref().unwrap())(inst.c),
+            OK
+        );
+        assert_eq!(
+            (l.fmi2ExitInitializationMode.as_ref().unwrap())(inst.c),
+            ERROR
+        );
+    }
+    let msg = inst.last_message();
+    assert!(
+        msg.contains("scene.toml:") && msg.contains("(from \"length\" = -1"),
+        "{msg}"
+    );
+
+    // More elements: a new interface (more nodes), refused with the fix.
+    let inst = Inst::new(&u, "finer");
+    assert_eq!(inst.set_real("half", 8.0), OK);
+    unsafe {
+        assert_eq!(
+            (l.fmi2SetupExperiment.as_ref().unwrap())(inst.c, 0, 0.0, 0.0, 0, 0.0),
+            OK
+        );
+        assert_eq!(
+            (l.fmi2EnterInitializationMode.as_ref().unwrap())(inst.c),
+            OK
+        );
+        assert_eq!(
+            (l.fmi2ExitInitializationMode.as_ref().unwrap())(inst.c),
+            ERROR
+        );
+    }
+    let msg = inst.last_message();
+    assert!(
+        msg.contains("half = 8") && msg.contains("export the scene again"),
+        "{msg}"
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }

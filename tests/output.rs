@@ -349,7 +349,7 @@ fn summary_records_a_failed_step_last() {
         "Fx": null, "Fy": null, "Fn": null, "Ft": null,
         "n_stick": null, "n_slip": null, "n_open": null,
         "stick_length": null, "slip_length": null,
-        "nodes": { "x": [], "y": [], "tn": [], "tt": [], "state": [] },
+        "nodes": { "x": [], "y": [], "tn": [], "tt": [], "state": [], "gap": [], "slip": [] },
     });
     assert_eq!(
         f["pairs"],
@@ -413,6 +413,8 @@ fn summary_of_a_step_with_a_pair_and_a_rigid_target() {
                     tn: vec![600.0, 0.125],
                     tt: vec![-0.0, 1e-3],
                     state: vec![NodeState::Stick, NodeState::Slip],
+                    gap: vec![0.0, -2.5e-10],
+                    slip: vec![0.0, 0.375],
                     pn: Vec::new(),
                     pt: Vec::new(),
                 },
@@ -474,6 +476,14 @@ fn summary_of_a_step_with_a_pair_and_a_rigid_target() {
             "state": [
               1,
               2
+            ],
+            "gap": [
+              0.0,
+              -2.5e-10
+            ],
+            "slip": [
+              0.0,
+              0.375
             ]
           }
         }

@@ -414,7 +414,7 @@ fn unknown_key_lists_the_allowed_keys() {
         SceneErrorKind::UnknownKey,
         "scenes/t.toml:49: gap = [[gap]]: unknown key; allowed keys: title, analysis, material, body, \
          node_set, function, driver, rigid, contact, tie, pressure, force, body_force, initial_stress, \
-         steps, solver, units",
+         steps, solver, units, parameters",
     );
     let e = bad(
         "uy = { function = \"ramp\", scale = -0.1 }",

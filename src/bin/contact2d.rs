@@ -47,6 +47,9 @@ enum Command {
         /// Write one .vtu per converged increment and a .pvd series into DIR.
         #[arg(long, value_name = "DIR")]
         vtk: Option<PathBuf>,
+        /// Set a scene parameter ([parameters]) to another value; repeatable.
+        #[arg(long = "set", value_name = "NAME=VALUE", value_parser = parameter)]
+        set: Vec<(String, f64)>,
     },
     /// Build the FMU (FMI 2.0 co-simulation) of a scene.
     Export {
@@ -74,6 +77,9 @@ enum Command {
     Check {
         /// The scene file (TOML).
         scene: PathBuf,
+        /// Set a scene parameter ([parameters]) to another value; repeatable.
+        #[arg(long = "set", value_name = "NAME=VALUE", value_parser = parameter)]
+        set: Vec<(String, f64)>,
     },
 }
 
@@ -84,8 +90,9 @@ fn main() -> ExitCode {
             scene,
             summary,
             vtk,
-        } => run(&scene, summary.as_deref(), vtk.as_deref()),
-        Command::Check { scene } => check(&scene),
+            set,
+        } => run(&scene, &set, summary.as_deref(), vtk.as_deref()),
+        Command::Check { scene, set } => check(&scene, &set),
         Command::Inputs { scene, output } => inputs(&scene, output.as_deref()),
         Command::Export {
             scene,
@@ -125,6 +132,18 @@ fn export(scene: &Path, output: &Path, library: Option<PathBuf>) -> ExitCode {
 }
 
 /// Scene error: printed with its file:line, exit code 2.
+/// `NAME=VALUE` of `--set`.
+fn parameter(arg: &str) -> Result<(String, f64), String> {
+    let (name, value) = arg
+        .split_once('=')
+        .ok_or_else(|| format!("{arg:?}: NAME=VALUE expected"))?;
+    let value: f64 = value
+        .trim()
+        .parse()
+        .map_err(|_| format!("{arg:?}: the value {value:?} is not a number"))?;
+    Ok((name.trim().to_string(), value))
+}
+
 fn scene_failure(msg: impl std::fmt::Display) -> ExitCode {
     eprintln!("error: {msg}");
     ExitCode::from(2)
@@ -147,8 +166,13 @@ fn say(bar: &Option<ProgressBar>, line: &str) {
     }
 }
 
-fn run(scene: &Path, summary_path: Option<&Path>, vtk_dir: Option<&Path>) -> ExitCode {
-    let problem = match contact2d::scene::load(scene) {
+fn run(
+    scene: &Path,
+    set: &[(String, f64)],
+    summary_path: Option<&Path>,
+    vtk_dir: Option<&Path>,
+) -> ExitCode {
+    let problem = match contact2d::scene::load_with(scene, set) {
         Ok(p) => p,
         Err(e) => return scene_failure(e),
     };
@@ -364,8 +388,8 @@ fn inputs(scene: &Path, output: Option<&Path>) -> ExitCode {
     }
 }
 
-fn check(scene: &Path) -> ExitCode {
-    let problem = match contact2d::scene::load(scene) {
+fn check(scene: &Path, set: &[(String, f64)]) -> ExitCode {
+    let problem = match contact2d::scene::load_with(scene, set) {
         Ok(p) => p,
         Err(e) => return scene_failure(e),
     };
@@ -404,6 +428,19 @@ fn describe(scene: &Path, p: &Problem) -> String {
         Kinematics::TotalLagrangian => "total Lagrangian",
     };
     let _ = writeln!(o, "analysis: {analysis}; kinematics: {kinematics}");
+    if !p.parameters.is_empty() {
+        let list: Vec<String> = (p.parameters.iter())
+            .map(|q| {
+                let set = if q.value == q.default {
+                    String::new()
+                } else {
+                    format!(" (scene: {})", q.default)
+                };
+                format!("{} = {}{set}", q.name, q.value)
+            })
+            .collect();
+        let _ = writeln!(o, "parameters: {}", list.join(", "));
+    }
     let _ = writeln!(
         o,
         "mesh: {} nodes, {} elements",

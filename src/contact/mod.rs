@@ -3,6 +3,7 @@
 //! and one node's contributions); the derivation is in docs/contact.md.
 
 mod nodal;
+pub mod outputs;
 pub mod pairs;
 pub mod segment;
 pub mod traction;

@@ -59,6 +59,8 @@ pub struct Instance {
     guid: String,
     /// The problem as the scene gives it (reset returns to it).
     base: Problem,
+    /// The scene file, read again when its `[parameters]` are set.
+    scene: PathBuf,
     vars: Vec<Variable>,
     by_vr: HashMap<u32, usize>,
     /// Current value of each Real / Integer variable that is not an output,
@@ -109,6 +111,7 @@ impl Instance {
             name: name.to_string(),
             guid,
             base: problem,
+            scene: scene.to_path_buf(),
             vars,
             by_vr,
             reals: vec![0.0; n],
@@ -230,6 +233,27 @@ impl Instance {
             Ok(p) => p,
             Err(msg) => return self.error(format!("fmi2ExitInitializationMode: {msg}")),
         };
+        if problem.parameters != self.base.parameters {
+            // The scene read with other parameter values: the parameters and
+            // inputs the master left at their start values take the values
+            // this scene gives them (an input's load, a material constant
+            // written as an expression).
+            for (i, v) in variables(&problem).into_iter().enumerate() {
+                match (&self.vars[i].start, v.start) {
+                    (Some(Start::Real(old)), Some(Start::Real(new)))
+                        if self.reals[i].to_bits() == old.to_bits() =>
+                    {
+                        self.reals[i] = new;
+                    }
+                    (Some(Start::Integer(old)), Some(Start::Integer(new)))
+                        if self.ints[i] == *old =>
+                    {
+                        self.ints[i] = new;
+                    }
+                    _ => {}
+                }
+            }
+        }
         let mut solver = match Solver::new(problem) {
             Ok(s) => s,
             Err(e) => return self.error(format!("fmi2ExitInitializationMode: {e}")),
@@ -243,10 +267,44 @@ impl Instance {
         Status::Ok
     }
 
-    /// The scene's problem with the parameter values set on this instance.
+    /// The scene's problem with the parameter values set on this instance:
+    /// the scene read again if any of its `[parameters]` was set (the
+    /// interface must stay the one exported), then each parameter set away
+    /// from its start value applied.
     fn configured_problem(&self) -> Result<Problem, String> {
-        let mut p = self.base.clone();
-        for (i, v) in self.vars.iter().enumerate() {
+        let changed = |i: usize| match self.vars[i].start {
+            Some(Start::Real(x)) => self.reals[i].to_bits() != x.to_bits(),
+            Some(Start::Integer(x)) => self.ints[i] != x,
+            _ => false,
+        };
+        let overrides: Vec<(String, f64)> = (0..self.vars.len())
+            .filter(|&i| {
+                matches!(self.vars[i].binding, Binding::SceneParameter { .. }) && changed(i)
+            })
+            .map(|i| (self.vars[i].name.clone(), self.reals[i]))
+            .collect();
+        let mut p = if overrides.is_empty() {
+            self.base.clone()
+        } else if let Some(solver) = &self.solver {
+            // Initialised: the scene parameters are fixed, the solver's
+            // problem was read with them.
+            solver.problem().clone()
+        } else {
+            let p = crate::scene::load_with(&self.scene, &overrides).map_err(|e| e.to_string())?;
+            if guid(&p) != self.guid {
+                let set: Vec<String> = overrides
+                    .iter()
+                    .map(|(n, v)| format!("{n} = {v}"))
+                    .collect();
+                return Err(format!(
+                    "the scene parameters {} change the FMU's interface (the number of contactor nodes, \
+                     drivers or variables it was exported with): export the scene again with these values",
+                    set.join(", ")
+                ));
+            }
+            p
+        };
+        for (i, v) in self.vars.iter().enumerate().filter(|&(i, _)| changed(i)) {
             match v.binding {
                 Binding::MaterialConstant { material, name } => {
                     p.materials[material].set_constant(name, self.reals[i])?;
@@ -673,9 +731,13 @@ impl Instance {
                 snap.guid, self.guid
             ));
         }
-        if snap.reals.len() != self.reals.len()
-            || snap.state.u.len() != self.base.mesh.nodes.len() * 2
-        {
+        // The mesh the solver has (scene parameters may have changed it).
+        let nodes = (self.solver.as_ref())
+            .map_or(&self.base, |s| s.problem())
+            .mesh
+            .nodes
+            .len();
+        if snap.reals.len() != self.reals.len() || snap.state.u.len() != nodes * 2 {
             return self.error("fmi2SetFMUstate: the state does not fit this FMU's variables");
         }
         // The fixed parameters must agree; the tunable ones are part of the

@@ -53,6 +53,8 @@ pub enum NodeField {
     Tt,
     X,
     Y,
+    Gap,
+    Slip,
 }
 
 /// Where a variable's value lives.
@@ -100,6 +102,10 @@ pub enum Binding {
     Friction {
         pair: usize,
         dynamic: bool,
+    },
+    /// Entry `index` of the scene's `[parameters]`.
+    SceneParameter {
+        index: usize,
     },
     Tolerance,
     MaxIterations,
@@ -172,6 +178,20 @@ pub fn variables(problem: &Problem) -> Vec<Variable> {
     use Causality::*;
 
     // Parameters.
+    for (index, p) in problem.parameters.iter().enumerate() {
+        add(
+            p.name.clone(),
+            Type::Real,
+            Parameter,
+            Quantity::None,
+            format!(
+                "scene parameter '{}' ([parameters]; set before initialisation, it changes every value of the scene that uses it)",
+                p.name
+            ),
+            Some(Start::Real(p.value)),
+            Binding::SceneParameter { index },
+        );
+    }
     for (m, material) in problem.materials.iter().enumerate() {
         for (name, value) in material.constants() {
             let (quantity, what) = match (&material.spec, name) {
@@ -475,6 +495,20 @@ pub fn variables(problem: &Problem) -> Vec<Variable> {
             ),
             (NodeField::X, "x", Type::Real, Quantity::Length, "current x"),
             (NodeField::Y, "y", Type::Real, Quantity::Length, "current y"),
+            (
+                NodeField::Gap,
+                "gap",
+                Type::Real,
+                Quantity::Length,
+                "normal gap to the target (positive clear of it, negative into it; 0 in contact)",
+            ),
+            (
+                NodeField::Slip,
+                "slip",
+                Type::Real,
+                Quantity::Length,
+                "slip over the last step relative to the target, along the contactor (tt's direction; friction opposes it); 0 unless in contact at both ends of the step",
+            ),
         ] {
             for k in 0..pair.contactor.len() {
                 add(
@@ -623,6 +657,8 @@ pub fn output(binding: &Binding, result: &StepResult) -> Option<f64> {
                 NodeField::Tt => *n.tt.get(k)?,
                 NodeField::X => *n.x.get(k)?,
                 NodeField::Y => *n.y.get(k)?,
+                NodeField::Gap => *n.gap.get(k)?,
+                NodeField::Slip => *n.slip.get(k)?,
             }
         }
         Binding::Iterations => result.iterations as f64,

@@ -49,7 +49,7 @@ impl Source<'_> {
         )
     }
 
-    fn error(
+    pub(super) fn error(
         &self,
         kind: SceneErrorKind,
         offset: usize,
@@ -216,7 +216,7 @@ pub(super) fn lookup<'d, 'i>(
 }
 
 /// 1-based line of a byte offset.
-fn line_of(text: &str, offset: usize) -> usize {
+pub(super) fn line_of(text: &str, offset: usize) -> usize {
     1 + text.as_bytes()[..offset.min(text.len())]
         .iter()
         .filter(|&&b| b == b'\n')
@@ -238,7 +238,7 @@ fn value_text(text: &str, span: Range<usize>) -> String {
 }
 
 /// `path.key`, quoting keys that are not bare TOML keys.
-fn join(path: &str, key: &str) -> String {
+pub(super) fn join(path: &str, key: &str) -> String {
     let bare = !key.is_empty()
         && key
             .chars()

@@ -5,6 +5,8 @@
 mod contact;
 mod locate;
 mod mesh;
+mod params;
+pub use params::{Parameter, evaluate};
 mod raw;
 mod tie;
 
@@ -77,6 +79,23 @@ fn read(path: &Path) -> Result<String, SceneError> {
 /// Resolves scene `text`; `path` names it in errors and is where relative
 /// mesh file paths start from.
 pub fn parse(text: &str, path: &Path) -> Result<Problem, SceneError> {
+    parse_with(text, path, &[])
+}
+
+/// Reads the scene file at `path` with some of its `[parameters]` set to
+/// other values (name, value).
+pub fn load_with(path: &Path, overrides: &[(String, f64)]) -> Result<Problem, SceneError> {
+    parse_with(&read(path)?, path, overrides)
+}
+
+/// [`parse`] with some of the scene's `[parameters]` set to other values:
+/// the expressions that use them (`"= 2 * r"`, [`params`]) are evaluated
+/// and written into the text as numbers, which is then read as usual.
+pub fn parse_with(
+    text: &str,
+    path: &Path,
+    overrides: &[(String, f64)],
+) -> Result<Problem, SceneError> {
     let doc = DeTable::parse(text).map_err(|e| locate::syntax_error(path, text, &e))?;
     let src = Source {
         file: path,
@@ -84,7 +103,25 @@ pub fn parse(text: &str, path: &Path) -> Result<Problem, SceneError> {
         doc: &doc,
     };
     locate::check_finite(&src)?;
-    let scene = raw::Scene::deserialize(toml::de::Deserializer::from(doc.clone()))
+    let (text, parameters, subs) = params::substitute(&src, overrides)?;
+    if subs.is_empty() {
+        let mut problem = resolve(src)?;
+        problem.parameters = parameters;
+        return Ok(problem);
+    }
+    let doc = DeTable::parse(&text).map_err(|e| locate::syntax_error(path, &text, &e))?;
+    let src = Source {
+        file: path,
+        text: &text,
+        doc: &doc,
+    };
+    let mut problem = resolve(src).map_err(|e| params::annotate(e, &subs))?;
+    problem.parameters = parameters;
+    Ok(problem)
+}
+
+fn resolve(src: Source) -> Result<Problem, SceneError> {
+    let scene = raw::Scene::deserialize(toml::de::Deserializer::from(src.doc.clone()))
         .map_err(|e| src.toml(&e))?;
     Resolver::new(src).resolve(&scene)
 }
@@ -158,6 +195,7 @@ impl<'a> Resolver<'a> {
             initial_stresses,
             times,
             solver,
+            parameters: Vec::new(),
             units: scene.units.as_ref().map_or_else(Units::default, |u| Units {
                 length: u.length.unwrap_or_default(),
                 force: u.force.unwrap_or_default(),

@@ -41,6 +41,9 @@ pub(super) struct Scene {
     pub steps: Spanned<Steps>,
     pub solver: Option<Solver>,
     pub units: Option<Units>,
+    /// Read before the rest (`params`): named numbers for expressions.
+    #[allow(dead_code)]
+    pub parameters: Option<IgnoredAny>,
 }
 
 /// The units the scene's numbers are in (declared in the FMU).

@@ -71,6 +71,7 @@ pub fn problem(
         times: vec![1.0],
         solver: SolverSettings::default(),
         units: Default::default(),
+        parameters: Vec::new(),
     }
 }
 
@@ -232,7 +233,7 @@ pub fn hertz(s: &contact2d::newton::Solver, radius: f64, e_star: f64) -> Hertz {
     use std::f64::consts::PI;
     let problem = s.problem();
     let axisymmetric = problem.analysis == AnalysisKind::Axisymmetric;
-    let pairs = s.last_pairs();
+    let pairs = s.last_pairs().unwrap();
     let pair = &pairs[0].1;
     let (p, a, p0) = if axisymmetric {
         let p = pair.fy;

@@ -1,0 +1,122 @@
+//! Per contactor node quantities of a converged state that the outputs
+//! report and the iteration does not need: the gap to the target and the
+//! slip over the last step.
+
+use super::pairs::{self, PairMemory, TargetSegment};
+use crate::problem::{ContactPair, Problem};
+use crate::results::NodeState;
+use nalgebra::Vector2;
+
+/// The gap and slip of every contactor node of `pair` in the state `u`,
+/// `poses`, `now` (node memory), against the state at the start of the step
+/// (`start`, None at rest):
+///
+/// - gap: the signed normal distance to the target, positive clear of it,
+///   negative into it. A node in contact: from its contact point (zero to the
+///   tolerance Newton converged to); an open node: to the nearest point of the
+///   target (a segment's end beyond which the node lies counts as a point).
+/// - slip: how far the node has moved along the contactor, relative to the
+///   target's material point it touched when the step began (carried with the
+///   target: rigid motion, or the target body's surface). Measured in the
+///   contactor's direction (toward the next node), the direction of `tt`, so
+///   that friction opposes it: a sliding node has `slip * tt <= 0`. Zero for a
+///   node open at the end of the step or at its start (one that touched down
+///   in the step has no material point to slip from).
+pub fn gaps_and_slips(
+    problem: &Problem,
+    pair: &ContactPair,
+    u: &[f64],
+    poses: &[[f64; 3]],
+    now: &PairMemory,
+    start: Option<&PairMemory>,
+) -> Result<(Vec<f64>, Vec<f64>), String> {
+    let segments = pairs::target_segments(problem, pair, u, poses)?;
+    let x: Vec<Vector2<f64>> = (pair.contactor.iter())
+        .map(|&n| pairs::position(problem, u, n))
+        .collect();
+    let m = x.len();
+    let mut gaps = Vec::with_capacity(m);
+    let mut slips = Vec::with_capacity(m);
+    for (k, node) in now.nodes.iter().enumerate() {
+        let contact = (node.state != NodeState::Open)
+            .then(|| segments.get(node.segment))
+            .flatten();
+        gaps.push(match contact {
+            Some(s) => s.seg.contact_at(x[k], node.beta).gap(),
+            None => nearest_gap(&segments, x[k]),
+        });
+        let began = start
+            .and_then(|s| s.nodes.get(k))
+            .filter(|b| b.state != NodeState::Open)
+            .and_then(|b| Some((segments.get(b.segment)?, b.beta)));
+        let slip = match (contact, began) {
+            (Some(_), Some((s, beta))) => {
+                along(&x, k, pair.closed).dot(&(x[k] - s.seg.point_at(beta)))
+            }
+            _ => 0.0,
+        };
+        slips.push(slip);
+    }
+    Ok((gaps, slips))
+}
+
+/// The contactor's unit direction at node k: toward the next node (from the
+/// previous one inside an open contactor, and at its last node).
+fn along(x: &[Vector2<f64>], k: usize, closed: bool) -> Vector2<f64> {
+    let m = x.len();
+    let (a, b) = match (k, closed) {
+        (_, _) if m < 2 => return Vector2::zeros(),
+        (0, false) => (0, 1),
+        (k, false) if k == m - 1 => (m - 2, m - 1),
+        (k, _) => ((k + m - 1) % m, (k + 1) % m),
+    };
+    (x[b] - x[a])
+        .try_normalize(0.0)
+        .unwrap_or_else(Vector2::zeros)
+}
+
+/// The signed distance from x to the nearest point of the target polyline:
+/// its size from the nearest point, its sign from that segment's normal
+/// (negative on the target's side).
+fn nearest_gap(segments: &[TargetSegment], x: Vector2<f64>) -> f64 {
+    let mut best = f64::INFINITY;
+    let mut gap = f64::INFINITY;
+    for s in segments {
+        let (a, b) = (s.seg.xa(), s.seg.xb());
+        // No point of the segment is nearer than its box.
+        let dx = (a.x.min(b.x) - x.x).max(x.x - a.x.max(b.x)).max(0.0);
+        let dy = (a.y.min(b.y) - x.y).max(x.y - a.y.max(b.y)).max(0.0);
+        if dx.hypot(dy) >= best {
+            continue;
+        }
+        let raw = s.seg.project(x);
+        let p = s.seg.point_at(raw.beta().clamp(0.0, 1.0));
+        let d = (x - p).norm();
+        if d < best {
+            best = d;
+            gap = if raw.gap() < 0.0 { -d } else { d };
+        }
+    }
+    gap
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn contactor_direction_at_ends_and_inside() {
+        let x = [
+            Vector2::new(0.0, 0.0),
+            Vector2::new(1.0, 0.0),
+            Vector2::new(1.0, 2.0),
+        ];
+        assert_eq!(along(&x, 0, false), Vector2::new(1.0, 0.0));
+        assert_eq!(along(&x, 2, false), Vector2::new(0.0, 1.0));
+        let mid = along(&x, 1, false);
+        assert!((mid - Vector2::new(1.0, 2.0) / 5f64.sqrt()).norm() < 1e-15);
+        // Closed: the last node's neighbours are the one before and the
+        // first.
+        assert_eq!(along(&x, 2, true), Vector2::new(-1.0, 0.0));
+    }
+}
