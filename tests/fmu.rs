@@ -101,6 +101,14 @@ impl Inst {
         Self::with_guid(u, name, &u.guid).expect("instantiate")
     }
 
+    /// Instantiation that must fail: the logger's messages.
+    fn new_or_messages(u: &Unpacked, name: &str) -> Vec<String> {
+        match Self::with_guid(u, name, &u.guid) {
+            Ok(_) => panic!("{name}: instantiated"),
+            Err(messages) => messages,
+        }
+    }
+
     fn with_guid(u: &Unpacked, name: &str, guid: &CStr) -> Result<Inst, Vec<String>> {
         let log: Box<Log> = Box::default();
         let callbacks = Box::new(fmi2CallbackFunctions {
@@ -1593,5 +1601,41 @@ fn scene_parameters_are_fmu_parameters() {
         msg.contains("half = 8") && msg.contains("export the scene again"),
         "{msg}"
     );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A scene that asks for more elements than its limit, or a scene.toml that
+/// is a FIFO: fmi2Instantiate returns NULL at once with the reason in the
+/// logger (issue 13: it aborted the host, or blocked it forever).
+#[test]
+fn instantiate_refuses_huge_meshes_and_fifos_with_a_message() {
+    let text = common::bar_scene("q4", [100000, 100000], "", 1.0);
+    let dir = std::env::temp_dir().join(format!("contact2d-huge-{}", std::process::id()));
+    let resources = dir.join("resources");
+    std::fs::create_dir_all(&resources).unwrap();
+    std::fs::write(resources.join("scene.toml"), &text).unwrap();
+    let u = Unpacked {
+        resources: CString::new(format!("file://{}", resources.display())).unwrap(),
+        guid: CString::new("{00000000-0000-0000-0000-000000000000}").unwrap(),
+        vr: HashMap::new(),
+        _dir: dir.clone(),
+    };
+    let started = std::time::Instant::now();
+    let messages = Inst::new_or_messages(&u, "huge");
+    assert!(started.elapsed().as_secs_f64() < 5.0);
+    let all = messages.join("\n");
+    assert!(
+        all.contains("body[0].mesh.divisions = [100000, 100000]: 10000000000 elements"),
+        "{all}"
+    );
+    // The scene as a FIFO.
+    std::fs::remove_file(resources.join("scene.toml")).unwrap();
+    let made = std::process::Command::new("mkfifo")
+        .arg(resources.join("scene.toml"))
+        .status()
+        .unwrap();
+    assert!(made.success());
+    let all = Inst::new_or_messages(&u, "fifo").join("\n");
+    assert!(all.contains("not a regular file"), "{all}");
     let _ = std::fs::remove_dir_all(&dir);
 }

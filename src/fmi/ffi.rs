@@ -260,7 +260,20 @@ pub extern "C" fn fmi2Instantiate(
             Err(msg) => fail(msg),
         }
     }));
-    made.unwrap_or(std::ptr::null_mut())
+    made.unwrap_or_else(|p| {
+        // A panic while reading the scene or building the instance: its text
+        // to the master's logger (the process's panic hook may have printed
+        // it to stderr, which the master need not show).
+        let _ = catch_unwind(AssertUnwindSafe(|| {
+            let name = unsafe { string(instanceName) };
+            Logger::new(functions, name.as_deref().unwrap_or("")).call(
+                Status::Error,
+                "logStatusError",
+                &format!("fmi2Instantiate: internal error: {}", panic_text(&*p)),
+            );
+        }));
+        std::ptr::null_mut()
+    })
 }
 
 const _: fmi2FreeInstanceTYPE = Some(fmi2FreeInstance);

@@ -8,6 +8,18 @@ use std::path::Path;
 
 /// Read a Gmsh MSH 4.1 ASCII file (see [`parse`]).
 pub fn read(path: &Path) -> Result<Mesh, MeshError> {
+    // Only a regular file: a FIFO or a device would block the read forever.
+    if let Ok(meta) = std::fs::metadata(path)
+        && !meta.is_file()
+    {
+        return Err(MeshError::Io {
+            path: path.to_path_buf(),
+            source: std::io::Error::new(
+                std::io::ErrorKind::InvalidInput,
+                "not a regular file (a FIFO, device or folder is not read)",
+            ),
+        });
+    }
     let bytes = std::fs::read(path).map_err(|source| MeshError::Io {
         path: path.to_path_buf(),
         source,
@@ -27,6 +39,7 @@ pub fn read(path: &Path) -> Result<Mesh, MeshError> {
 /// named there.
 pub fn parse(text: &str, path_for_messages: &Path) -> Result<Mesh, MeshError> {
     let mut r = Reader {
+        size: text.len(),
         lines: text.lines().enumerate().peekable(),
         path: path_for_messages,
         line: 0,
@@ -100,6 +113,8 @@ struct Raw {
 }
 
 struct Reader<'a> {
+    /// Bytes of the whole text: the bound on every count it states.
+    size: usize,
     lines: std::iter::Peekable<std::iter::Enumerate<std::str::Lines<'a>>>,
     path: &'a Path,
     /// Line of the last token handed out (1-based).
@@ -159,8 +174,18 @@ impl<'a> Reader<'a> {
             .map_err(|_| self.error(format!("expected {what}, found {t:?}")))
     }
 
+    /// A count the file states: it cannot exceed what the file holds (each
+    /// counted item takes at least a digit and a separator), so that a
+    /// corrupt or hostile header is an error, not an allocation of its size.
     fn count(&mut self, what: &str) -> Result<usize, MeshError> {
-        self.number(what)
+        let n: usize = self.number(what)?;
+        if n > self.size / 2 {
+            return Err(self.error(format!(
+                "{what} is {n}, more than a file of {} bytes can hold",
+                self.size
+            )));
+        }
+        Ok(n)
     }
 
     /// Expect `$End<section>` as the next non-blank line.

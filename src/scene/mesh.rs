@@ -9,6 +9,11 @@ use toml::Spanned;
 
 const DIVISIONS: &str = "divisions must be at least 1";
 
+/// `factor` times the product of two division counts; None on overflow.
+fn product(d: [usize; 2], factor: usize) -> Option<usize> {
+    d[0].checked_mul(d[1])?.checked_mul(factor)
+}
+
 impl Resolver<'_> {
     pub(super) fn body_mesh(&self, i: usize, body: &raw::Body) -> Result<Mesh, SceneError> {
         let index = i.to_string();
@@ -25,6 +30,7 @@ impl Resolver<'_> {
                     let r: raw::Rectangle = self.table_at(&path)?;
                     let size = self.positive_pair(&r.size, key("size"), "size")?;
                     let divisions = self.divisions(&r.divisions, key("divisions"))?;
+                    self.budget(product(divisions, 1), r.divisions.span(), key("divisions"))?;
                     let ratio = match &r.ratio {
                         Some(ratio) => self.positive_pair(ratio, key("ratio"), "ratio")?,
                         None => [1.0, 1.0],
@@ -38,6 +44,9 @@ impl Resolver<'_> {
                     if divisions == 0 {
                         return Err(self.invalid(d.divisions.span(), key("divisions"), DIVISIONS));
                     }
+                    // The core and the shell: at most 2 n^2 elements.
+                    let n2 = product([divisions, divisions], 2);
+                    self.budget(n2, d.divisions.span(), key("divisions"))?;
                     let ratio = self.ratio(d.ratio.as_ref(), key("ratio"))?;
                     generators::disk(
                         kind,
@@ -54,6 +63,7 @@ impl Resolver<'_> {
                     let outer = self.exceeding(&r.r_outer, inner, key("r_outer"), "r_inner")?;
                     let angles = self.increasing_pair(&r.angles, key("angles"))?;
                     let divisions = self.divisions(&r.divisions, key("divisions"))?;
+                    self.budget(product(divisions, 1), r.divisions.span(), key("divisions"))?;
                     let ratio = self.ratio(r.ratio.as_ref(), key("ratio"))?;
                     generators::ring(kind, r.center.0, inner, outer, angles, divisions, ratio)
                 }
@@ -63,6 +73,9 @@ impl Resolver<'_> {
                     let width = self.exceeding(&p.width, hole, key("width"), "hole_radius")?;
                     let y_range = self.increasing_pair(&p.y_range, key("y_range"))?;
                     let divisions = self.divisions(&p.divisions, key("divisions"))?;
+                    // The O-grid round the hole; the strips that fill the
+                    // plate are counted once the mesh is made.
+                    self.budget(product(divisions, 1), p.divisions.span(), key("divisions"))?;
                     let ratio = self.ratio(p.ratio.as_ref(), key("ratio"))?;
                     generators::plate_with_hole(kind, hole, width, y_range, divisions, ratio)
                 }
@@ -86,14 +99,51 @@ impl Resolver<'_> {
                 ));
             }
         };
-        generated.map_err(|e| {
+        let mesh = generated.map_err(|e| {
             self.src.at(
                 SceneErrorKind::Mesh,
                 body.mesh.span(),
                 format!("body[{i}].mesh"),
                 e.to_string(),
             )
-        })
+        })?;
+        let made = Some(mesh.elements.len());
+        self.budget(made, body.mesh.span(), format!("body[{i}].mesh"))?;
+        Ok(mesh)
+    }
+
+    /// Refuses a body of `elements` (None: beyond counting) when the scene's
+    /// bodies would have more than `[solver] max_elements` with it; checked
+    /// before a generator allocates.
+    fn budget(
+        &self,
+        elements: Option<usize>,
+        span: std::ops::Range<usize>,
+        key: String,
+    ) -> Result<(), SceneError> {
+        let left = self.max_elements.saturating_sub(self.mesh.elements.len());
+        match elements {
+            Some(n) if n <= left => Ok(()),
+            _ => {
+                let count =
+                    elements.map_or_else(|| "more than 2^64".to_string(), |n| n.to_string());
+                let used = self.max_elements - left;
+                let before = if used > 0 {
+                    format!(", and the bodies before this one have {used}")
+                } else {
+                    String::new()
+                };
+                Err(self.invalid(
+                    span,
+                    key,
+                    format!(
+                        "{count} elements: more than the scene may have \
+                         ([solver] max_elements = {}, which a scene may raise{before})",
+                        self.max_elements
+                    ),
+                ))
+            }
+        }
     }
 
     /// A Gmsh file, relative to the scene file; `group` keeps the elements
@@ -108,6 +158,8 @@ impl Resolver<'_> {
                 e.to_string(),
             )
         })?;
+        let within = Some(mesh.elements.len());
+        self.budget(within, f.file.span(), format!("body[{i}].mesh.file"))?;
         let Some(group) = &f.group else {
             return Ok(mesh);
         };

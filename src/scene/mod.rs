@@ -27,6 +27,12 @@ use toml::de::{DeTable, ValueDeserializer};
 /// More increments than this in `[steps]` is taken as a mistake in dt.
 const MAX_INCREMENTS: usize = 1_000_000;
 
+/// Elements a scene may have unless its `[solver] max_elements` says more:
+/// a mistyped division count must be an error, not an allocation that
+/// brings the process (or an FMU's host) down. A million 4-node elements is
+/// about two million unknowns, more than a 24 GiB machine factorises.
+pub const MAX_ELEMENTS: usize = 1_000_000;
+
 /// What kind of mistake a scene error reports.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum SceneErrorKind {
@@ -66,6 +72,20 @@ pub fn load(path: &Path) -> Result<Problem, SceneError> {
 }
 
 fn read(path: &Path) -> Result<String, SceneError> {
+    // Only a regular file: reading a FIFO or a device would wait forever
+    // (an FMU's host with it).
+    if let Ok(meta) = std::fs::metadata(path)
+        && !meta.is_file()
+    {
+        return Err(SceneError {
+            kind: SceneErrorKind::Io,
+            file: path.to_path_buf(),
+            line: 1,
+            key: "(file)".into(),
+            value: path.display().to_string(),
+            message: "not a regular file (a FIFO, device or folder is not read)".into(),
+        });
+    }
     std::fs::read_to_string(path).map_err(|e| SceneError {
         kind: SceneErrorKind::Io,
         file: path.to_path_buf(),
@@ -136,6 +156,8 @@ struct Resolver<'a> {
     bodies: Vec<Body>,
     mesh: Mesh,
     element_material: Vec<usize>,
+    /// The scene's element limit (`[solver] max_elements`).
+    max_elements: usize,
 }
 
 impl<'a> Resolver<'a> {
@@ -149,6 +171,7 @@ impl<'a> Resolver<'a> {
             bodies: Vec::new(),
             mesh: Mesh::default(),
             element_material: Vec::new(),
+            max_elements: MAX_ELEMENTS,
         }
     }
 
@@ -156,6 +179,12 @@ impl<'a> Resolver<'a> {
         let kinematics = self.analysis(scene.analysis.get_ref())?;
         self.materials(&scene.material, kinematics)?;
         self.functions(&scene.function)?;
+        if let Some(n) = scene.solver.as_ref().and_then(|s| s.max_elements.as_ref()) {
+            if *n.get_ref() == 0 {
+                return Err(self.invalid(n.span(), "solver.max_elements", "must be at least 1"));
+            }
+            self.max_elements = *n.get_ref();
+        }
         self.bodies(&scene.body)?;
         self.node_sets(&scene.node_set)?;
         let drivers = self.drivers(&scene.driver)?;

@@ -371,6 +371,7 @@ pub(super) struct Solver {
     pub energy_tolerance: Option<Spanned<f64>>,
     pub max_iterations: Option<Spanned<usize>>,
     pub max_bisections: Option<usize>,
+    pub max_elements: Option<Spanned<usize>>,
 }
 
 /// A number, or `{ function = "name", scale = s }` meaning `s * f(t)`.
