@@ -1639,3 +1639,171 @@ fn instantiate_refuses_huge_meshes_and_fifos_with_a_message() {
     assert!(all.contains("not a regular file"), "{all}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// What the re-entrant logger below calls back into.
+struct Reentry {
+    c: std::sync::atomic::AtomicPtr<c_void>,
+    vr: u32,
+    statuses: Mutex<Vec<fmi2Status>>,
+}
+
+/// A master's logger that calls back into the instance that is logging:
+/// fmi2GetReal, then fmi2FreeInstance.
+unsafe extern "C" fn reentrant_logger(
+    env: fmi2ComponentEnvironment,
+    _name: fmi2String,
+    _status: fmi2Status,
+    _category: fmi2String,
+    _format: fmi2String,
+    _message: *const c_char,
+) {
+    let r = unsafe { &*(env as *const Reentry) };
+    let c = r.c.load(std::sync::atomic::Ordering::SeqCst);
+    if c.is_null() {
+        return;
+    }
+    let mut v = 0.0;
+    let status = unsafe { (lib().fmi2GetReal.as_ref().unwrap())(c, &r.vr, 1, &mut v) };
+    r.statuses.lock().unwrap().push(status);
+    unsafe { (lib().fmi2FreeInstance.as_ref().unwrap())(c) };
+}
+
+/// A logger that calls back into the instance while it logs gets an error
+/// (and a free is refused) instead of a deadlock or a use after free
+/// (issue 13, defect 7); the instance works on afterwards.
+#[test]
+fn a_logger_calling_back_gets_an_error_not_a_deadlock() {
+    let u = hertz();
+    let reentry = Box::new(Reentry {
+        c: std::sync::atomic::AtomicPtr::new(null_mut()),
+        vr: u.vr["press.uy"],
+        statuses: Mutex::new(Vec::new()),
+    });
+    let callbacks = Box::new(fmi2CallbackFunctions {
+        logger: Some(unsafe {
+            std::mem::transmute::<
+                unsafe extern "C" fn(
+                    fmi2ComponentEnvironment,
+                    fmi2String,
+                    fmi2Status,
+                    fmi2String,
+                    fmi2String,
+                    *const c_char,
+                ),
+                unsafe extern "C" fn(
+                    fmi2ComponentEnvironment,
+                    fmi2String,
+                    fmi2Status,
+                    fmi2String,
+                    fmi2String,
+                    ...
+                ),
+            >(reentrant_logger)
+        }),
+        allocateMemory: None,
+        freeMemory: None,
+        stepFinished: None,
+        componentEnvironment: &*reentry as *const Reentry as *mut c_void,
+    });
+    let l = lib();
+    let name = CString::new("reentry").unwrap();
+    let c = unsafe {
+        (l.fmi2Instantiate.as_ref().unwrap())(
+            name.as_ptr(),
+            fmi2Type_fmi2CoSimulation,
+            u.guid.as_ptr(),
+            u.resources.as_ptr(),
+            &*callbacks,
+            0,
+            1,
+        )
+    };
+    assert!(!c.is_null());
+    reentry.c.store(c, std::sync::atomic::Ordering::SeqCst);
+    // A refused value is logged while the call holds the instance; run on a
+    // thread so that a deadlock fails the test instead of hanging it.
+    let addr = c as usize;
+    let vr = reentry.vr;
+    let (done, wait) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        let c = addr as fmi2Component;
+        let status = unsafe { (lib().fmi2SetReal.as_ref().unwrap())(c, &vr, 1, &f64::NAN) };
+        done.send(status).unwrap();
+    });
+    let status = wait
+        .recv_timeout(std::time::Duration::from_secs(20))
+        .expect("fmi2SetReal deadlocked in its logger");
+    assert_eq!(status, ERROR);
+    let statuses = reentry.statuses.lock().unwrap().clone();
+    assert!(
+        !statuses.is_empty() && statuses.iter().all(|&s| s == ERROR),
+        "{statuses:?}"
+    );
+    // Not freed under the call: the instance still answers.
+    reentry
+        .c
+        .store(null_mut(), std::sync::atomic::Ordering::SeqCst);
+    let mut v = 1.0;
+    assert_eq!(
+        unsafe { (l.fmi2GetReal.as_ref().unwrap())(c, &vr, 1, &mut v) },
+        OK
+    );
+    assert_eq!(v, 0.0);
+    unsafe { (l.fmi2FreeInstance.as_ref().unwrap())(c) };
+}
+
+/// Time at the edges (issue 13, defect 4): the master's clock must agree
+/// with the FMU's to a few units in the last place or 1e-9 of the step, not
+/// to 1e-9 of t (at t = 1.7e9 a clock off by a second passed); a step too
+/// small for t to resolve (t + h == t) is a held step when the inputs did
+/// not change, and an error that says why when they did.
+#[test]
+fn time_edges_have_defined_answers() {
+    let u = hertz();
+    let l = lib();
+    let start = 1.7e9;
+    let begin = |inst: &Inst| unsafe {
+        assert_eq!(
+            (l.fmi2SetupExperiment.as_ref().unwrap())(inst.c, 0, 0.0, start, 0, 0.0),
+            OK
+        );
+        assert_eq!(
+            (l.fmi2EnterInitializationMode.as_ref().unwrap())(inst.c),
+            OK
+        );
+        assert_eq!((l.fmi2ExitInitializationMode.as_ref().unwrap())(inst.c), OK);
+    };
+    let inst = Inst::new(&u, "late");
+    begin(&inst);
+    // Steps of 0.1 summed by the FMU, multiplied out by the master: they
+    // differ in the last bits, and are accepted.
+    for k in 0..5 {
+        assert_eq!(inst.set_real("press.uy", -0.001 * (k + 1) as f64), OK);
+        assert_eq!(inst.step(start + 0.1 * k as f64, 0.1), OK, "step {k}");
+    }
+    let now = start + 0.5;
+    // h = 1e-7 is below the resolution of t (2.4e-7): with the inputs held,
+    // nothing to do.
+    assert_eq!(now + 1e-7, now);
+    let status = inst.step(now, 1e-7);
+    assert_eq!(status, OK, "{}", inst.last_message());
+    assert_eq!(inst.int("solver.iterations"), 0);
+    // A new input in a step time cannot resolve: an error that says so.
+    assert_eq!(inst.set_real("press.uy", -0.01), OK);
+    assert_eq!(inst.step(now, 1e-7), ERROR);
+    assert!(
+        inst.last_message().contains("rounds to t"),
+        "{}",
+        inst.last_message()
+    );
+
+    // A clock one second off at t = 1.7e9 is refused.
+    let inst = Inst::new(&u, "off");
+    begin(&inst);
+    assert_eq!(inst.step(start + 1.0, 0.1), ERROR);
+    assert!(
+        inst.last_message().contains("but the FMU is at t"),
+        "{}",
+        inst.last_message()
+    );
+}

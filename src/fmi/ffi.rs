@@ -11,7 +11,7 @@ use fmi_sys::fmi2::*;
 use std::ffi::{CStr, CString, c_char};
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::path::PathBuf;
-use std::sync::Mutex;
+use std::sync::{Mutex, TryLockError};
 
 /// What `fmi2Component` points to.
 struct Component {
@@ -97,10 +97,14 @@ fn with(
     }
     let outcome = catch_unwind(AssertUnwindSafe(|| {
         let comp = unsafe { &*(c as *const Component) };
-        let mut guard = comp
-            .instance
-            .lock()
-            .unwrap_or_else(|poisoned| poisoned.into_inner());
+        // Held already: a call from inside the master's logger while this
+        // instance is logging (or a second thread on one instance, which
+        // FMI forbids). Waiting would deadlock: refuse the call.
+        let mut guard = match comp.instance.try_lock() {
+            Ok(guard) => guard,
+            Err(TryLockError::Poisoned(poisoned)) => poisoned.into_inner(),
+            Err(TryLockError::WouldBlock) => return fmi2Status_fmi2Error,
+        };
         let result = catch_unwind(AssertUnwindSafe(|| f(&mut guard, comp)));
         match result {
             Ok(s) => status(s),
@@ -283,6 +287,13 @@ pub extern "C" fn fmi2FreeInstance(c: fmi2Component) {
         return;
     }
     let _ = catch_unwind(AssertUnwindSafe(|| {
+        // In use (freed from inside the logger during a call on it): freeing
+        // it under that call would leave the call on freed memory; it is
+        // kept instead.
+        let comp = unsafe { &*(c as *const Component) };
+        if matches!(comp.instance.try_lock(), Err(TryLockError::WouldBlock)) {
+            return;
+        }
         drop(unsafe { Box::from_raw(c as *mut Component) });
     }));
 }

@@ -46,6 +46,9 @@ pub struct Snapshot {
     /// (parameters, to check against the instance's; inputs, to restore).
     reals: Vec<f64>,
     ints: Vec<i32>,
+    /// The instance's `stepped`.
+    #[serde(default)]
+    stepped: Vec<f64>,
     output_dir: String,
     state: State,
     last: StepResult,
@@ -67,6 +70,9 @@ pub struct Instance {
     /// by variable index (unused entries stay 0).
     reals: Vec<f64>,
     ints: Vec<i32>,
+    /// `reals` as the last step (or initialisation) left them: the inputs
+    /// the converged state was solved for.
+    stepped: Vec<f64>,
     /// First time derivative of each Real input for the next step
     /// (`fmi2SetRealInputDerivatives`), by variable index; zero after each
     /// step.
@@ -116,6 +122,7 @@ impl Instance {
             by_vr,
             reals: vec![0.0; n],
             ints: vec![0; n],
+            stepped: vec![0.0; n],
             derivatives: vec![0.0; n],
             output_dir: String::new(),
             start_time: 0.0,
@@ -263,6 +270,7 @@ impl Instance {
         solver.restore(state);
         self.last = StepResult::at_rest(solver.problem(), self.start_time, &solver.state().u);
         self.solver = Some(solver);
+        self.stepped.clone_from(&self.reals);
         self.mode = Mode::StepComplete;
         Status::Ok
     }
@@ -614,9 +622,43 @@ impl Instance {
                 "fmi2DoStep: currentCommunicationPoint = {t}, communicationStepSize = {h}: both must be finite and the step size positive"
             ));
         }
-        if (t - now).abs() > 1e-9 * now.abs().max(1.0) {
+        // The master's clock and the FMU's agree to a few units in the last
+        // place (a master may sum its steps or multiply them out), or to
+        // 1e-9 of the step: not relative to t, which at t = 1e9 would let a
+        // clock off by a whole second through.
+        let ulp = |x: f64| f64::from_bits(x.abs().to_bits() + 1) - x.abs();
+        if (t - now).abs() > (1e-9 * h).max(8.0 * ulp(now.abs().max(t.abs()))) {
             return self.error(format!(
                 "fmi2DoStep: currentCommunicationPoint = {t:?}, but the FMU is at t = {now:?} (restore a saved state to go back)"
+            ));
+        }
+        let end = t + h;
+        if !end.is_finite() {
+            return self.error(format!(
+                "fmi2DoStep: currentCommunicationPoint + communicationStepSize = {t:?} + {h:?} overflows"
+            ));
+        }
+        if end <= now {
+            // h is below the resolution of t: time cannot advance. With the
+            // inputs as they are, there is nothing to do; a change of the
+            // inputs needs a step that time can resolve.
+            let changed = self.vars.iter().enumerate().any(|(i, v)| {
+                v.causality == Causality::Input
+                    && (self.derivatives[i] != 0.0
+                        || self.reals[i].to_bits() != self.stepped[i].to_bits())
+            });
+            if !changed {
+                // A held step: no iteration, no slip.
+                self.last.iterations = 0;
+                self.last.substeps = 0;
+                for (_, pair) in &mut self.last.pairs {
+                    pair.nodes.slip.fill(0.0);
+                }
+                return Status::Ok;
+            }
+            return self.error(format!(
+                "fmi2DoStep: t + h = {t:?} + {h:?} rounds to t (the resolution of t is {:?}): time cannot advance, and the inputs changed; take a larger step",
+                ulp(t)
             ));
         }
         let Some(solver) = self.solver.as_mut() else {
@@ -638,7 +680,8 @@ impl Instance {
             }
         }
         let (log, on, cats) = (&mut self.log, self.logging_on, &self.categories);
-        let result = solver.advance(now + h, &mut |cat, msg| emit(log, on, cats, cat, msg));
+        // To the master's t + h: the FMU's clock follows the master's.
+        let result = solver.advance(end, &mut |cat, msg| emit(log, on, cats, cat, msg));
         match result {
             Ok(step) => {
                 self.last = step;
@@ -647,6 +690,7 @@ impl Instance {
                     self.reals[i] += h * self.derivatives[i];
                 }
                 self.derivatives.fill(0.0);
+                self.stepped.clone_from(&self.reals);
                 self.write_vtk()
             }
             Err(SolveError::NotConverged { time, reason }) => {
@@ -708,6 +752,7 @@ impl Instance {
             guid: self.guid.clone(),
             reals: self.reals.clone(),
             ints: self.ints.clone(),
+            stepped: self.stepped.clone(),
             output_dir: self.output_dir.clone(),
             state: solver.state().clone(),
             last: self.last.clone(),
@@ -775,6 +820,11 @@ impl Instance {
         solver.restore(snap.state.clone());
         self.reals.clone_from(&snap.reals);
         self.ints.clone_from(&snap.ints);
+        if snap.stepped.len() == snap.reals.len() {
+            self.stepped.clone_from(&snap.stepped);
+        } else {
+            self.stepped.clone_from(&snap.reals);
+        }
         self.derivatives.fill(0.0);
         self.output_dir.clone_from(&snap.output_dir);
         self.last = snap.last.clone();
