@@ -311,6 +311,10 @@ pub struct Problem {
     /// The scene's `[parameters]` (FMU parameters; the scene already
     /// carries their values wherever its expressions use them).
     pub parameters: Vec<crate::scene::Parameter>,
+    /// What the scene reader noticed and did not refuse (a contact pair
+    /// that starts overlapped): the command line prints them, the FMU logs
+    /// them as warnings.
+    pub warnings: Vec<String>,
 }
 
 /// Length unit of a scene's coordinates and displacements.

@@ -176,6 +176,9 @@ fn run(
         Ok(p) => p,
         Err(e) => return scene_failure(e),
     };
+    for w in &problem.warnings {
+        eprintln!("warning: {w}");
+    }
     let times = problem.times.clone();
     let driver_names: Vec<String> = problem.drivers.iter().map(|d| d.name.clone()).collect();
     let rigid_names: Vec<String> = problem.rigids.iter().map(|r| r.name.clone()).collect();
@@ -393,6 +396,9 @@ fn check(scene: &Path, set: &[(String, f64)]) -> ExitCode {
         Ok(p) => p,
         Err(e) => return scene_failure(e),
     };
+    for w in &problem.warnings {
+        eprintln!("warning: {w}");
+    }
     let mut text = describe(scene, &problem);
     let solver = Solver::new(problem);
     if let Ok(s) = &solver {

@@ -2,6 +2,7 @@
 //! enforced by Lagrange multipliers in Eq. (18). `segment` is the pure kernel (geometry
 //! and one node's contributions); the derivation is in docs/contact.md.
 
+pub mod checks;
 mod nodal;
 pub mod outputs;
 pub mod pairs;

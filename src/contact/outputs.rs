@@ -62,7 +62,7 @@ pub fn gaps_and_slips(
 
 /// The contactor's unit direction at node k: toward the next node (from the
 /// previous one inside an open contactor, and at its last node).
-fn along(x: &[Vector2<f64>], k: usize, closed: bool) -> Vector2<f64> {
+pub(super) fn along(x: &[Vector2<f64>], k: usize, closed: bool) -> Vector2<f64> {
     let m = x.len();
     let (a, b) = match (k, closed) {
         (_, _) if m < 2 => return Vector2::zeros(),
@@ -79,8 +79,14 @@ fn along(x: &[Vector2<f64>], k: usize, closed: bool) -> Vector2<f64> {
 /// its size from the nearest point, its sign from that segment's normal
 /// (negative on the target's side).
 fn nearest_gap(segments: &[TargetSegment], x: Vector2<f64>) -> f64 {
+    nearest(segments, x).map_or(f64::INFINITY, |(gap, _)| gap)
+}
+
+/// The nearest segment of the target to x: the signed distance to it (as
+/// [`nearest_gap`]) and its normal (into the target).
+pub(super) fn nearest(segments: &[TargetSegment], x: Vector2<f64>) -> Option<(f64, Vector2<f64>)> {
     let mut best = f64::INFINITY;
-    let mut gap = f64::INFINITY;
+    let mut found = None;
     for s in segments {
         let (a, b) = (s.seg.xa(), s.seg.xb());
         // No point of the segment is nearer than its box.
@@ -94,10 +100,11 @@ fn nearest_gap(segments: &[TargetSegment], x: Vector2<f64>) -> f64 {
         let d = (x - p).norm();
         if d < best {
             best = d;
-            gap = if raw.gap() < 0.0 { -d } else { d };
+            let gap = if raw.gap() < 0.0 { -d } else { d };
+            found = Some((gap, s.seg.normal()));
         }
     }
-    gap
+    found
 }
 
 #[cfg(test)]

@@ -135,6 +135,9 @@ impl Instance {
             log,
         };
         instance.load_starts();
+        for w in instance.base.warnings.clone() {
+            instance.log(LogCategory::Warning, &w);
+        }
         Ok(instance)
     }
 

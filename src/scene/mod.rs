@@ -146,6 +146,32 @@ fn resolve(src: Source) -> Result<Problem, SceneError> {
     Resolver::new(src).resolve(&scene)
 }
 
+/// The contact pairs at rest (`contact::checks`): a pair whose contactor and
+/// target face away from each other is refused, an overlap noted.
+fn check_pairs(
+    src: &Source,
+    mut problem: Problem,
+    raw: &[raw::Contact],
+) -> Result<Problem, SceneError> {
+    for (i, (pair, r)) in problem.contacts.iter().zip(raw).enumerate() {
+        let key = format!("contact[{i}]");
+        let invalid = |msg: String| {
+            src.at(
+                SceneErrorKind::InvalidValue,
+                r.name.span(),
+                key.clone(),
+                msg,
+            )
+        };
+        let found = crate::contact::checks::at_rest(&problem, pair).map_err(invalid)?;
+        if let Some(msg) = found.facing_away {
+            return Err(invalid(msg));
+        }
+        problem.warnings.extend(found.overlap);
+    }
+    Ok(problem)
+}
+
 /// Builds the problem section by section; later sections refer to the names
 /// resolved by earlier ones.
 struct Resolver<'a> {
@@ -205,7 +231,7 @@ impl<'a> Resolver<'a> {
                 .file_stem()
                 .map_or_else(String::new, |s| s.to_string_lossy().into_owned()),
         };
-        Ok(Problem {
+        let problem = Problem {
             name,
             analysis: self.analysis,
             kinematics,
@@ -225,11 +251,13 @@ impl<'a> Resolver<'a> {
             times,
             solver,
             parameters: Vec::new(),
+            warnings: Vec::new(),
             units: scene.units.as_ref().map_or_else(Units::default, |u| Units {
                 length: u.length.unwrap_or_default(),
                 force: u.force.unwrap_or_default(),
             }),
-        })
+        };
+        check_pairs(&self.src, problem, &scene.contact)
     }
 
     /// Deserializes the table at `path` of the document again, as `T`: for

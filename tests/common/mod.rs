@@ -72,6 +72,7 @@ pub fn problem(
         solver: SolverSettings::default(),
         units: Default::default(),
         parameters: Vec::new(),
+        warnings: Vec::new(),
     }
 }
 
