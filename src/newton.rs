@@ -801,10 +801,8 @@ impl Solver {
         Ok(converged)
     }
 
-    /// The correction of one iteration: the plain tangent solve, or Eq.
-    /// (18) with contact rows or ties (`constrained_correction`, which
-    /// updates the tie multipliers); failed at once when it has no
-    /// equilibrium near; then added to the iterate.
+    /// The correction of one iteration (`solve`), failed at once when it
+    /// has no equilibrium near, then added to the iterate.
     fn correction(
         &mut self,
         inc: &mut Increment,
@@ -816,45 +814,7 @@ impl Solver {
         if it == 0 {
             inc.last_du.copy_from_slice(&inc.rhs);
         }
-        let contact = (eval.contact.as_ref()).filter(|c| c.neqc() > 0 || !c.k.is_empty());
-        if contact.is_none() && inc.lambda.is_empty() {
-            if eval.need_k {
-                self.linear.factorize(&self.k).map_err(|e| e.to_string())?;
-                self.factor_valid = self.model.constant_tangent;
-            }
-            self.linear.solve(&mut inc.rhs).map_err(|e| e.to_string())?;
-            inc.solves += 1;
-        } else {
-            let force_tolerance = self.problem.solver.force_tolerance;
-            let step = Step {
-                t: inc.t,
-                it,
-                u: &inc.u,
-                dup: &inc.dup,
-                poses: &inc.poses,
-                tolerance: [force_tolerance * eval.measure.f_ref, eval.gap_tol],
-                settling: eval.settling,
-            };
-            let (full, system) = self.constrained_correction(
-                &step,
-                contact,
-                eval.rhs_base.as_deref(),
-                &inc.rhs,
-                &mut inc.memory,
-                &mut inc.flips,
-                &mut inc.extra,
-                &mut inc.solves,
-                log,
-            )?;
-            let contact_rows = system.as_ref().map_or(&[][..], |c| &c.rows[..]);
-            inc.rhs.copy_from_slice(&full[..n]);
-            // The system's multipliers are the change that removes the
-            // tie forces' out-of-balance: K du = r + C^T lambda - C^T x.
-            for (l, x) in inc.lambda.iter_mut().zip(&full[n + contact_rows.len()..]) {
-                *l -= x;
-            }
-            self.factor_valid = false;
-        }
+        self.solve(inc, it, eval, log)?;
         let (rhs, last_du) = (&inc.rhs, &mut inc.last_du);
         if it == 0 {
             // Energy of the first correction, |du_1 . r_0| (last_du holds -r_0).
@@ -1045,6 +1005,59 @@ impl Solver {
                 at_roundoff: rnorm <= f_round,
             },
         ))
+    }
+
+    /// The correction into `inc.rhs`: the plain tangent solve, or Eq. (18)
+    /// with contact rows or ties (`constrained_correction`, which updates
+    /// the tie multipliers).
+    fn solve(
+        &mut self,
+        inc: &mut Increment,
+        it: usize,
+        eval: Evaluated,
+        log: &mut dyn FnMut(LogCategory, &str),
+    ) -> Result<(), String> {
+        let n = self.model.free_dofs();
+        let contact = (eval.contact.as_ref()).filter(|c| c.neqc() > 0 || !c.k.is_empty());
+        if contact.is_none() && inc.lambda.is_empty() {
+            if eval.need_k {
+                self.linear.factorize(&self.k).map_err(|e| e.to_string())?;
+                self.factor_valid = self.model.constant_tangent;
+            }
+            self.linear.solve(&mut inc.rhs).map_err(|e| e.to_string())?;
+            inc.solves += 1;
+        } else {
+            let force_tolerance = self.problem.solver.force_tolerance;
+            let step = Step {
+                t: inc.t,
+                it,
+                u: &inc.u,
+                dup: &inc.dup,
+                poses: &inc.poses,
+                tolerance: [force_tolerance * eval.measure.f_ref, eval.gap_tol],
+                settling: eval.settling,
+            };
+            let (full, system) = self.constrained_correction(
+                &step,
+                contact,
+                eval.rhs_base.as_deref(),
+                &inc.rhs,
+                &mut inc.memory,
+                &mut inc.flips,
+                &mut inc.extra,
+                &mut inc.solves,
+                log,
+            )?;
+            let contact_rows = system.as_ref().map_or(&[][..], |c| &c.rows[..]);
+            inc.rhs.copy_from_slice(&full[..n]);
+            // The system's multipliers are the change that removes the
+            // tie forces' out-of-balance: K du = r + C^T lambda - C^T x.
+            for (l, x) in inc.lambda.iter_mut().zip(&full[n + contact_rows.len()..]) {
+                *l -= x;
+            }
+            self.factor_valid = false;
+        }
+        Ok(())
     }
 
     /// The correction with contact rows or ties: Eq. (18), `[K + K_c, C^T;

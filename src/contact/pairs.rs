@@ -876,11 +876,8 @@ struct Recovered {
     prev: Vec<SegmentState>,
     /// Section 3 at the current positions.
     ev: traction::Evaluation,
-    /// The positions the reported tractions are per unit area of.
-    x_area: Vec<Vector2<f64>>,
     /// Reported nodal tractions.
-    node_tn: Vec<f64>,
-    node_tt: Vec<f64>,
+    area: PerArea,
     /// Scale of the contact forces of this pair, for the tension test.
     force_scale: f64,
 }
@@ -900,7 +897,7 @@ impl Recovered {
 
 /// Force recovery: contact forces from the out-of-balance forces (Section
 /// 3): the recovered tractions, segment decisions and nodal contact forces
-/// of `traction::evaluate`, and the reported tractions.
+/// of `traction::evaluate`, and the reported tractions (`per_area`).
 fn recover(view: &PaperPair, mem: &PairMemory) -> Result<Recovered, String> {
     let (at, problem, pair) = (view.at, view.at.problem, view.pair);
     let m = pair.contactor.len();
@@ -942,10 +939,34 @@ fn recover(view: &PaperPair, mem: &PairMemory) -> Result<Recovered, String> {
         .map_err(|e| format!("pair '{}': {e}", pair.name))
     };
     let ev = evaluate(&view.x)?;
+    let area = per_area(view, &ev, &evaluate)?;
+    let force_scale = (0..m)
+        .filter(|&k| active[k])
+        .map(|k| force_xy[k][0].hypot(force_xy[k][1]))
+        .fold(0.0, f64::max);
+    Ok(Recovered {
+        active,
+        force,
+        prev,
+        ev,
+        area,
+        force_scale,
+    })
+}
+
+/// The reported nodal tractions `t_n`, `t_t` of Section 3's evaluation
+/// `ev`, and the positions they are per unit area of; `evaluate` is
+/// Section 3 on the contactor at other positions.
+fn per_area(
+    view: &PaperPair,
+    ev: &traction::Evaluation,
+    evaluate: &Section3,
+) -> Result<PerArea, String> {
+    let (problem, pair) = (view.at.problem, view.pair);
     // Reported tractions are per unit area of the geometry the element
     // stresses live on: the reference one under small-strain kinematics
     // (linear theory, as Hertz's), the current one under total
-    // Lagrangian kinematics (Cauchy tractions). The decisions above only
+    // Lagrangian kinematics (Cauchy tractions). Section 3's decisions only
     // compare tractions of the same segment, so they do not depend on it.
     let reference_area = matches!(
         problem.kinematics,
@@ -959,7 +980,7 @@ fn recover(view: &PaperPair, mem: &PairMemory) -> Result<Recovered, String> {
     } else {
         view.x.clone()
     };
-    let (node_tn, node_tt) = if reference_area {
+    let (node_tn, node_tt): (Vec<f64>, Vec<f64>) = if reference_area {
         let out = evaluate(&x_area)?;
         // Magnitude per reference area, direction from the current
         // surface (the reference surface is turned against the current
@@ -970,26 +991,27 @@ fn recover(view: &PaperPair, mem: &PairMemory) -> Result<Recovered, String> {
             let reference = out.node_tn[k].hypot(out.node_tt[k]);
             if cur > 0.0 { reference / cur } else { 0.0 }
         };
-        (0..m)
+        (0..view.x.len())
             .map(|k| (ev.node_tn[k] * scale(k), ev.node_tt[k] * scale(k)))
             .unzip()
     } else {
         (ev.node_tn.clone(), ev.node_tt.clone())
     };
-    let force_scale = (0..m)
-        .filter(|&k| active[k])
-        .map(|k| force_xy[k][0].hypot(force_xy[k][1]))
-        .fold(0.0, f64::max);
-    Ok(Recovered {
-        active,
-        force,
-        prev,
-        ev,
-        x_area,
-        node_tn,
-        node_tt,
-        force_scale,
+    Ok(PerArea {
+        x: x_area,
+        tn: node_tn,
+        tt: node_tt,
     })
+}
+
+/// Section 3 on the contactor at given positions.
+type Section3<'e> = dyn Fn(&[Vector2<f64>]) -> Result<traction::Evaluation, String> + 'e;
+
+/// Reported nodal tractions and the positions they are per unit area of.
+struct PerArea {
+    x: Vec<Vector2<f64>>,
+    tn: Vec<f64>,
+    tt: Vec<f64>,
 }
 
 /// A node not in contact that has penetrated: where (segment and contact
@@ -1333,7 +1355,7 @@ fn node_rows(
     let (tn, tt) = if state == NodeState::Open {
         (0.0, 0.0)
     } else {
-        (rec.node_tn[k], rec.node_tt[k])
+        (rec.area.tn[k], rec.area.tt[k])
     };
     report.result.nodes.tn.push(tn);
     report.result.nodes.tt.push(tt);
@@ -1369,7 +1391,7 @@ fn quadratic_report(view: &PaperPair, rec: &Recovered, report: &mut Report) {
         })
         .collect();
     let geometry = geometry(problem);
-    let Some(t) = quadratic_tractions(geometry, pair.closed, &rec.x_area, &closed_now, &f) else {
+    let Some(t) = quadratic_tractions(geometry, pair.closed, &rec.area.x, &closed_now, &f) else {
         return;
     };
     for k in 0..m {
