@@ -851,11 +851,11 @@ impl Solver {
         Ok(())
     }
 
-    /// The residual and contact update: the out-of-balance forces `r = F_int - R_ext` at the
-    /// iterate (with the tie forces; iteration 0 also carries the prescribed
-    /// increment through the tangent into `kdu`), the tangent when
-    /// `need_k`, and the contact system: search, forces, decisions, rows
-    /// (`pairs::update`).
+    /// The residual and contact update: the out-of-balance forces `r =
+    /// F_int - R_ext` at the iterate (with the tie forces; iteration 0 also
+    /// carries the prescribed increment through the tangent into `kdu`),
+    /// the tangent when `need_k`, and the contact system: search, forces,
+    /// decisions, rows (`contact_update`).
     #[allow(clippy::too_many_arguments)]
     fn residual(
         &mut self,
@@ -901,25 +901,7 @@ impl Solver {
             }
         }
         let contact = if !self.problem.contacts.is_empty() {
-            let mut clog =
-                |m: &str| log(LogCategory::Contact, &format!("t = {t:.6e} it {it}: {m}"));
-            let start = pairs::Start {
-                u: &self.state.u,
-                poses: &self.state.rigid,
-                settling: step.settling,
-            };
-            Some(pairs::update(
-                &self.problem,
-                step.poses,
-                step.u,
-                &self.r,
-                &self.model.eq,
-                &start,
-                memory,
-                flips,
-                &mut clog,
-                None,
-            )?)
+            Some(self.contact_update(step, None, memory, flips, log)?)
         } else {
             None
         };
@@ -1065,7 +1047,7 @@ impl Solver {
     /// tie rows (`C u = 0`; `constraint_system`); under the nodal decisions
     /// solved again while the linearised problem decides a node's
     /// stick/slip state otherwise than the iterate did (docs/contact.md
-    /// section 8, inner solves: `linearised_states`, `rebuilt_rows`).
+    /// section 8, inner solves: `linearised_states`, `contact_update`).
     /// Returns `[du; multipliers]` and the contact system it solves.
     #[allow(clippy::too_many_arguments)]
     fn constrained_correction(
@@ -1141,7 +1123,7 @@ impl Solver {
                 ),
             );
             kept = Some((full.clone(), memory.clone(), system.clone()));
-            let rebuilt = self.rebuilt_rows(step, sys, &switched, memory, flips, log)?;
+            let rebuilt = self.contact_update(step, Some((sys, &switched)), memory, flips, log)?;
             rhs_now.copy_from_slice(rhs_base);
             for &(d, f) in &rebuilt.force {
                 if self.model.eq[d] != PRESCRIBED {
@@ -1197,14 +1179,14 @@ impl Solver {
         )
     }
 
-    /// The contact rows at the same iterate with the `switched` nodes'
-    /// states and every other node's decision kept (`pairs::update` with
-    /// the kept system `sys`): the tangent and `r` do not change.
-    fn rebuilt_rows(
+    /// The contact system at the iterate, from `r` (`pairs::update`); with
+    /// `keep` (an inner solve), the rows rebuilt at the same iterate with
+    /// the switched nodes' states and every other node's decision kept in
+    /// the system given: the tangent and `r` do not change.
+    fn contact_update(
         &self,
         step: &Step,
-        sys: &ContactSystem,
-        switched: &Switched,
+        keep: Option<(&ContactSystem, &Switched)>,
         memory: &mut [PairMemory],
         flips: &mut Flips,
         log: &mut dyn FnMut(LogCategory, &str),
@@ -1226,7 +1208,7 @@ impl Solver {
             memory,
             flips,
             &mut clog,
-            Some((sys, switched)),
+            keep,
         )
     }
 
