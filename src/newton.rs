@@ -6,7 +6,7 @@
 
 use crate::assembly::{Model, PRESCRIBED, Workspace};
 use crate::constraint::TieResult;
-use crate::contact::pairs::{self, ContactSystem, Flips, PairMemory};
+use crate::contact::pairs::{self, ContactSystem, Flips, PairMemory, Switched};
 use crate::linsolve::{Augmented, LinearSolver};
 use crate::problem::Problem;
 use crate::results::{DriverResult, LogCategory, StepResult};
@@ -46,7 +46,6 @@ struct Prescribed {
     component: usize,
 }
 
-/// What one Newton solve of an increment did.
 /// An iterate's equilibrium residual against the problem's forces.
 struct Measure {
     /// |r| / F.
@@ -73,6 +72,66 @@ struct Step<'a> {
     settling: bool,
 }
 
+/// The step an increment lies in: its inputs ramp from the converged state
+/// at t0 (displacements, rigid target poses, driver forces and pressures)
+/// toward their values at t1.
+struct Ramp<'a> {
+    t0: f64,
+    t1: f64,
+    u0: &'a [f64],
+    rigid0: &'a [[f64; 3]],
+    forces0: &'a [[f64; 2]],
+    pressures0: &'a [f64],
+}
+
+/// What the iterations of one increment carry from one to the next.
+struct Increment {
+    t: f64,
+    /// Rigid target poses at t.
+    poses: Vec<[f64; 3]>,
+    /// The iterate.
+    u: Vec<f64>,
+    /// The prescribed increment (carried through the tangent at iteration 0).
+    dup: Vec<f64>,
+    /// The motion's scale (`Measure::f_ref`).
+    u_max: f64,
+    /// K du_p of the predictor.
+    kdu: Vec<f64>,
+    /// Material history at the iterate.
+    history: Vec<f64>,
+    /// The right-hand side, then the correction, per free dof.
+    rhs: Vec<f64>,
+    /// Norm and energy of the first correction.
+    du1: f64,
+    e1: f64,
+    /// |r|/F per iteration, for the rate.
+    ratios: Vec<f64>,
+    /// The last correction (-r_0 before the first).
+    last_du: Vec<f64>,
+    memory: Vec<PairMemory>,
+    flips: Flips,
+    solves: usize,
+    /// Constraint triplets beside K.
+    extra: Vec<(usize, usize, f64)>,
+    /// Tie multipliers, total.
+    lambda: Vec<f64>,
+}
+
+/// What one iteration's residual and contact update give its convergence
+/// test and its correction.
+struct Evaluated {
+    contact: Option<ContactSystem>,
+    /// The right-hand side without the contact forces (`measure`).
+    rhs_base: Option<Vec<f64>>,
+    measure: Measure,
+    need_k: bool,
+    /// `Step::settling`.
+    settling: bool,
+    /// The gap tolerance, a length.
+    gap_tol: f64,
+}
+
+/// What one Newton solve of an increment did.
 struct Converged {
     iterations: usize,
     solves: usize,
@@ -356,8 +415,15 @@ impl Solver {
         let mut solves = 0;
         let mut residual = 0.0;
         while let Some(&t) = targets.last() {
-            let (forces0, pressures0) = (&start.driver_forces, &start.pressures);
-            match self.increment(t, t0, t_end, &u0, &start.rigid, forces0, pressures0, log) {
+            let from = Ramp {
+                t0,
+                t1: t_end,
+                u0: &u0,
+                rigid0: &start.rigid,
+                forces0: &start.driver_forces,
+                pressures0: &start.pressures,
+            };
+            match self.increment(t, &from, log) {
                 Ok(c) => {
                     iterations += c.iterations;
                     solves += c.solves;
@@ -521,243 +587,275 @@ impl Solver {
     }
 
     /// Newton iterations for one increment to time t; commits on success.
-    /// Iteration 0 starts from the converged state and carries the
-    /// prescribed increment through the tangent (K_fp du_p), so a large
-    /// boundary motion does not first distort the elements next to it.
+    /// In phases: the predictor (`predictor`), then per iteration the
+    /// residual and contact update (`evaluate`), the convergence test
+    /// (`convergence_test`), and the correction (`correction`); the state
+    /// is committed on convergence (`commit`) and left untouched on failure.
     fn increment(
         &mut self,
         t: f64,
-        t0: f64,
-        t1: f64,
-        u0: &[f64],
-        rigid0: &[[f64; 3]],
-        forces0: &[[f64; 2]],
-        pressures0: &[f64],
+        from: &Ramp,
         log: &mut dyn FnMut(LogCategory, &str),
     ) -> Result<Converged, String> {
-        let settings = self.problem.solver.clone();
+        let max_iterations = self.problem.solver.max_iterations;
+        let mut inc = self.predictor(t, from);
+        for it in 0..=max_iterations {
+            let eval = self.evaluate(&mut inc, it, log)?;
+            if self.convergence_test(&mut inc, it, &eval, log)? {
+                let residual = eval.measure.rho;
+                let solves = inc.solves;
+                self.commit(inc, eval.contact);
+                return Ok(Converged {
+                    iterations: it,
+                    solves,
+                    residual,
+                });
+            }
+            if it == max_iterations {
+                break;
+            }
+            self.correction(&mut inc, it, eval, log)?;
+        }
+        Err(format!("no convergence in {max_iterations} iterations"))
+    }
+
+    /// The predictor: the increment's loads, pressures and rigid target
+    /// poses at t, the prescribed increment `dup` (carried through the
+    /// tangent at iteration 0, so a large boundary motion does not first
+    /// distort the elements next to it), and the iteration's start from the
+    /// converged state (contact anchors set: `pairs::begin_increment`).
+    fn predictor(&mut self, t: f64, from: &Ramp) -> Increment {
+        let (t0, t1, u0) = (from.t0, from.t1, from.u0);
+        let (rigid0, forces0, pressures0) = (from.rigid0, from.forces0, from.pressures0);
         let poses = self.rigid_poses(t, t0, t1, rigid0);
         self.step_forces = self.driver_forces(t, t0, t1, forces0);
         self.ws.pressures = self.pressures_at(t, t0, t1, pressures0);
-        let mut u = self.state.u.clone();
+        let u = self.state.u.clone();
         let mut dup = vec![0.0; u.len()];
         for p in &self.prescribed {
             dup[p.dof] = self.prescribed_value(p, t, t0, t1, u0) - u[p.dof];
         }
         // The motion's scale: the start state and the prescribed motion (not
         // the iterate, which may run away past a limit load).
-        let largest = |v: &[f64]| v.iter().fold(0.0f64, |a, x| a.max(x.abs()));
         let rigid_motion = (poses.iter().zip(&self.state.rigid))
             .map(|(p, q)| (p[0] - q[0]).abs().max((p[1] - q[1]).abs()))
             .fold(0.0, f64::max);
         let u_max = largest(&self.state.u) + largest(&dup) + rigid_motion;
-        let mut kdu = vec![0.0; u.len()];
-        let mut history = self.state.history.clone();
         let n = self.model.free_dofs();
-        let mut rhs = vec![0.0; n];
-        let (mut du1, mut e1) = (0.0f64, 0.0f64);
-        let mut ratios: Vec<f64> = Vec::new();
-        let mut last_du = vec![0.0; n];
-        let with_contact = !self.problem.contacts.is_empty();
         let mut memory = self.state.contact.clone();
         pairs::begin_increment(&mut memory);
-        let mut flips = Flips::default();
-        let mut solves = 0usize;
-        let mut extra: Vec<(usize, usize, f64)> = Vec::new();
-        // Tie multipliers, total: their forces C^T lambda act as loads.
-        let mut lambda = self.state.ties.clone();
-        let with_ties = !lambda.is_empty();
-        for it in 0..=settings.max_iterations {
-            history.copy_from_slice(&self.state.history);
-            let need_k = with_contact || !(self.model.constant_tangent && self.factor_valid);
-            let settling = it == 1 || (it > 1 && norm(&last_du) > SETTLING * du1);
-            let step = Step {
-                t,
-                it,
-                u: &u,
-                dup: &dup,
-                poses: &poses,
-                tolerance: [0.0; 2],
-                settling,
-            };
-            let contact = self.residual(
-                &step,
-                need_k,
-                &mut history,
-                &mut kdu,
-                &lambda,
-                &mut memory,
-                &mut flips,
-                log,
-            )?;
-            let (rhs_base, m) =
-                self.measure(it, &kdu, contact.as_ref(), need_k, u_max, &mut rhs)?;
-            let (rho, f_ref, at_roundoff) = (m.rho, m.f_ref, m.at_roundoff);
-            let (neqc, changes, overlap) = contact
-                .as_ref()
-                .map_or((0, 0, 0.0), |c| (c.neqc(), c.changes, c.max_overlap));
-            // Gaps are tested in lengths: to the displacement tolerance of
-            // the first correction, or of 1e-3 of the model's size.
-            let gap_tol = settings.displacement_tolerance * du1.max(1e-3 * self.size);
-            let pending = contact.as_ref().map_or(0, |c| c.pending);
-            let contact_ok = changes == 0 && pending == 0 && overlap <= gap_tol;
-            let force_ok = rho <= settings.force_tolerance || at_roundoff;
-            if it == 0 {
-                // Nothing moved and the state is in equilibrium to the
-                // tolerance: a held input converges without a solve.
-                let held = dup.iter().all(|v| *v == 0.0) && poses == self.state.rigid;
-                if held && force_ok && contact_ok {
-                    log(
-                        LogCategory::Newton,
-                        &format!("t = {t:.6e} it 0: |r|/F = {rho:.3e}  held, in equilibrium"),
-                    );
-                    self.commit(t, u, history, memory, poses.clone(), contact, lambda);
-                    return Ok(Converged {
-                        iterations: 0,
-                        solves,
-                        residual: rho,
-                    });
-                }
-            } else {
-                let energy = (0..n).map(|q| last_du[q] * rhs[q]).sum::<f64>().abs() / e1;
-                let dnorm = norm(&last_du) / du1;
-                ratios.push(rho);
-                let rate = match ratios.len() {
-                    0..=2 => String::new(),
-                    m => {
-                        let (a, b, c) = (ratios[m - 3], ratios[m - 2], ratios[m - 1]);
-                        format!("  rate {:.2}", (c / b).ln() / (b / a).ln())
-                    }
-                };
-                let contact_text = if with_contact {
-                    format!("  NEQC {neqc}  changed {changes}  overlap {overlap:.3e}")
-                } else {
-                    String::new()
-                };
-                log(
-                    LogCategory::Newton,
-                    &format!(
-                        "t = {t:.6e} it {it}: |r|/F = {rho:.3e}  |du|/|du1| = {dnorm:.3e}  energy {energy:.3e}{rate}{contact_text}"
-                    ),
-                );
-                // A correction at the precision of the displacements cannot
-                // improve the solution further.
-                let stagnated = dnorm * du1 <= 1e-14 * norm(&u);
-                let converged = contact_ok
-                    && (at_roundoff
-                        || (force_ok
-                            && (energy <= settings.energy_tolerance
-                                || dnorm <= settings.displacement_tolerance
-                                || stagnated)));
-                if converged {
-                    self.commit(t, u, history, memory, poses.clone(), contact, lambda);
-                    return Ok(Converged {
-                        iterations: it,
-                        solves,
-                        residual: rho,
-                    });
-                }
-                // Diverging: the residual is far above every force of the
-                // problem and still growing.
-                let m = ratios.len();
-                if it >= 3
-                    && rho > 1e6
-                    && ratios[m - 1] > ratios[m - 2]
-                    && ratios[m - 2] > ratios[m - 3]
-                {
-                    return Err(format!(
-                        "diverging: |r|/F = {rho:.3e} at iteration {it}, growing for two iterations"
-                    ));
-                }
-            }
-            if it == settings.max_iterations {
-                break;
-            }
-            if it == 0 {
-                last_du.copy_from_slice(&rhs);
-            }
-            let contact = contact.as_ref().filter(|c| c.neqc() > 0 || !c.k.is_empty());
-            if contact.is_none() && !with_ties {
-                if need_k {
-                    self.linear.factorize(&self.k).map_err(|e| e.to_string())?;
-                    self.factor_valid = self.model.constant_tangent;
-                }
-                self.linear.solve(&mut rhs).map_err(|e| e.to_string())?;
-                solves += 1;
-            } else {
-                let step = Step {
-                    t,
-                    it,
-                    u: &u,
-                    dup: &dup,
-                    poses: &poses,
-                    tolerance: [settings.force_tolerance * f_ref, gap_tol],
-                    settling,
-                };
-                let (full, system) = self.constrained_correction(
-                    &step,
-                    contact,
-                    rhs_base.as_deref(),
-                    &rhs,
-                    &mut memory,
-                    &mut flips,
-                    &mut extra,
-                    &mut solves,
-                    log,
-                )?;
-                let contact_rows = system.as_ref().map_or(&[][..], |c| &c.rows[..]);
-                rhs.copy_from_slice(&full[..n]);
-                // The system's multipliers are the change that removes the
-                // tie forces' out-of-balance: K du = r + C^T lambda - C^T x.
-                for (l, x) in lambda.iter_mut().zip(&full[n + contact_rows.len()..]) {
-                    *l -= x;
-                }
-                self.factor_valid = false;
-            }
-            if it == 0 {
-                // Energy of the first correction, |du_1 . r_0| (last_du holds -r_0).
-                e1 = (0..n)
-                    .map(|q| rhs[q] * last_du[q])
-                    .sum::<f64>()
-                    .abs()
-                    .max(f64::MIN_POSITIVE);
-            }
-            // A correction far beyond the model's size has no equilibrium
-            // near it: the contact cannot hold the load (past a limit load,
-            // e.g. a block that slides under a force it cannot resist) or
-            // nothing holds the body. Fail now; a smaller step may converge.
-            let du_max = largest(&rhs[..n]);
-            if du_max.is_nan() || du_max > 1e3 * self.size {
-                return Err(format!(
-                    "no equilibrium near this state: iteration {it} moves a node by {du_max:.3e}, \
-                     {:.1e} times the model's size (the load exceeds what the contact can hold, \
-                     or nothing holds a body)",
-                    du_max / self.size
-                ));
-            }
-            for (dof, &q) in self.model.eq.iter().enumerate() {
-                if q != PRESCRIBED {
-                    u[dof] += rhs[q as usize];
-                } else if it == 0 {
-                    u[dof] += dup[dof];
-                }
-            }
-            last_du.copy_from_slice(&rhs);
-            if it == 0 {
-                du1 = norm(&last_du).max(f64::MIN_POSITIVE);
-            }
+        Increment {
+            t,
+            kdu: vec![0.0; u.len()],
+            u,
+            dup,
+            poses,
+            u_max,
+            history: self.state.history.clone(),
+            rhs: vec![0.0; n],
+            du1: 0.0,
+            e1: 0.0,
+            ratios: Vec::new(),
+            last_du: vec![0.0; n],
+            memory,
+            flips: Flips::default(),
+            solves: 0,
+            extra: Vec::new(),
+            // Tie multipliers, total: their forces C^T lambda act as loads.
+            lambda: self.state.ties.clone(),
         }
-        Err(format!(
-            "no convergence in {} iterations",
-            settings.max_iterations
-        ))
     }
 
-    /// Phases 1 and 2: the out-of-balance forces `r = F_int - R_ext` at the
-    /// iterate (with the tie forces; iteration 0 also carries the prescribed
-    /// increment through the tangent into `kdu`), the tangent when
-    /// `need_k`, and the contact system: search, forces, decisions, rows
-    /// (`pairs::update`).
+    /// One iteration's residual and contact update at the iterate
+    /// (`residual`: search, force recovery, decisions and rows, per pair),
+    /// measured against the problem's forces (`measure`).
+    fn evaluate(
+        &mut self,
+        inc: &mut Increment,
+        it: usize,
+        log: &mut dyn FnMut(LogCategory, &str),
+    ) -> Result<Evaluated, String> {
+        let with_contact = !self.problem.contacts.is_empty();
+        inc.history.copy_from_slice(&self.state.history);
+        let need_k = with_contact || !(self.model.constant_tangent && self.factor_valid);
+        let settling = it == 1 || (it > 1 && norm(&inc.last_du) > SETTLING * inc.du1);
+        let step = Step {
+            t: inc.t,
+            it,
+            u: &inc.u,
+            dup: &inc.dup,
+            poses: &inc.poses,
+            tolerance: [0.0; 2],
+            settling,
+        };
+        let contact = self.residual(
+            &step,
+            need_k,
+            &mut inc.history,
+            &mut inc.kdu,
+            &inc.lambda,
+            &mut inc.memory,
+            &mut inc.flips,
+            log,
+        )?;
+        let (rhs_base, measure) = self.measure(
+            it,
+            &inc.kdu,
+            contact.as_ref(),
+            need_k,
+            inc.u_max,
+            &mut inc.rhs,
+        )?;
+        // Gaps are tested in lengths: to the displacement tolerance of
+        // the first correction, or of 1e-3 of the model's size.
+        let gap_tol = self.problem.solver.displacement_tolerance * inc.du1.max(1e-3 * self.size);
+        Ok(Evaluated {
+            contact,
+            rhs_base,
+            measure,
+            need_k,
+            settling,
+            gap_tol,
+        })
+    }
+
+    /// The convergence test (docs/contact.md section 8): true when the
+    /// iterate is converged; logs the iteration, and fails a diverging
+    /// increment.
+    fn convergence_test(
+        &self,
+        inc: &mut Increment,
+        it: usize,
+        eval: &Evaluated,
+        log: &mut dyn FnMut(LogCategory, &str),
+    ) -> Result<bool, String> {
+        let settings = &self.problem.solver;
+        let (t, n) = (inc.t, self.model.free_dofs());
+        let Measure {
+            rho, at_roundoff, ..
+        } = eval.measure;
+        let contact = eval.contact.as_ref();
+        let (neqc, changes, overlap) =
+            contact.map_or((0, 0, 0.0), |c| (c.neqc(), c.changes, c.max_overlap));
+        let pending = contact.map_or(0, |c| c.pending);
+        let contact_ok = changes == 0 && pending == 0 && overlap <= eval.gap_tol;
+        let force_ok = rho <= settings.force_tolerance || at_roundoff;
+        if it == 0 {
+            // Nothing moved and the state is in equilibrium to the
+            // tolerance: a held input converges without a solve.
+            let held = inc.dup.iter().all(|v| *v == 0.0) && inc.poses == self.state.rigid;
+            let converged = held && force_ok && contact_ok;
+            if converged {
+                log(
+                    LogCategory::Newton,
+                    &format!("t = {t:.6e} it 0: |r|/F = {rho:.3e}  held, in equilibrium"),
+                );
+            }
+            return Ok(converged);
+        }
+        let (last_du, rhs) = (&inc.last_du, &inc.rhs);
+        let energy = (0..n).map(|q| last_du[q] * rhs[q]).sum::<f64>().abs() / inc.e1;
+        let dnorm = norm(last_du) / inc.du1;
+        let ratios = &mut inc.ratios;
+        ratios.push(rho);
+        let rate = match ratios.len() {
+            0..=2 => String::new(),
+            m => {
+                let (a, b, c) = (ratios[m - 3], ratios[m - 2], ratios[m - 1]);
+                format!("  rate {:.2}", (c / b).ln() / (b / a).ln())
+            }
+        };
+        let contact_text = if contact.is_some() {
+            format!("  NEQC {neqc}  changed {changes}  overlap {overlap:.3e}")
+        } else {
+            String::new()
+        };
+        log(
+            LogCategory::Newton,
+            &format!(
+                "t = {t:.6e} it {it}: |r|/F = {rho:.3e}  |du|/|du1| = {dnorm:.3e}  energy {energy:.3e}{rate}{contact_text}"
+            ),
+        );
+        // A correction at the precision of the displacements cannot
+        // improve the solution further.
+        let stagnated = dnorm * inc.du1 <= 1e-14 * norm(&inc.u);
+        let converged = contact_ok
+            && (at_roundoff
+                || (force_ok
+                    && (energy <= settings.energy_tolerance
+                        || dnorm <= settings.displacement_tolerance
+                        || stagnated)));
+        // Diverging: the residual is far above every force of the
+        // problem and still growing.
+        let m = ratios.len();
+        if !converged
+            && it >= 3
+            && rho > 1e6
+            && ratios[m - 1] > ratios[m - 2]
+            && ratios[m - 2] > ratios[m - 3]
+        {
+            return Err(format!(
+                "diverging: |r|/F = {rho:.3e} at iteration {it}, growing for two iterations"
+            ));
+        }
+        Ok(converged)
+    }
+
+    /// The correction of one iteration (`solve`), failed at once when it
+    /// has no equilibrium near, then added to the iterate.
+    fn correction(
+        &mut self,
+        inc: &mut Increment,
+        it: usize,
+        eval: Evaluated,
+        log: &mut dyn FnMut(LogCategory, &str),
+    ) -> Result<(), String> {
+        let n = self.model.free_dofs();
+        if it == 0 {
+            inc.last_du.copy_from_slice(&inc.rhs);
+        }
+        self.solve(inc, it, eval, log)?;
+        let (rhs, last_du) = (&inc.rhs, &mut inc.last_du);
+        if it == 0 {
+            // Energy of the first correction, |du_1 . r_0| (last_du holds -r_0).
+            inc.e1 = (0..n)
+                .map(|q| rhs[q] * last_du[q])
+                .sum::<f64>()
+                .abs()
+                .max(f64::MIN_POSITIVE);
+        }
+        // A correction far beyond the model's size has no equilibrium
+        // near it: the contact cannot hold the load (past a limit load,
+        // e.g. a block that slides under a force it cannot resist) or
+        // nothing holds the body. Fail now; a smaller step may converge.
+        let du_max = largest(&rhs[..n]);
+        if du_max.is_nan() || du_max > 1e3 * self.size {
+            return Err(format!(
+                "no equilibrium near this state: iteration {it} moves a node by {du_max:.3e}, \
+                 {:.1e} times the model's size (the load exceeds what the contact can hold, \
+                 or nothing holds a body)",
+                du_max / self.size
+            ));
+        }
+        for (dof, &q) in self.model.eq.iter().enumerate() {
+            if q != PRESCRIBED {
+                inc.u[dof] += rhs[q as usize];
+            } else if it == 0 {
+                inc.u[dof] += inc.dup[dof];
+            }
+        }
+        last_du.copy_from_slice(rhs);
+        if it == 0 {
+            inc.du1 = norm(last_du).max(f64::MIN_POSITIVE);
+        }
+        Ok(())
+    }
+
+    /// The residual and contact update: the out-of-balance forces `r =
+    /// F_int - R_ext` at the iterate (with the tie forces; iteration 0 also
+    /// carries the prescribed increment through the tangent into `kdu`),
+    /// the tangent when `need_k`, and the contact system: search, forces,
+    /// decisions, rows (`contact_update`).
     #[allow(clippy::too_many_arguments)]
     fn residual(
         &mut self,
@@ -803,32 +901,14 @@ impl Solver {
             }
         }
         let contact = if !self.problem.contacts.is_empty() {
-            let mut clog =
-                |m: &str| log(LogCategory::Contact, &format!("t = {t:.6e} it {it}: {m}"));
-            let start = pairs::Start {
-                u: &self.state.u,
-                poses: &self.state.rigid,
-                settling: step.settling,
-            };
-            Some(pairs::update(
-                &self.problem,
-                step.poses,
-                step.u,
-                &self.r,
-                &self.model.eq,
-                &start,
-                memory,
-                flips,
-                &mut clog,
-                None,
-            )?)
+            Some(self.contact_update(step, None, memory, flips, log)?)
         } else {
             None
         };
         Ok(contact)
     }
 
-    /// Phase 3's figures: the right-hand side `-r` (with the predictor's
+    /// The convergence test's figures: the right-hand side `-r` (with the predictor's
     /// `K du_p` at iteration 0) into `rhs`, returned without the contact
     /// forces and left in `rhs` with them, and the equilibrium residual
     /// against the problem's force scale (docs/contact.md section 8).
@@ -909,12 +989,66 @@ impl Solver {
         ))
     }
 
-    /// Phase 4 with contact rows or ties: Eq. (18), `[K + K_c, C^T; C, 0]
-    /// [du; dlambda] = [r; overlap]`, the contact rows first, then the tie
-    /// rows (`C u = 0`); under the nodal decisions solved again while the
-    /// linearised problem decides a node's stick/slip state otherwise than
-    /// the iterate did (docs/contact.md section 8, inner solves). Returns
-    /// `[du; multipliers]` and the contact system it solves.
+    /// The correction into `inc.rhs`: the plain tangent solve, or Eq. (18)
+    /// with contact rows or ties (`constrained_correction`, which updates
+    /// the tie multipliers).
+    fn solve(
+        &mut self,
+        inc: &mut Increment,
+        it: usize,
+        eval: Evaluated,
+        log: &mut dyn FnMut(LogCategory, &str),
+    ) -> Result<(), String> {
+        let n = self.model.free_dofs();
+        let contact = (eval.contact.as_ref()).filter(|c| c.neqc() > 0 || !c.k.is_empty());
+        if contact.is_none() && inc.lambda.is_empty() {
+            if eval.need_k {
+                self.linear.factorize(&self.k).map_err(|e| e.to_string())?;
+                self.factor_valid = self.model.constant_tangent;
+            }
+            self.linear.solve(&mut inc.rhs).map_err(|e| e.to_string())?;
+            inc.solves += 1;
+        } else {
+            let force_tolerance = self.problem.solver.force_tolerance;
+            let step = Step {
+                t: inc.t,
+                it,
+                u: &inc.u,
+                dup: &inc.dup,
+                poses: &inc.poses,
+                tolerance: [force_tolerance * eval.measure.f_ref, eval.gap_tol],
+                settling: eval.settling,
+            };
+            let (full, system) = self.constrained_correction(
+                &step,
+                contact,
+                eval.rhs_base.as_deref(),
+                &inc.rhs,
+                &mut inc.memory,
+                &mut inc.flips,
+                &mut inc.extra,
+                &mut inc.solves,
+                log,
+            )?;
+            let contact_rows = system.as_ref().map_or(&[][..], |c| &c.rows[..]);
+            inc.rhs.copy_from_slice(&full[..n]);
+            // The system's multipliers are the change that removes the
+            // tie forces' out-of-balance: K du = r + C^T lambda - C^T x.
+            for (l, x) in inc.lambda.iter_mut().zip(&full[n + contact_rows.len()..]) {
+                *l -= x;
+            }
+            self.factor_valid = false;
+        }
+        Ok(())
+    }
+
+    /// The correction with contact rows or ties: Eq. (18), `[K + K_c, C^T;
+    /// C, 0] [du; dlambda] = [r; overlap]`, the contact rows first, then the
+    /// tie rows (`C u = 0`; `constraint_system`); under the nodal decisions
+    /// solved again while the linearised problem decides a node's
+    /// stick/slip state otherwise than the iterate did (docs/contact.md
+    /// section 8, inner solves: `linearised_states`, `contact_update`).
+    /// Returns `[du; multipliers]` and the contact system it solves.
     #[allow(clippy::too_many_arguments)]
     fn constrained_correction(
         &mut self,
@@ -929,15 +1063,11 @@ impl Solver {
         log: &mut dyn FnMut(LogCategory, &str),
     ) -> Result<(Vec<f64>, Option<ContactSystem>), String> {
         let (t, it, n) = (step.t, step.it, self.model.free_dofs());
-        let largest = |v: &[f64]| v.iter().fold(0.0f64, |a, x| a.max(x.abs()));
         let inner_solves = pairs::inner_solves(&self.problem);
-        // Eq. (18): [K + K_c, C^T; C, 0] [du; dlambda] = [r; overlap],
-        // the contact rows first, then the tie rows (C u = 0).
         // Solved again while the linearised problem decides a node's
         // stick/slip state otherwise than this iterate did (a slip
         // front crossing a stick zone): its rows change, the
         // tangent and the out-of-balance forces do not.
-        let eq = &self.model.eq;
         let mut system: Option<ContactSystem> = contact.cloned();
         let mut rhs_now = rhs.to_vec();
         let mut inner = 0usize;
@@ -946,12 +1076,12 @@ impl Solver {
         let mut kept: Option<Kept> = None;
         let full = loop {
             let mut full = self.constraint_system(step, system.as_ref(), &rhs_now, extra);
-            let contact_rows = system.as_ref().map_or(&[][..], |c| &c.rows[..]);
+            let neqc = system.as_ref().map_or(0, |c| c.rows.len());
             *solves += 1;
             let solved = self
                 .augmented
                 .solve(&self.model.pattern, &self.k, extra, &mut full)
-                .map_err(|e| format!("constraint system (NEQC {}): {e}", contact_rows.len()));
+                .map_err(|e| format!("constraint system (NEQC {neqc}): {e}"));
             // The states the linearised problem chose leave no
             // equilibrium near (every node of a free body sliding
             // where the iterate's linearisation is poor): keep the
@@ -974,39 +1104,7 @@ impl Solver {
             else {
                 break full;
             };
-            // Where the solve goes, and the out-of-balance force it
-            // leaves at each dof (K du = r_c - C^T x - r).
-            let mut u_new = step.u.to_vec();
-            let mut force_new = vec![0.0; step.u.len()];
-            for (dof, &q) in eq.iter().enumerate() {
-                if q != PRESCRIBED {
-                    u_new[dof] += full[q as usize];
-                } else if it == 0 {
-                    u_new[dof] += step.dup[dof];
-                }
-            }
-            for &(d, f) in &sys.force {
-                if eq[d] != PRESCRIBED {
-                    force_new[d] += f;
-                }
-            }
-            for (i, row) in sys.rows.iter().enumerate() {
-                for &(d, v) in row.acting() {
-                    if eq[d] != PRESCRIBED {
-                        force_new[d] -= full[n + i] * v;
-                    }
-                }
-            }
-            let predicted = pairs::predict(
-                &self.problem,
-                step.poses,
-                &u_new,
-                &force_new,
-                memory,
-                sys,
-                step.tolerance,
-            )?;
-            let Some(switched) = predicted else {
+            let Some(switched) = self.linearised_states(step, sys, &full, memory)? else {
                 break full;
             };
             // The linearised problem's decisions may cycle (a set of
@@ -1017,39 +1115,101 @@ impl Solver {
             }
             seen.push(key);
             inner += 1;
-            let mut clog =
-                |m: &str| log(LogCategory::Contact, &format!("t = {t:.6e} it {it}: {m}"));
-            clog(&format!(
-                "solve {inner}: the linearised problem changes {} stick/slip states",
-                switched.count()
-            ));
-            let start = pairs::Start {
-                u: &self.state.u,
-                poses: &self.state.rigid,
-                settling: step.settling,
-            };
+            log(
+                LogCategory::Contact,
+                &format!(
+                    "t = {t:.6e} it {it}: solve {inner}: the linearised problem changes {} stick/slip states",
+                    switched.count()
+                ),
+            );
             kept = Some((full.clone(), memory.clone(), system.clone()));
-            let rebuilt = pairs::update(
-                &self.problem,
-                step.poses,
-                step.u,
-                &self.r,
-                eq,
-                &start,
-                memory,
-                flips,
-                &mut clog,
-                Some((sys, &switched)),
-            )?;
+            let rebuilt = self.contact_update(step, Some((sys, &switched)), memory, flips, log)?;
             rhs_now.copy_from_slice(rhs_base);
             for &(d, f) in &rebuilt.force {
-                if eq[d] != PRESCRIBED {
-                    rhs_now[eq[d] as usize] += f;
+                if self.model.eq[d] != PRESCRIBED {
+                    rhs_now[self.model.eq[d] as usize] += f;
                 }
             }
             system = Some(rebuilt);
         };
         Ok((full, system))
+    }
+
+    /// The nodes whose stick/slip state the linearised problem decides
+    /// otherwise than the rows of `sys` did (`pairs::predict`), from where
+    /// its solution `full` goes and the out-of-balance force it leaves at
+    /// each dof (K du = r_c - C^T x - r).
+    fn linearised_states(
+        &self,
+        step: &Step,
+        sys: &ContactSystem,
+        full: &[f64],
+        memory: &[PairMemory],
+    ) -> Result<Option<Switched>, String> {
+        let (eq, n) = (&self.model.eq, self.model.free_dofs());
+        let mut u_new = step.u.to_vec();
+        let mut force_new = vec![0.0; step.u.len()];
+        for (dof, &q) in eq.iter().enumerate() {
+            if q != PRESCRIBED {
+                u_new[dof] += full[q as usize];
+            } else if step.it == 0 {
+                u_new[dof] += step.dup[dof];
+            }
+        }
+        for &(d, f) in &sys.force {
+            if eq[d] != PRESCRIBED {
+                force_new[d] += f;
+            }
+        }
+        for (i, row) in sys.rows.iter().enumerate() {
+            for &(d, v) in row.acting() {
+                if eq[d] != PRESCRIBED {
+                    force_new[d] -= full[n + i] * v;
+                }
+            }
+        }
+        pairs::predict(
+            &self.problem,
+            step.poses,
+            &u_new,
+            &force_new,
+            memory,
+            sys,
+            step.tolerance,
+        )
+    }
+
+    /// The contact system at the iterate, from `r` (`pairs::update`); with
+    /// `keep` (an inner solve), the rows rebuilt at the same iterate with
+    /// the switched nodes' states and every other node's decision kept in
+    /// the system given: the tangent and `r` do not change.
+    fn contact_update(
+        &self,
+        step: &Step,
+        keep: Option<(&ContactSystem, &Switched)>,
+        memory: &mut [PairMemory],
+        flips: &mut Flips,
+        log: &mut dyn FnMut(LogCategory, &str),
+    ) -> Result<ContactSystem, String> {
+        let (t, it) = (step.t, step.it);
+        let mut clog = |m: &str| log(LogCategory::Contact, &format!("t = {t:.6e} it {it}: {m}"));
+        let start = pairs::Start {
+            u: &self.state.u,
+            poses: &self.state.rigid,
+            settling: step.settling,
+        };
+        pairs::update(
+            &self.problem,
+            step.poses,
+            step.u,
+            &self.r,
+            &self.model.eq,
+            &start,
+            memory,
+            flips,
+            &mut clog,
+            keep,
+        )
     }
 
     /// The constraint rows of Eq. (18) into `extra` (triplets beside K) and
@@ -1131,22 +1291,14 @@ impl Solver {
         full
     }
 
-    fn commit(
-        &mut self,
-        t: f64,
-        u: Vec<f64>,
-        history: Vec<f64>,
-        memory: Vec<PairMemory>,
-        poses: Vec<[f64; 3]>,
-        contact: Option<ContactSystem>,
-        ties: Vec<f64>,
-    ) {
-        self.state.time = t;
-        self.state.u = u;
-        self.state.history = history;
-        self.state.contact = memory;
-        self.state.rigid = poses;
-        self.state.ties = ties;
+    /// The converged increment becomes the state.
+    fn commit(&mut self, inc: Increment, contact: Option<ContactSystem>) {
+        self.state.time = inc.t;
+        self.state.u = inc.u;
+        self.state.history = inc.history;
+        self.state.contact = inc.memory;
+        self.state.rigid = inc.poses;
+        self.state.ties = inc.lambda;
         self.state.driver_forces.clone_from(&self.step_forces);
         self.state.pressures.clone_from(&self.ws.pressures);
         self.contact = contact;
@@ -1173,6 +1325,11 @@ impl Solver {
         );
         stress
     }
+}
+
+/// The largest magnitude in `v`.
+fn largest(v: &[f64]) -> f64 {
+    v.iter().fold(0.0f64, |a, x| a.max(x.abs()))
 }
 
 fn norm(v: &[f64]) -> f64 {

@@ -9,11 +9,11 @@
 //! quadratically once the states settle (docs/contact.md section 8).
 
 use super::pairs::{
-    self, ContactSystem, MAX_FLIPS, NodeMemory, PairMemory, Start, TENSION_TOLERANCE, TargetSegment,
+    self, ContactSystem, Iterate, MAX_FLIPS, NodeMemory, PairMemory, Report, TENSION_TOLERANCE,
+    TargetSegment,
 };
 use super::segment::ContactPoint;
-use crate::assembly::PRESCRIBED;
-use crate::problem::{ContactPair, FrictionRule, Problem, Recovery, Target};
+use crate::problem::{ContactPair, FrictionRule, Problem, Recovery};
 use crate::results::{NodeState, PairResult};
 use nalgebra::Vector2;
 
@@ -72,100 +72,160 @@ const CORNER_LEAVES: u32 = 3;
 /// oscillating (fail fast; the caller bisects).
 const MAX_SLIPS: usize = 2 * MAX_FLIPS;
 
+/// One pair's update under the nodal decisions, in phases: the pair at the
+/// iterate (target search geometry and the nodes' forces, `PairIterate::new`),
+/// every node's decision (`decisions`, `decide`), the changes counted
+/// (`count_changes`), and the rows of Eq. (18) with the reported results
+/// (`rows_and_results`).
 pub(super) fn update_pair(
-    problem: &Problem,
+    at: &Iterate,
     pair: &ContactPair,
-    poses: &[[f64; 3]],
-    u: &[f64],
-    r: &[f64],
-    eq: &[u32],
-    start: &Start,
     mem: &mut PairMemory,
-    [flips, slips]: [&mut [usize]; 2],
+    counters: [&mut [usize]; 2],
     log: &mut dyn FnMut(&str),
     out: &mut ContactSystem,
     plan: Plan,
 ) -> Result<PairResult, String> {
-    let segments = pairs::target_segments(problem, pair, u, poses)?;
-    let segments0 = pairs::target_segments(problem, pair, start.u, start.poses)?;
-    let m = pair.contactor.len();
-    let at = |u: &[f64]| -> Vec<Vector2<f64>> {
-        (pair.contactor.iter())
-            .map(|&n| pairs::position(problem, u, n))
-            .collect()
-    };
-    let (x, x0) = (at(u), at(start.u));
-    // How far a free node may have gone into the target and still be
-    // caught: a few contactor segments (not the far side of a thin target),
-    // plus how far the node and the target have moved in this increment, so
-    // that a large increment closes the whole zone at once on any mesh.
-    let mut h: f64 = 0.0;
-    for w in x.windows(2) {
-        h = h.max((w[1] - w[0]).norm());
+    let view = PairIterate::new(at, pair, mem)?;
+    let decisions = decisions(&view, mem, &plan);
+    out.pending += decisions.iter().filter(|d| d.held_back).count();
+    if matches!(plan, Plan::Decide) {
+        count_changes(pair, mem, &decisions, counters, log, out)?;
     }
-    let mut target_motion: f64 = 0.0;
-    for (s, s0) in segments.iter().zip(&segments0) {
-        target_motion = target_motion
-            .max((s.seg.xa() - s0.seg.xa()).norm())
-            .max((s.seg.xb() - s0.seg.xb()).norm());
+    let result = rows_and_results(at, &view, mem, &decisions, out)?;
+    out.decisions.push(decisions);
+    Ok(result)
+}
+
+/// One pair at the iterate, as its nodes' decisions read it: the target now
+/// and when the increment began, the contactor's positions then and now,
+/// its nodes' out-of-balance forces, and the tolerances taken from them.
+struct PairIterate<'a> {
+    pair: &'a ContactPair,
+    segments: Vec<TargetSegment>,
+    segments0: Vec<TargetSegment>,
+    x: Vec<Vector2<f64>>,
+    x0: Vec<Vector2<f64>>,
+    /// The longest contactor segment.
+    h: f64,
+    /// How far the target has moved in this increment.
+    target_motion: f64,
+    /// Each node's out-of-balance force.
+    force: Vec<Vector2<f64>>,
+    /// In contact after the previous iteration.
+    active: Vec<bool>,
+    /// A node's force pulls when its normal part is above this.
+    tension: f64,
+    frictionless: bool,
+    /// `Start::settling`.
+    settling: bool,
+}
+
+impl<'a> PairIterate<'a> {
+    /// Target search geometry and force recovery: the target's segments
+    /// and the contactor's positions, now and at the start of the
+    /// increment, and each node's force.
+    fn new(at: &Iterate, pair: &'a ContactPair, mem: &PairMemory) -> Result<Self, String> {
+        let (problem, start) = (at.problem, at.start);
+        let segments = pairs::target_segments(problem, pair, at.u, at.poses)?;
+        let segments0 = pairs::target_segments(problem, pair, start.u, start.poses)?;
+        let m = pair.contactor.len();
+        let (x, x0) = (
+            pairs::contactor_positions(problem, pair, at.u),
+            pairs::contactor_positions(problem, pair, start.u),
+        );
+        // How far a free node may have gone into the target and still be
+        // caught (`reach`): a few contactor segments (not the far side of a
+        // thin target), plus how far the node and the target have moved in
+        // this increment, so that a large increment closes the whole zone
+        // at once on any mesh.
+        let mut h: f64 = 0.0;
+        for w in x.windows(2) {
+            h = h.max((w[1] - w[0]).norm());
+        }
+        let mut target_motion: f64 = 0.0;
+        for (s, s0) in segments.iter().zip(&segments0) {
+            target_motion = target_motion
+                .max((s.seg.xa() - s0.seg.xa()).norm())
+                .max((s.seg.xb() - s0.seg.xb()).norm());
+        }
+        // The out-of-balance force is the contact force at a node in
+        // contact; at a prescribed dof it is the driver's reaction (a
+        // symmetry plane).
+        let force = at.contactor_forces(pair);
+        let active: Vec<bool> = (mem.nodes.iter())
+            .map(|n| n.state != NodeState::Open)
+            .collect();
+        let force_scale = (0..m)
+            .filter(|&k| active[k])
+            .map(|k| force[k].norm())
+            .fold(0.0, f64::max);
+        Ok(PairIterate {
+            pair,
+            segments,
+            segments0,
+            x,
+            x0,
+            h,
+            target_motion,
+            force,
+            active,
+            tension: TENSION_TOLERANCE * force_scale,
+            frictionless: pair.mu_s == 0.0 && pair.mu_d == 0.0,
+            settling: start.settling,
+        })
     }
-    let reach = |k: usize| {
-        if h > 0.0 {
-            2.0 * h + (x[k] - x0[k]).norm() + target_motion
+
+    /// How far node k may have gone into the target and still be caught
+    /// (see `new`).
+    fn reach(&self, k: usize) -> f64 {
+        if self.h > 0.0 {
+            2.0 * self.h + (self.x[k] - self.x0[k]).norm() + self.target_motion
         } else {
             f64::INFINITY
         }
-    };
-    // The out-of-balance force is the contact force at a node in contact; at
-    // a prescribed dof it is the driver's reaction (a symmetry plane).
-    let component = |d: usize| if eq[d] == PRESCRIBED { 0.0 } else { r[d] };
-    let force: Vec<Vector2<f64>> = (pair.contactor.iter())
-        .map(|&n| Vector2::new(component(2 * n), component(2 * n + 1)))
-        .collect();
-    let active: Vec<bool> = (mem.nodes.iter())
-        .map(|n| n.state != NodeState::Open)
-        .collect();
-    let force_scale = (0..m)
-        .filter(|&k| active[k])
-        .map(|k| force[k].norm())
-        .fold(0.0, f64::max);
-    let tension = TENSION_TOLERANCE * force_scale;
-    let frictionless = pair.mu_s == 0.0 && pair.mu_d == 0.0;
+    }
 
-    let decide_node = |k: usize, forced: Option<Forced>| {
-        decide(
-            pair,
-            &segments,
-            &segments0,
-            &mem.nodes[k],
-            x[k],
-            x0[k],
-            if active[k] {
-                force[k]
-            } else {
-                Vector2::zeros()
-            },
-            reach(k),
-            tension,
-            frictionless,
-            1e-10 * h,
-            start.settling,
-            forced,
-        )
-    };
-    let decisions: Vec<Decision> = match plan {
+    /// Node k's contact force: its out-of-balance force if it was in
+    /// contact, none if it was free.
+    fn contact_force(&self, k: usize) -> Vector2<f64> {
+        if self.active[k] {
+            self.force[k]
+        } else {
+            Vector2::zeros()
+        }
+    }
+}
+
+/// State decisions: every node decided from the iterate (`Plan::Decide`),
+/// or the decisions made at this iterate kept but for the forced nodes'
+/// (`Plan::Keep`).
+fn decisions(view: &PairIterate, mem: &PairMemory, plan: &Plan) -> Vec<Decision> {
+    let decide_node = |k: usize, forced: Option<Forced>| decide(view, k, &mem.nodes[k], forced);
+    match plan {
         Plan::Keep { decisions, forced } => {
             let mut kept = decisions.to_vec();
-            for &(k, f) in forced {
+            for &(k, f) in forced.iter() {
                 kept[k] = decide_node(k, Some(f));
             }
             kept
         }
-        Plan::Decide => (0..m).map(|k| decide_node(k, None)).collect(),
-    };
-    let deciding = matches!(plan, Plan::Decide);
-    out.pending += decisions.iter().filter(|d| d.held_back).count();
-    for (k, d) in decisions.iter().enumerate().filter(|_| deciding) {
+        Plan::Decide => (0..view.x.len()).map(|k| decide_node(k, None)).collect(),
+    }
+}
+
+/// The nodes a fresh decision changes: counted for convergence, and
+/// against the increment's limits on changes between open and contact
+/// (`flips`) and between stick and slip (`slips`); releases are logged.
+fn count_changes(
+    pair: &ContactPair,
+    mem: &PairMemory,
+    decisions: &[Decision],
+    [flips, slips]: [&mut [usize]; 2],
+    log: &mut dyn FnMut(&str),
+    out: &mut ContactSystem,
+) -> Result<(), String> {
+    for (k, d) in decisions.iter().enumerate() {
         let old = mem.nodes[k];
         if d.state != old.state
             || d.corner != old.corner
@@ -185,119 +245,139 @@ pub(super) fn update_pair(
             }
         }
     }
+    Ok(())
+}
 
-    let mut result = PairResult::default();
-    let mut frames: Vec<Option<(Vector2<f64>, Vector2<f64>)>> = vec![None; m];
+/// Constraint rows and reported results: each node's memory after its
+/// decision (`remember`), the rows of Eq. (18) of each node in contact
+/// (`pairs::add_rows`, a sliding node's friction in its multiplier's
+/// column), and the pair's forces, states and tractions.
+fn rows_and_results(
+    at: &Iterate,
+    view: &PairIterate,
+    mem: &mut PairMemory,
+    decisions: &[Decision],
+    out: &mut ContactSystem,
+) -> Result<PairResult, String> {
+    let pair = view.pair;
+    let mut report = Report::new(pair.contactor.len());
     for (k, d) in decisions.iter().enumerate() {
-        let old = mem.nodes[k];
-        let node = &mut mem.nodes[k];
+        remember(&mut mem.nodes[k], d, view.frictionless);
         // The node's contact force [normal, tangential] in the frame its
         // traction is reported in.
         let mut node_force = [0.0; 2];
-        node.state = d.state;
-        node.corner = d.corner;
-        node.corner_leaves += u32::from(old.corner && !d.corner);
-        node.slip_sign = if d.state == NodeState::Slip {
-            d.slip_sign
-        } else {
-            0.0
-        };
-        if d.state == NodeState::Slip && !frictionless {
-            node.slid = true;
-            node.ever_slid = true;
-        }
         if let Some((j, cp)) = d.point.as_ref() {
-            if old.state != NodeState::Open && *j != old.segment {
-                node.crossed = Some((old.segment, *j));
-            }
-            node.segment = *j;
-            node.beta = cp.beta();
-            let n = pair.contactor[k];
             let held = d.state == NodeState::Stick || d.corner;
             let friction = if held { 0.0 } else { d.slip_sign * pair.mu_d };
-            pairs::add_rows(segments[*j].nodes, n, cp, held, d.lambda, friction, out);
-            let f = if active[k] {
-                force[k]
-            } else {
-                Vector2::zeros()
-            };
-            let (normal, tangent) = (cp.segment().normal(), cp.segment().tangent());
-            result.fx += f.x;
-            result.fy += f.y;
-            result.fn_ -= f.dot(&normal);
-            result.ft -= f.dot(&tangent);
-            frames[k] = Some((-tangent, -normal));
-            node_force = [-f.dot(&normal), -f.dot(&tangent)];
-            if let Target::Rigid(ri) = pair.target {
-                let (_, reference) = pairs::rigid_points(problem, ri, poses[ri]);
-                let xc = cp.point();
-                let rr = &mut out.rigid[ri];
-                rr[0] -= f.x;
-                rr[1] -= f.y;
-                rr[2] -= (xc.x - reference[0]) * f.y - (xc.y - reference[1]) * f.x;
-            }
-            if node.anchor.is_none() {
-                node.anchor = d.anchor;
-            }
+            let n = pair.contactor[k];
+            pairs::add_rows(
+                view.segments[*j].nodes,
+                n,
+                cp,
+                held,
+                d.lambda,
+                friction,
+                out,
+            );
+            let f = view.contact_force(k);
+            node_force = report.contact(at, pair, k, f, cp, &mut out.rigid);
         }
-        match d.state {
-            NodeState::Open => result.n_open += 1,
-            NodeState::Stick => result.n_stick += 1,
-            NodeState::Slip => result.n_slip += 1,
-        }
-        result.nodes.x.push(x[k].x);
-        result.nodes.y.push(x[k].y);
-        result.nodes.state.push(d.state);
-        result.nodes.pn.push(node_force[0]);
-        result.nodes.pt.push(node_force[1]);
+        report.node(view.x[k], d.state, node_force);
     }
     // Lumped: each node's traction has the sign of its own force, which the
     // decisions above read (the consistent recovery of Eq. 26 spreads a
     // force over its neighbours and shows a pressed node next to an open one
     // in tension).
     let (tn, tt) = pairs::reported_tractions(
-        problem,
+        at.problem,
         pair,
-        &x,
-        &active,
-        &force,
-        &frames,
+        &view.x,
+        &view.active,
+        &view.force,
+        &report.frames,
         Recovery::Lumped,
     )?;
+    let mut result = report.result;
     result.nodes.tn = tn;
     result.nodes.tt = tt;
-    out.decisions.push(decisions);
     Ok(result)
 }
 
-/// The decision for one node, from the iterate: where it meets the target,
-/// its state and the force its rows carry.
-#[allow(clippy::too_many_arguments)]
-fn decide(
-    pair: &ContactPair,
-    segments: &[TargetSegment],
-    segments0: &[TargetSegment],
-    old: &NodeMemory,
-    x: Vector2<f64>,
-    x0: Vector2<f64>,
-    f: Vector2<f64>,
-    reach: f64,
-    tension: f64,
-    frictionless: bool,
-    slip_tolerance: f64,
-    settling: bool,
-    forced: Option<Forced>,
-) -> Decision {
-    let open = Decision {
-        state: NodeState::Open,
-        point: None,
-        lambda: Vector2::zeros(),
-        p_n: 0.0,
-        slip_sign: 0.0,
-        anchor: None,
-        corner: false,
-        held_back: false,
+/// A node's memory after its decision: state, corner hold, slip, and the
+/// segment and contact point it meets the target at (a segment switch
+/// recorded as a crossing; the anchor kept once set in the increment).
+fn remember(node: &mut NodeMemory, d: &Decision, frictionless: bool) {
+    let old = *node;
+    node.state = d.state;
+    node.corner = d.corner;
+    node.corner_leaves += u32::from(old.corner && !d.corner);
+    node.slip_sign = if d.state == NodeState::Slip {
+        d.slip_sign
+    } else {
+        0.0
     };
+    if d.state == NodeState::Slip && !frictionless {
+        node.slid = true;
+        node.ever_slid = true;
+    }
+    if let Some((j, cp)) = d.point.as_ref() {
+        if old.state != NodeState::Open && *j != old.segment {
+            node.crossed = Some((old.segment, *j));
+        }
+        node.segment = *j;
+        node.beta = cp.beta();
+        if node.anchor.is_none() {
+            node.anchor = d.anchor;
+        }
+    }
+}
+
+/// Where a node meets the target and the forces on it there: what its
+/// stick/slip decision reads.
+struct Touch {
+    k: usize,
+    /// Target segment and contact point.
+    j: usize,
+    cp: ContactPoint,
+    /// The node's contact force, and its normal (compression positive) and
+    /// tangential parts.
+    f: Vector2<f64>,
+    p_n: f64,
+    q: f64,
+}
+
+impl Touch {
+    /// The foot of the normal on the segment, referred to its end node
+    /// beyond an end.
+    fn projection(&self, x: Vector2<f64>) -> (usize, ContactPoint) {
+        let seg = self.cp.segment();
+        let p = seg.project(x);
+        (self.j, seg.contact_at(x, p.beta().clamp(0.0, 1.0)))
+    }
+}
+
+impl Decision {
+    /// Open, with the normal force that released it (zero for a node that
+    /// has not touched).
+    fn open(p_n: f64) -> Self {
+        Decision {
+            state: NodeState::Open,
+            point: None,
+            lambda: Vector2::zeros(),
+            p_n,
+            slip_sign: 0.0,
+            anchor: None,
+            corner: false,
+            held_back: false,
+        }
+    }
+}
+
+/// The decision for one node, from the iterate: where it meets the target,
+/// whether it is in contact (the normal test), and its state and the force
+/// its rows carry (`frictionless_decision`, `frictional_decision`).
+fn decide(view: &PairIterate, k: usize, old: &NodeMemory, forced: Option<Forced>) -> Decision {
+    let (segments, x, reach) = (&view.segments, view.x[k], view.reach(k));
     // Where the node meets the target, if it does.
     let found = match old.state {
         NodeState::Open => pairs::search(segments, x, reach),
@@ -307,23 +387,25 @@ fn decide(
         NodeState::Slip => pairs::follow(segments, old.segment, x, reach),
     };
     let Some((j, cp)) = found else {
-        return open;
+        return Decision::open(0.0);
     };
+    let f = view.contact_force(k);
     let seg = cp.segment();
     let (n_s, n_r) = (seg.normal(), seg.tangent());
     // Normal force (compression positive) and tangential force on the node.
     let (p_n, q) = (-n_s.dot(&f), n_r.dot(&f));
     let overlap = cp.normal_overlap();
+    let tension = view.tension;
     let mut held_back = false;
     // A free node that has penetrated closes; a node in contact opens when
     // its force pulls (a gap it shows after a step along a curved target
     // is the linearisation's, and its row closes it).
     if old.state == NodeState::Open {
         if overlap <= 0.0 {
-            return open;
+            return Decision::open(0.0);
         }
     } else if p_n < -tension
-        && (old.state != NodeState::Stick || frictionless || q.abs() <= tension)
+        && (old.state != NodeState::Stick || view.frictionless || q.abs() <= tension)
     {
         // A sticking node pulled along the target as well slides first: held
         // at its anchor on a curved target, its pull shows partly as tension.
@@ -334,100 +416,133 @@ fn decide(
         // every node of the contact (the incline tilted by 5 degrees, the
         // capstan pulled 6 mm at once: every node released, the body free);
         // the next iterates have the geometry right.
-        if !settling {
-            return Decision { p_n, ..open };
+        if !view.settling {
+            return Decision::open(p_n);
         }
         held_back = true;
     }
-    let mut decision = (|| -> Decision {
-        let projection = || {
-            let p = seg.project(x);
-            (j, seg.contact_at(x, p.beta().clamp(0.0, 1.0)))
-        };
-        if frictionless {
-            let point = if old.state == NodeState::Stick {
-                projection()
-            } else {
-                (j, cp)
-            };
-            if let Some(held) = corner(segments, point.0, x, f, tension, old) {
-                return held;
-            }
+    let touch = Touch {
+        k,
+        j,
+        cp,
+        f,
+        p_n,
+        q,
+    };
+    let mut decision = if view.frictionless {
+        frictionless_decision(view, old, &touch)
+    } else {
+        frictional_decision(view, old, &touch, forced)
+    };
+    decision.held_back = held_back;
+    decision
+}
+
+/// A frictionless node in contact: held at a reflex corner of the target
+/// (`corner`), else sliding where it meets the target, its force along the
+/// normal.
+fn frictionless_decision(view: &PairIterate, old: &NodeMemory, touch: &Touch) -> Decision {
+    let x = view.x[touch.k];
+    let point = if old.state == NodeState::Stick {
+        touch.projection(x)
+    } else {
+        (touch.j, touch.cp)
+    };
+    if let Some(held) = corner(&view.segments, point.0, x, touch.f, view.tension, old) {
+        return held;
+    }
+    Decision {
+        state: NodeState::Slip,
+        point: Some(point),
+        lambda: -touch.p_n * touch.cp.segment().normal(),
+        p_n: touch.p_n,
+        slip_sign: 0.0,
+        anchor: old.anchor,
+        corner: false,
+        held_back: false,
+    }
+}
+
+/// A node in contact with friction: its slip from its anchor and its
+/// forces decide stick (held at the anchor) or slip (against the slip
+/// direction, its friction `mu_d p_n`).
+fn frictional_decision(
+    view: &PairIterate,
+    old: &NodeMemory,
+    touch: &Touch,
+    forced: Option<Forced>,
+) -> Decision {
+    let (segments, pair) = (&view.segments, view.pair);
+    let (k, j, p_n, q) = (touch.k, touch.j, touch.p_n, touch.q);
+    let (x, reach) = (view.x[k], view.reach(k));
+    let seg = touch.cp.segment();
+    let (n_s, n_r) = (seg.normal(), seg.tangent());
+    // Where the node was on the target when the increment began (the
+    // target's material point under it then): its slip is measured from
+    // there, so a converged node either sticks there or slides against its
+    // slip (Coulomb over the increment, backward Euler).
+    let (ja, beta_a) = old
+        .anchor
+        .unwrap_or_else(|| start_point(&view.segments0, j, view.x0[k]));
+    let anchor = segments
+        .get(ja)
+        .map_or(touch.cp.point(), |s| s.seg.point_at(beta_a));
+    let slip = n_r.dot(&(seg.project(x).point() - anchor));
+    let mu_stick = sticking_mu(pair, old);
+    let slip_tolerance = 1e-10 * view.h;
+    // A sliding node slides on while its slip from the anchor runs along
+    // its direction (its friction opposes it) and sticks when the slip has
+    // turned back; a sticking node, or one new to contact, sticks while its
+    // force is within the capacity and slides against it otherwise.
+    let s = match (forced, old.state) {
+        (Some(Forced::Slip(s)), _) => Some(s),
+        (Some(Forced::Stick), _) => None,
+        (None, NodeState::Slip) if old.slip_sign != 0.0 => {
+            (old.slip_sign * slip >= -slip_tolerance).then_some(old.slip_sign)
+        }
+        // A node that touches again after sliding free in this increment, or
+        // touches first far from where it was: slides along that slip.
+        (None, NodeState::Open) => {
+            (slip.abs() > mu_stick * touch.cp.normal_overlap()).then(|| slip.signum())
+        }
+        // Its rows hold a sticking node at the anchor exactly, unless a
+        // driver moves it along the target: then it slides.
+        (None, NodeState::Stick) if slip.abs() > slip_tolerance.max(1e-9 * reach) => {
+            Some(slip.signum())
+        }
+        _ => (q.abs() > mu_stick * p_n.max(0.0)).then(|| -q.signum()),
+    };
+    let slide = |s: f64| Decision {
+        state: NodeState::Slip,
+        point: Some(touch.projection(x)),
+        lambda: p_n * (-n_s - s * pair.mu_d * n_r),
+        p_n,
+        slip_sign: s,
+        anchor: Some((ja, beta_a)),
+        corner: false,
+        held_back: false,
+    };
+    let Some(s) = s else {
+        let at = segments
+            .get(ja)
+            .map(|s| (ja, s.seg.contact_at(x, beta_a)))
+            .filter(|(_, a)| a.overlap().norm() <= reach);
+        if let Some(point) = at {
             return Decision {
-                state: NodeState::Slip,
+                state: NodeState::Stick,
                 point: Some(point),
-                lambda: -p_n * n_s,
+                lambda: touch.f,
                 p_n,
                 slip_sign: 0.0,
-                anchor: old.anchor,
+                anchor: Some((ja, beta_a)),
                 corner: false,
                 held_back: false,
             };
         }
-        // Where the node was on the target when the increment began (the
-        // target's material point under it then): its slip is measured from
-        // there, so a converged node either sticks there or slides against its
-        // slip (Coulomb over the increment, backward Euler).
-        let (ja, beta_a) = old.anchor.unwrap_or_else(|| start_point(segments0, j, x0));
-        let anchor = segments
-            .get(ja)
-            .map_or(cp.point(), |s| s.seg.point_at(beta_a));
-        let slip = n_r.dot(&(seg.project(x).point() - anchor));
-        let mu_stick = sticking_mu(pair, old);
-        // A sliding node slides on while its slip from the anchor runs along
-        // its direction (its friction opposes it) and sticks when the slip has
-        // turned back; a sticking node, or one new to contact, sticks while its
-        // force is within the capacity and slides against it otherwise.
-        let s = match (forced, old.state) {
-            (Some(Forced::Slip(s)), _) => Some(s),
-            (Some(Forced::Stick), _) => None,
-            (None, NodeState::Slip) if old.slip_sign != 0.0 => {
-                (old.slip_sign * slip >= -slip_tolerance).then_some(old.slip_sign)
-            }
-            // A node that touches again after sliding free in this increment, or
-            // touches first far from where it was: slides along that slip.
-            (None, NodeState::Open) => (slip.abs() > mu_stick * overlap).then(|| slip.signum()),
-            // Its rows hold a sticking node at the anchor exactly, unless a
-            // driver moves it along the target: then it slides.
-            (None, NodeState::Stick) if slip.abs() > slip_tolerance.max(1e-9 * reach) => {
-                Some(slip.signum())
-            }
-            _ => (q.abs() > mu_stick * p_n.max(0.0)).then(|| -q.signum()),
-        };
-        let slide = |s: f64| Decision {
-            state: NodeState::Slip,
-            point: Some(projection()),
-            lambda: p_n * (-n_s - s * pair.mu_d * n_r),
-            p_n,
-            slip_sign: s,
-            anchor: Some((ja, beta_a)),
-            corner: false,
-            held_back: false,
-        };
-        let Some(s) = s else {
-            let at = segments
-                .get(ja)
-                .map(|s| (ja, s.seg.contact_at(x, beta_a)))
-                .filter(|(_, a)| a.overlap().norm() <= reach);
-            if let Some(point) = at {
-                return Decision {
-                    state: NodeState::Stick,
-                    point: Some(point),
-                    lambda: f,
-                    p_n,
-                    slip_sign: 0.0,
-                    anchor: Some((ja, beta_a)),
-                    corner: false,
-                    held_back: false,
-                };
-            }
-            // The anchor is out of reach (the target has moved on): slide.
-            return slide(if slip != 0.0 { slip.signum() } else { 1.0 });
-        };
-        slide(s)
-    })();
-    decision.held_back = held_back;
-    decision
+        // The anchor is out of reach (the target has moved on): slide.
+        return slide(if slip != 0.0 { slip.signum() } else { 1.0 });
+    };
+    slide(s)
 }
 
 /// The coefficient that holds a sticking node: mu_d once it has slid in

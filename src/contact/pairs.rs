@@ -11,7 +11,7 @@ use super::segment::{ContactPoint, Segment};
 use super::traction::{self, Geometry, SegmentState};
 use crate::assembly::PRESCRIBED;
 use crate::problem::{AnalysisKind, ContactPair, Decisions, Kinematics, Problem, Target};
-use crate::results::{NodeState, PairNodes, PairResult};
+use crate::results::{NodeState, PairResult};
 use nalgebra::Vector2;
 use serde::{Deserialize, Serialize};
 
@@ -619,16 +619,20 @@ pub fn update(
         flips.counts = memory.iter().map(|m| vec![0; m.nodes.len()]).collect();
         flips.slips = flips.counts.clone();
     }
+    let at = Iterate {
+        problem,
+        poses,
+        u,
+        r,
+        eq,
+        start,
+    };
     for (p, pair) in problem.contacts.iter().enumerate() {
         let result = match pair.decisions {
             Decisions::Paper => {
                 let result = paper_pair(
-                    problem,
+                    &at,
                     pair,
-                    poses,
-                    u,
-                    r,
-                    eq,
                     &mut memory[p],
                     &mut flips.counts[p],
                     log,
@@ -638,13 +642,8 @@ pub fn update(
                 result
             }
             Decisions::Nodal => super::nodal::update_pair(
-                problem,
+                &at,
                 pair,
-                poses,
-                u,
-                r,
-                eq,
-                start,
                 &mut memory[p],
                 [&mut flips.counts[p], &mut flips.slips[p]],
                 log,
@@ -663,6 +662,115 @@ pub fn update(
     Ok(out)
 }
 
+/// The iterate a pair's contact is updated at: displacements, rigid target
+/// poses, out-of-balance forces (F_int - R_ext, contact excluded), the
+/// dof-to-equation map, and the state the increment started from.
+pub(super) struct Iterate<'a> {
+    pub(super) problem: &'a Problem,
+    pub(super) poses: &'a [[f64; 3]],
+    pub(super) u: &'a [f64],
+    pub(super) r: &'a [f64],
+    pub(super) eq: &'a [u32],
+    /// The converged state the increment starts from.
+    pub(super) start: &'a Start<'a>,
+}
+
+impl Iterate<'_> {
+    /// The out-of-balance force at each contactor node of `pair`, a
+    /// prescribed component taken as zero: there it is the driver's
+    /// reaction, not contact (a symmetry plane).
+    pub(super) fn contactor_forces(&self, pair: &ContactPair) -> Vec<Vector2<f64>> {
+        let component = |d: usize| {
+            if self.eq[d] == PRESCRIBED {
+                0.0
+            } else {
+                self.r[d]
+            }
+        };
+        (pair.contactor.iter())
+            .map(|&n| Vector2::new(component(2 * n), component(2 * n + 1)))
+            .collect()
+    }
+}
+
+/// The positions of `pair`'s contactor nodes at displacements `u`.
+pub(super) fn contactor_positions(
+    problem: &Problem,
+    pair: &ContactPair,
+    u: &[f64],
+) -> Vec<Vector2<f64>> {
+    (pair.contactor.iter())
+        .map(|&n| position(problem, u, n))
+        .collect()
+}
+
+/// A pair's reported results, built node by node.
+pub(super) struct Report {
+    pub(super) result: PairResult,
+    /// Per contactor node in contact: the target's frame at its contact
+    /// point, as the contactor sees it (tangent toward the next node,
+    /// inward normal), for the reported nodal tractions.
+    pub(super) frames: Vec<Option<(Vector2<f64>, Vector2<f64>)>>,
+}
+
+impl Report {
+    pub(super) fn new(m: usize) -> Self {
+        Report {
+            result: PairResult::default(),
+            frames: vec![None; m],
+        }
+    }
+
+    /// Contactor node k in contact at `cp` with contact force `f`: the
+    /// pair's Fx, Fy and its normal (compression positive) and tangential
+    /// (along the contactor, from node k toward k + 1, i.e. against the
+    /// target's A -> B) parts, the node's frame, and the reaction on a
+    /// rigid target (its moment about the moved reference point). Returns
+    /// the node's [normal, tangential] force.
+    pub(super) fn contact(
+        &mut self,
+        at: &Iterate,
+        pair: &ContactPair,
+        k: usize,
+        f: Vector2<f64>,
+        cp: &ContactPoint,
+        rigid: &mut [[f64; 3]],
+    ) -> [f64; 2] {
+        let (normal, tangent) = (cp.segment().normal(), cp.segment().tangent());
+        let result = &mut self.result;
+        result.fx += f.x;
+        result.fy += f.y;
+        result.fn_ -= f.dot(&normal);
+        result.ft -= f.dot(&tangent);
+        self.frames[k] = Some((-tangent, -normal));
+        if let Target::Rigid(ri) = pair.target {
+            let (_, reference) = rigid_points(at.problem, ri, at.poses[ri]);
+            let xc = cp.point();
+            let rr = &mut rigid[ri];
+            rr[0] -= f.x;
+            rr[1] -= f.y;
+            rr[2] -= (xc.x - reference[0]) * f.y - (xc.y - reference[1]) * f.x;
+        }
+        [-f.dot(&normal), -f.dot(&tangent)]
+    }
+
+    /// Contactor node k at `x` with `state`, and its [normal, tangential]
+    /// force: the state counts and the node's entries.
+    pub(super) fn node(&mut self, x: Vector2<f64>, state: NodeState, force: [f64; 2]) {
+        let result = &mut self.result;
+        match state {
+            NodeState::Open => result.n_open += 1,
+            NodeState::Stick => result.n_stick += 1,
+            NodeState::Slip => result.n_slip += 1,
+        }
+        result.nodes.x.push(x.x);
+        result.nodes.y.push(x.y);
+        result.nodes.state.push(state);
+        result.nodes.pn.push(force[0]);
+        result.nodes.pt.push(force[1]);
+    }
+}
+
 /// The converged state an increment starts from: what the nodal decisions
 /// measure slips against.
 pub struct Start<'a> {
@@ -678,41 +786,122 @@ pub struct Start<'a> {
     pub settling: bool,
 }
 
-/// The paper's Section 3 for one pair: recovered tractions, segment
-/// decisions and Table 1.
+/// The paper's Section 3 for one pair, in phases: the pair at the iterate
+/// (target search geometry, `PaperPair::new`), force recovery (recovered
+/// tractions and Section 3's segment decisions, `recover`), state
+/// decisions (re-contacts, the return to sticking, Table 1 and each node's
+/// contact: `decide_segments`, `table1`, `node_contact`), and the rows of
+/// Eq. (18) with the reported results (`node_rows`, `quadratic_report`).
 fn paper_pair(
-    problem: &Problem,
+    at: &Iterate,
     pair: &ContactPair,
-    poses: &[[f64; 3]],
-    u: &[f64],
-    r: &[f64],
-    eq: &[u32],
     mem: &mut PairMemory,
     flips: &mut [usize],
     log: &mut dyn FnMut(&str),
     out: &mut ContactSystem,
 ) -> Result<PairResult, String> {
-    let geometry = geometry(problem);
-    let m = pair.contactor.len();
-    let segments = target_segments(problem, pair, u, poses)?;
-    let x: Vec<Vector2<f64>> = pair
-        .contactor
-        .iter()
-        .map(|&n| position(problem, u, n))
-        .collect();
-    // Reach of the search: a few contactor segment lengths, so a node is
-    // not caught by the far side of a thin target.
-    let mut reach: f64 = 0.0;
-    for w in x.windows(2) {
-        reach = reach.max((w[1] - w[0]).norm());
+    let view = PaperPair::new(at, pair)?;
+    let rec = recover(&view, mem)?;
+    let recontact = decide_segments(&view, &rec, mem, log);
+    let table1 = table1(&view, &rec, mem);
+    let mut report = Report::new(view.x.len());
+    for (k, &state) in table1.iter().enumerate() {
+        let old = mem.nodes[k];
+        let contact = node_contact(&view, &rec, k, &old, state, recontact[k], log);
+        if (contact.state == NodeState::Open) != (old.state == NodeState::Open) {
+            count_flip(pair, k, flips)?;
+        }
+        mem.nodes[k] = node_rows(&view, &rec, k, &old, contact, &mut report, out);
     }
-    let reach = if reach > 0.0 {
-        2.0 * reach
-    } else {
-        f64::INFINITY
-    };
+    quadratic_report(&view, &rec, &mut report);
+    Ok(report.result)
+}
 
-    // Contact forces from the out-of-balance forces (Section 3).
+/// One pair at the iterate under the paper's decisions: the target's
+/// segments, the contactor's positions and the reach of the search.
+struct PaperPair<'a> {
+    at: &'a Iterate<'a>,
+    pair: &'a ContactPair,
+    segments: Vec<TargetSegment>,
+    x: Vec<Vector2<f64>>,
+    reach: f64,
+    frictionless: bool,
+}
+
+impl<'a> PaperPair<'a> {
+    /// Target search geometry: the target's segments and the contactor's
+    /// positions at the iterate.
+    fn new(at: &'a Iterate<'a>, pair: &'a ContactPair) -> Result<Self, String> {
+        let segments = target_segments(at.problem, pair, at.u, at.poses)?;
+        let x = contactor_positions(at.problem, pair, at.u);
+        // Reach of the search: a few contactor segment lengths, so a node is
+        // not caught by the far side of a thin target.
+        let mut reach: f64 = 0.0;
+        for w in x.windows(2) {
+            reach = reach.max((w[1] - w[0]).norm());
+        }
+        let reach = if reach > 0.0 {
+            2.0 * reach
+        } else {
+            f64::INFINITY
+        };
+        Ok(PaperPair {
+            at,
+            pair,
+            segments,
+            x,
+            reach,
+            frictionless: pair.mu_s == 0.0 && pair.mu_d == 0.0,
+        })
+    }
+
+    /// The contactor segments joining node k: before it and after it.
+    fn adjoining(&self, k: usize, nseg: usize) -> [Option<usize>; 2] {
+        let before = if k > 0 {
+            Some(k - 1)
+        } else {
+            self.pair.closed.then(|| nseg - 1)
+        };
+        [before, (k < nseg).then_some(k)]
+    }
+}
+
+/// What the force recovery gives a pair under the paper's decisions.
+struct Recovered {
+    /// In contact after the previous iteration.
+    active: Vec<bool>,
+    /// Each node's out-of-balance force.
+    force: Vec<Vector2<f64>>,
+    /// The segments' states after the previous iteration.
+    prev: Vec<SegmentState>,
+    /// Section 3 at the current positions.
+    ev: traction::Evaluation,
+    /// Reported nodal tractions.
+    area: PerArea,
+    /// Scale of the contact forces of this pair, for the tension test.
+    force_scale: f64,
+}
+
+impl Recovered {
+    /// The force a node in contact reports: its out-of-balance force, which
+    /// at convergence is the contact force in every direction (the
+    /// multipliers take up what the recovered forces leave).
+    fn reported(&self, k: usize) -> Vector2<f64> {
+        if self.active[k] {
+            self.force[k]
+        } else {
+            Vector2::zeros()
+        }
+    }
+}
+
+/// Force recovery: contact forces from the out-of-balance forces (Section
+/// 3): the recovered tractions, segment decisions and nodal contact forces
+/// of `traction::evaluate`, and the reported tractions (`per_area`).
+fn recover(view: &PaperPair, mem: &PairMemory) -> Result<Recovered, String> {
+    let (at, problem, pair) = (view.at, view.at.problem, view.pair);
+    let m = pair.contactor.len();
+    let geometry = geometry(problem);
     let active: Vec<bool> = mem
         .nodes
         .iter()
@@ -720,13 +909,8 @@ fn paper_pair(
         .collect();
     // At a prescribed dof the out-of-balance force is the driver's
     // reaction, not contact: taken as zero (a symmetry plane).
-    let component = |d: usize| if eq[d] == PRESCRIBED { 0.0 } else { r[d] };
-    let force: Vec<[f64; 2]> = pair
-        .contactor
-        .iter()
-        .map(|&n| [component(2 * n), component(2 * n + 1)])
-        .collect();
-    let xs: Vec<[f64; 2]> = x.iter().map(|v| [v.x, v.y]).collect();
+    let force = at.contactor_forces(pair);
+    let force_xy: Vec<[f64; 2]> = force.iter().map(|v| [v.x, v.y]).collect();
     let prev: Vec<SegmentState> = mem
         .segments
         .iter()
@@ -735,7 +919,8 @@ fn paper_pair(
     let ever: Vec<bool> = mem.segments.iter().map(|s| s.ever_slid).collect();
     let directions: Vec<f64> = mem.segments.iter().map(|s| s.direction).collect();
     // Section 3 on the contactor at positions `at`.
-    let evaluate = |at: &[[f64; 2]]| {
+    let evaluate = |at: &[Vector2<f64>]| {
+        let xs: Vec<[f64; 2]> = at.iter().map(|v| [v.x, v.y]).collect();
         traction::evaluate(
             geometry,
             pair.recovery,
@@ -743,9 +928,9 @@ fn paper_pair(
             pair.mu_d,
             pair.rule,
             pair.closed,
-            at,
+            &xs,
             &active,
-            &force,
+            &force_xy,
             &prev,
             &ever,
             &directions,
@@ -753,11 +938,35 @@ fn paper_pair(
         )
         .map_err(|e| format!("pair '{}': {e}", pair.name))
     };
-    let ev = evaluate(&xs)?;
+    let ev = evaluate(&view.x)?;
+    let area = per_area(view, &ev, &evaluate)?;
+    let force_scale = (0..m)
+        .filter(|&k| active[k])
+        .map(|k| force_xy[k][0].hypot(force_xy[k][1]))
+        .fold(0.0, f64::max);
+    Ok(Recovered {
+        active,
+        force,
+        prev,
+        ev,
+        area,
+        force_scale,
+    })
+}
+
+/// The reported nodal tractions `t_n`, `t_t` of Section 3's evaluation
+/// `ev`, and the positions they are per unit area of; `evaluate` is
+/// Section 3 on the contactor at other positions.
+fn per_area(
+    view: &PaperPair,
+    ev: &traction::Evaluation,
+    evaluate: &Section3,
+) -> Result<PerArea, String> {
+    let (problem, pair) = (view.at.problem, view.pair);
     // Reported tractions are per unit area of the geometry the element
     // stresses live on: the reference one under small-strain kinematics
     // (linear theory, as Hertz's), the current one under total
-    // Lagrangian kinematics (Cauchy tractions). The decisions above only
+    // Lagrangian kinematics (Cauchy tractions). Section 3's decisions only
     // compare tractions of the same segment, so they do not depend on it.
     let reference_area = matches!(
         problem.kinematics,
@@ -769,11 +978,10 @@ fn paper_pair(
             .map(|&n| Vector2::new(problem.mesh.nodes[n][0], problem.mesh.nodes[n][1]))
             .collect()
     } else {
-        x.clone()
+        view.x.clone()
     };
-    let (node_tn, node_tt) = if reference_area {
-        let xs: Vec<[f64; 2]> = x_area.iter().map(|v| [v.x, v.y]).collect();
-        let out = evaluate(&xs)?;
+    let (node_tn, node_tt): (Vec<f64>, Vec<f64>) = if reference_area {
+        let out = evaluate(&x_area)?;
         // Magnitude per reference area, direction from the current
         // surface (the reference surface is turned against the current
         // one where the contact flattens it, by about a/R at the edge:
@@ -783,73 +991,69 @@ fn paper_pair(
             let reference = out.node_tn[k].hypot(out.node_tt[k]);
             if cur > 0.0 { reference / cur } else { 0.0 }
         };
-        (0..m)
+        (0..view.x.len())
             .map(|k| (ev.node_tn[k] * scale(k), ev.node_tt[k] * scale(k)))
             .unzip()
     } else {
         (ev.node_tn.clone(), ev.node_tt.clone())
     };
-    for (s, seg) in mem.segments.iter_mut().enumerate() {
-        seg.state = from_segment_state(ev.segments[s].state);
-        seg.ever_slid = ev.segments[s].ever_slid;
-        seg.direction = ev.segments[s].sign;
-    }
-    let frictionless = pair.mu_s == 0.0 && pair.mu_d == 0.0;
-    let new_contact = if frictionless {
-        NodeState::Slip
-    } else {
-        NodeState::Stick
-    };
+    Ok(PerArea {
+        x: x_area,
+        tn: node_tn,
+        tt: node_tt,
+    })
+}
 
-    let mut result = PairResult {
-        fx: 0.0,
-        fy: 0.0,
-        fn_: 0.0,
-        ft: 0.0,
-        nodes: PairNodes::default(),
-        ..Default::default()
-    };
-    // Per contactor node in contact: the target's frame at its contact
-    // point, as the contactor sees it (tangent toward the next node,
-    // inward normal), for the reported nodal tractions.
-    let mut frames: Vec<Option<(Vector2<f64>, Vector2<f64>)>> = vec![None; m];
-    // The force a node in contact reports: its out-of-balance force, which
-    // at convergence is the contact force in every direction (the
-    // multipliers take up what the recovered forces leave).
-    let reported = |k: usize| {
-        if active[k] {
-            Vector2::new(force[k][0], force[k][1])
-        } else {
-            Vector2::zeros()
-        }
-    };
-    // Scale of the contact forces of this pair, for the tension test.
-    let force_scale = (0..m)
-        .filter(|&k| active[k])
-        .map(|k| force[k][0].hypot(force[k][1]))
-        .fold(0.0, f64::max);
-    // Nodes not in contact that have penetrated. One that was in
-    // contact at the start of the increment and comes back in it
-    // (released in an early iteration of a large increment) has slid
-    // from its anchor while free: it comes back sliding, and a segment
-    // of it that has just come back (it was open), or slides, takes a
-    // friction against that slip.
+/// Section 3 on the contactor at given positions.
+type Section3<'e> = dyn Fn(&[Vector2<f64>]) -> Result<traction::Evaluation, String> + 'e;
+
+/// Reported nodal tractions and the positions they are per unit area of.
+struct PerArea {
+    x: Vec<Vector2<f64>>,
+    tn: Vec<f64>,
+    tt: Vec<f64>,
+}
+
+/// A node not in contact that has penetrated: where (segment and contact
+/// point), and whether it has slid from its anchor while free.
+type Recontact = Option<((usize, ContactPoint), bool)>;
+
+/// State decisions, per segment: Section 3's decisions into the memory,
+/// the segments of nodes that come back sliding (`recontacts`), and the
+/// return to sticking (`return_to_sticking`). Returns the re-contacts.
+fn decide_segments(
+    view: &PaperPair,
+    rec: &Recovered,
+    mem: &mut PairMemory,
+    log: &mut dyn FnMut(&str),
+) -> Vec<Recontact> {
+    for (s, seg) in mem.segments.iter_mut().enumerate() {
+        seg.state = from_segment_state(rec.ev.segments[s].state);
+        seg.ever_slid = rec.ev.segments[s].ever_slid;
+        seg.direction = rec.ev.segments[s].sign;
+    }
+    let recontact = recontacts(view, rec, mem);
+    if !view.frictionless {
+        return_to_sticking(view, rec, mem, log);
+    }
+    recontact
+}
+
+/// Nodes not in contact that have penetrated. One that was in contact at
+/// the start of the increment and comes back in it (released in an early
+/// iteration of a large increment) has slid from its anchor while free: it
+/// comes back sliding, and a segment of it that has just come back (it was
+/// open), or slides, takes a friction against that slip.
+fn recontacts(view: &PaperPair, rec: &Recovered, mem: &mut PairMemory) -> Vec<Recontact> {
+    let (segments, x) = (&view.segments, &view.x);
+    let m = x.len();
     let nseg = mem.segments.len();
-    let closed = pair.closed;
-    let adjoining = move |k: usize| {
-        let before = if k > 0 {
-            Some(k - 1)
-        } else {
-            closed.then(|| nseg - 1)
-        };
-        [before, (k < nseg).then_some(k)]
-    };
-    let mut recontact: Vec<Option<((usize, ContactPoint), bool)>> = vec![None; m];
+    let mut recontact: Vec<Recontact> = vec![None; m];
     for k in (0..m).filter(|&k| mem.nodes[k].state == NodeState::Open) {
-        let Some((j, cp)) = search(&segments, x[k], reach) else {
+        let Some((j, cp)) = search(segments, x[k], view.reach) else {
             continue;
         };
-        let slip = match (frictionless, mem.nodes[k].anchor) {
+        let slip = match (view.frictionless, mem.nodes[k].anchor) {
             (false, Some((sa, ba))) if sa < segments.len() => {
                 cp.point() - segments[sa].seg.point_at(ba)
             }
@@ -860,82 +1064,95 @@ fn paper_pair(
         if !slid {
             continue;
         }
-        for s in adjoining(k).into_iter().flatten() {
+        for s in view.adjoining(k, nseg).into_iter().flatten() {
             // Contactor segment s runs from node s to node s + 1.
             let tau = x[(s + 1) % m] - x[s];
             let seg = &mut mem.segments[s];
-            if seg.state != NodeState::Stick || prev[s] == SegmentState::Open {
+            if seg.state != NodeState::Stick || rec.prev[s] == SegmentState::Open {
                 seg.state = NodeState::Slip;
                 seg.direction = -slip.dot(&tau).signum();
                 seg.ever_slid = true;
             }
         }
     }
-    // Return to sticking, per segment: a segment that slides on in the
-    // direction it kept, while the slip of its nodes from their anchors
-    // runs along its friction (the uniform friction of Fig. 5 would do
-    // work over the increment: the drag has reversed), sticks; Table 1
-    // then puts its nodes back at their anchors, and the next decision
-    // checks the capacity and takes the new direction. Coulomb is applied
-    // over the segment (Section 3), and so is this check: the uniform
-    // friction loads a node next to a heavily loaded one with half the
-    // segment's friction whatever its own normal force, so a single
-    // node's slip may run along its share while the segment dissipates.
-    if !frictionless {
-        let slips: Vec<Option<Vector2<f64>>> = (0..m)
-            .map(|k| {
-                let node = &mem.nodes[k];
-                if !active[k] || node.state != NodeState::Slip {
-                    return None;
-                }
-                let (sa, ba) = node.anchor?;
-                let (_, cp) = follow(&segments, node.segment, x[k], reach)?;
-                (sa < segments.len()).then(|| cp.point() - segments[sa].seg.point_at(ba))
-            })
-            .collect();
-        for s in 0..nseg {
-            let seg = mem.segments[s];
-            if seg.state != NodeState::Slip
-                || prev[s] != SegmentState::Slide
-                || seg.direction == 0.0
-            {
-                continue;
+    recontact
+}
+
+/// Return to sticking, per segment: a segment that slides on in the
+/// direction it kept, while the slip of its nodes from their anchors runs
+/// along its friction (the uniform friction of Fig. 5 would do work over
+/// the increment: the drag has reversed), sticks; Table 1 then puts its
+/// nodes back at their anchors, and the next decision checks the capacity
+/// and takes the new direction. Coulomb is applied over the segment
+/// (Section 3), and so is this check: the uniform friction loads a node
+/// next to a heavily loaded one with half the segment's friction whatever
+/// its own normal force, so a single node's slip may run along its share
+/// while the segment dissipates.
+fn return_to_sticking(
+    view: &PaperPair,
+    rec: &Recovered,
+    mem: &mut PairMemory,
+    log: &mut dyn FnMut(&str),
+) {
+    let (segments, x, active) = (&view.segments, &view.x, &rec.active);
+    let m = x.len();
+    let slips: Vec<Option<Vector2<f64>>> = (0..m)
+        .map(|k| {
+            let node = &mem.nodes[k];
+            if !active[k] || node.state != NodeState::Slip {
+                return None;
             }
-            let (a, b) = (s, (s + 1) % m);
-            // Only a segment that slides as a whole: a node in contact at
-            // either end that is held by its other segment (Table 1)
-            // does not slide, and the friction's share at the free node
-            // alone says nothing of the segment's slip.
-            if [a, b].iter().any(|&k| active[k] && slips[k].is_none()) {
-                continue;
-            }
-            let d = x[b] - x[a];
-            let tau = d / d.norm();
-            let slip: f64 = [a, b]
-                .iter()
-                .filter_map(|&k| slips[k])
-                .map(|v| v.dot(&tau))
-                .sum();
-            if slip * seg.direction > 0.0 && slip.abs() > 1e-12 * d.norm() {
-                log(&format!(
-                    "pair '{}' segment {s}: slip {slip:.3e} along its friction, sticks",
-                    pair.name
-                ));
-                mem.segments[s].state = NodeState::Stick;
-                mem.segments[s].direction = 0.0;
-            }
+            let (sa, ba) = node.anchor?;
+            let (_, cp) = follow(segments, node.segment, x[k], view.reach)?;
+            (sa < segments.len()).then(|| cp.point() - segments[sa].seg.point_at(ba))
+        })
+        .collect();
+    for s in 0..mem.segments.len() {
+        let seg = mem.segments[s];
+        if seg.state != NodeState::Slip
+            || rec.prev[s] != SegmentState::Slide
+            || seg.direction == 0.0
+        {
+            continue;
+        }
+        let (a, b) = (s, (s + 1) % m);
+        // Only a segment that slides as a whole: a node in contact at
+        // either end that is held by its other segment (Table 1)
+        // does not slide, and the friction's share at the free node
+        // alone says nothing of the segment's slip.
+        if [a, b].iter().any(|&k| active[k] && slips[k].is_none()) {
+            continue;
+        }
+        let d = x[b] - x[a];
+        let tau = d / d.norm();
+        let slip: f64 = [a, b]
+            .iter()
+            .filter_map(|&k| slips[k])
+            .map(|v| v.dot(&tau))
+            .sum();
+        if slip * seg.direction > 0.0 && slip.abs() > 1e-12 * d.norm() {
+            log(&format!(
+                "pair '{}' segment {s}: slip {slip:.3e} along its friction, sticks",
+                view.pair.name
+            ));
+            mem.segments[s].state = NodeState::Stick;
+            mem.segments[s].direction = 0.0;
         }
     }
-    // Table 1 on the segment states as they now are.
-    let table1: Vec<NodeState> = (0..m)
+}
+
+/// Table 1 on the segment states as they now are.
+fn table1(view: &PaperPair, rec: &Recovered, mem: &PairMemory) -> Vec<NodeState> {
+    let nseg = mem.segments.len();
+    (0..view.x.len())
         .map(|k| {
             let has = |st: NodeState| {
-                adjoining(k)
+                view.adjoining(k, nseg)
                     .into_iter()
                     .flatten()
                     .any(|s| mem.segments[s].state == st)
             };
-            if !active[k] || ev.node_states[k] == NodeState::Open {
+            if !rec.active[k] || rec.ev.node_states[k] == NodeState::Open {
                 NodeState::Open
             } else if has(NodeState::Stick) {
                 NodeState::Stick
@@ -945,225 +1162,250 @@ fn paper_pair(
                 NodeState::Open
             }
         })
-        .collect();
-    for k in 0..m {
-        let old = mem.nodes[k];
-        let mut lambda = Vector2::zeros();
-        let mut state = table1[k];
-        let mut at_corner = false;
-        if active[k] && state != NodeState::Open {
-            lambda = Vector2::new(ev.forces[k][0], ev.forces[k][1]);
-        }
-        // Where the node meets the target now.
-        let mut point: Option<(usize, ContactPoint)> = None;
-        match state {
-            NodeState::Stick if old.state == NodeState::Stick => {
-                point = Some((
-                    old.segment,
-                    segments[old.segment].seg.contact_at(x[k], old.beta),
-                ));
-            }
-            NodeState::Stick | NodeState::Slip => {
-                point = follow(&segments, old.segment, x[k], reach);
-                // Frictionless at a reflex corner of the target: held at
-                // the corner while its force lies in the cone of the two
-                // segments' normals, else sliding on the segment that can
-                // carry it (docs/contact.md item 10).
-                if frictionless
-                    && state == NodeState::Slip
-                    && let Some((j, _)) = point
-                    && let Some((end_j, i, end_i)) = corner(&segments, old.segment, j, x[k], &old)
-                {
-                    let (nj, ni) = (segments[j].seg.normal(), segments[i].seg.normal());
-                    let f = Vector2::new(force[k][0], force[k][1]);
-                    // f = -(a n_j + b n_i): the target pushes the node out.
-                    let det = nj.x * ni.y - nj.y * ni.x;
-                    let a = -(f.x * ni.y - f.y * ni.x) / det;
-                    let b = -(nj.x * f.y - nj.y * f.x) / det;
-                    let tol = TENSION_TOLERANCE * force_scale;
-                    if a >= -tol && b >= -tol {
-                        point = Some((j, segments[j].seg.contact_at(x[k], end_j)));
-                        at_corner = true;
-                    } else if a < -tol && b >= -tol {
-                        point = Some((i, segments[i].seg.contact_at(x[k], end_i)));
-                    }
-                }
-                // Beyond the segment release of Section 3.2: a node
-                // whose own contact force pulls it into the target
-                // (tension) is released.
-                if let Some((j, _)) = point.as_ref() {
-                    let pull = segments[*j]
-                        .seg
-                        .normal()
-                        .dot(&Vector2::new(force[k][0], force[k][1]));
-                    if pull > TENSION_TOLERANCE * force_scale {
-                        log(&format!(
-                            "pair '{}' node {k}: contact force in tension ({pull:.3e}), released",
-                            pair.name
-                        ));
-                        point = None;
-                    }
-                }
-                if point.is_none() {
-                    log(&format!(
-                        "pair '{}' node {k}: no longer in contact, released",
-                        pair.name
-                    ));
-                    state = NodeState::Open;
-                    lambda = Vector2::zeros();
-                }
-                // A sliding node that Table 1 makes stick also goes
-                // back to its anchor: sticking means no slip over the
-                // increment (see `anchor_point`).
-                if state == NodeState::Stick
-                    && point.is_some()
-                    && let Some(at) = anchor_point(&segments, old.anchor, x[k], reach)
-                {
-                    point = Some(at);
-                }
-            }
-            // A node released in this iteration still sits on the target
-            // to round-off: it is not searched again until it has moved.
-            NodeState::Open if old.state == NodeState::Open => {
-                if let Some((found, slid)) = recontact[k] {
-                    point = Some(found);
-                    state = if slid { NodeState::Slip } else { new_contact };
-                }
-            }
-            NodeState::Open => {}
-        }
-        if (state == NodeState::Open) != (old.state == NodeState::Open) {
-            count_flip(pair, k, flips)?;
-        }
-        at_corner &= state != NodeState::Open;
-        if state != old.state || at_corner != old.corner {
-            out.changes += 1;
-        }
-        let n = pair.contactor[k];
-        let mut node = NodeMemory {
-            state,
-            corner: at_corner,
-            ..old
-        };
-        if let Some((j, cp)) = point.filter(|_| state != NodeState::Open) {
-            if old.state != NodeState::Open && j != old.segment {
-                node.crossed = Some((old.segment, j));
-            }
-            node.segment = j;
-            node.beta = cp.beta();
-            // The anchor moves only when an increment begins: a node
-            // that sticks is at its anchor (or new to contact).
-            if node.anchor.is_none() {
-                node.anchor = Some((j, cp.beta()));
-            }
-            let held = state == NodeState::Stick || at_corner;
-            if held && at_corner && active[k] {
-                // Held in both directions: its whole force.
-                lambda = Vector2::new(force[k][0], force[k][1]);
-            }
-            if !held && frictionless && active[k] {
-                // No friction: the force is along the target normal.
-                // (The recovery's contactor-frame normals would leave
-                // a component along the target that no row carries:
-                // a phantom friction, and a linear Newton rate.)
-                let n = cp.segment().normal();
-                lambda = n * n.dot(&Vector2::new(force[k][0], force[k][1]));
-            }
-            // The paper's friction is held over the iteration: no
-            // friction in the multiplier's column.
-            add_rows(segments[j].nodes, n, &cp, held, lambda, 0.0, out);
-            // Normal (compression positive) and tangential (along the
-            // contactor, from node k toward k + 1, i.e. against the
-            // target's A -> B) parts of the force on the contactor.
-            let f = reported(k);
-            result.fn_ -= f.dot(&cp.segment().normal());
-            result.ft -= f.dot(&cp.segment().tangent());
-            frames[k] = Some((-cp.segment().tangent(), -cp.segment().normal()));
-            if let Target::Rigid(ri) = pair.target {
-                let (_, reference) = rigid_points(problem, ri, poses[ri]);
-                let xc = cp.point();
-                let f = -reported(k);
-                let rr = &mut out.rigid[ri];
-                rr[0] += f.x;
-                rr[1] += f.y;
-                rr[2] += (xc.x - reference[0]) * f.y - (xc.y - reference[1]) * f.x;
-            }
-        }
-        mem.nodes[k] = node;
-        if state != NodeState::Open {
-            let f = reported(k);
-            result.fx += f.x;
-            result.fy += f.y;
-        }
-        match state {
-            NodeState::Open => result.n_open += 1,
-            NodeState::Stick => result.n_stick += 1,
-            NodeState::Slip => result.n_slip += 1,
-        }
-        result.nodes.x.push(x[k].x);
-        result.nodes.y.push(x[k].y);
-        result.nodes.tn.push(if state == NodeState::Open {
-            0.0
-        } else {
-            node_tn[k]
-        });
-        result.nodes.tt.push(if state == NodeState::Open {
-            0.0
-        } else {
-            node_tt[k]
-        });
-        result.nodes.state.push(state);
-        // The paper's decisions read tractions: its nodes' forces are taken
-        // as their tractions' signs.
-        result.nodes.pn.push(if state == NodeState::Open {
-            0.0
-        } else {
-            node_tn[k]
-        });
-        result.nodes.pt.push(if state == NodeState::Open {
-            0.0
-        } else {
-            node_tt[k]
-        });
+        .collect()
+}
+
+/// One node's contact after the decisions: its state, where it meets the
+/// target, the force its rows carry, and whether it is held at a corner.
+struct NodeContact {
+    state: NodeState,
+    point: Option<(usize, ContactPoint)>,
+    lambda: Vector2<f64>,
+    at_corner: bool,
+}
+
+/// State decisions, per node: the state Table 1 gives node k (`state`) and
+/// where it meets the target now. A node that sticks on keeps its material
+/// point; one that sticks anew or slides is followed along the target
+/// (`follow_node`); a node released in this iteration still sits on the
+/// target to round-off: it is not searched again until it has moved, and
+/// one that was open comes back where it has penetrated (`recontact`).
+fn node_contact(
+    view: &PaperPair,
+    rec: &Recovered,
+    k: usize,
+    old: &NodeMemory,
+    state: NodeState,
+    recontact: Recontact,
+    log: &mut dyn FnMut(&str),
+) -> NodeContact {
+    let mut contact = NodeContact {
+        state,
+        point: None,
+        lambda: Vector2::zeros(),
+        at_corner: false,
+    };
+    if rec.active[k] && state != NodeState::Open {
+        let f = rec.ev.forces[k];
+        contact.lambda = Vector2::new(f[0], f[1]);
     }
-    // Reported tractions on 8-node sides: recovered with the sides' own
-    // quadratic shape functions from the forces of the nodes in contact
-    // (the paper's linear recovery, used for the decisions above, makes
-    // corner and mid-side values alternate on 8-node sides).
+    match state {
+        NodeState::Stick if old.state == NodeState::Stick => {
+            let seg = &view.segments[old.segment].seg;
+            contact.point = Some((old.segment, seg.contact_at(view.x[k], old.beta)));
+        }
+        NodeState::Stick | NodeState::Slip => follow_node(view, rec, k, old, &mut contact, log),
+        NodeState::Open if old.state == NodeState::Open => {
+            if let Some((found, slid)) = recontact {
+                contact.point = Some(found);
+                // A new contact sticks (slides if frictionless); one that
+                // has slid while free comes back sliding.
+                contact.state = if slid || view.frictionless {
+                    NodeState::Slip
+                } else {
+                    NodeState::Stick
+                };
+            }
+        }
+        NodeState::Open => {}
+    }
+    contact
+}
+
+/// A node in contact that Table 1 makes slide, or stick anew: followed
+/// along the target (segment switching), held at a reflex corner when
+/// frictionless, released when its force pulls or it has slid off the
+/// target, and sent back to its anchor when it sticks.
+fn follow_node(
+    view: &PaperPair,
+    rec: &Recovered,
+    k: usize,
+    old: &NodeMemory,
+    contact: &mut NodeContact,
+    log: &mut dyn FnMut(&str),
+) {
+    let (segments, x, pair) = (&view.segments, view.x[k], view.pair);
+    let mut point = follow(segments, old.segment, x, view.reach);
+    let tol = TENSION_TOLERANCE * rec.force_scale;
+    // Frictionless at a reflex corner of the target: held at
+    // the corner while its force lies in the cone of the two
+    // segments' normals, else sliding on the segment that can
+    // carry it (docs/contact.md item 10).
+    if view.frictionless
+        && contact.state == NodeState::Slip
+        && let Some((j, _)) = point
+        && let Some((end_j, i, end_i)) = corner(segments, old.segment, j, x, old)
+    {
+        let (nj, ni) = (segments[j].seg.normal(), segments[i].seg.normal());
+        let f = rec.force[k];
+        // f = -(a n_j + b n_i): the target pushes the node out.
+        let det = nj.x * ni.y - nj.y * ni.x;
+        let a = -(f.x * ni.y - f.y * ni.x) / det;
+        let b = -(nj.x * f.y - nj.y * f.x) / det;
+        if a >= -tol && b >= -tol {
+            point = Some((j, segments[j].seg.contact_at(x, end_j)));
+            contact.at_corner = true;
+        } else if a < -tol && b >= -tol {
+            point = Some((i, segments[i].seg.contact_at(x, end_i)));
+        }
+    }
+    // Beyond the segment release of Section 3.2: a node
+    // whose own contact force pulls it into the target
+    // (tension) is released.
+    if let Some((j, _)) = point.as_ref() {
+        let pull = segments[*j].seg.normal().dot(&rec.force[k]);
+        if pull > tol {
+            log(&format!(
+                "pair '{}' node {k}: contact force in tension ({pull:.3e}), released",
+                pair.name
+            ));
+            point = None;
+        }
+    }
+    if point.is_none() {
+        log(&format!(
+            "pair '{}' node {k}: no longer in contact, released",
+            pair.name
+        ));
+        contact.state = NodeState::Open;
+        contact.lambda = Vector2::zeros();
+    }
+    // A sliding node that Table 1 makes stick also goes
+    // back to its anchor: sticking means no slip over the
+    // increment (see `anchor_point`).
+    if contact.state == NodeState::Stick
+        && point.is_some()
+        && let Some(at) = anchor_point(segments, old.anchor, x, view.reach)
+    {
+        point = Some(at);
+    }
+    contact.point = point;
+}
+
+/// Constraint rows and reported results for node k after its decision
+/// (`old` its memory before): its rows of Eq. (18) (the paper's friction
+/// held over the iteration: none in the multiplier's column), its reported
+/// force and tractions, and its memory after the iteration (returned).
+fn node_rows(
+    view: &PaperPair,
+    rec: &Recovered,
+    k: usize,
+    old: &NodeMemory,
+    contact: NodeContact,
+    report: &mut Report,
+    out: &mut ContactSystem,
+) -> NodeMemory {
+    let NodeContact {
+        state,
+        point,
+        mut lambda,
+        mut at_corner,
+    } = contact;
+    at_corner &= state != NodeState::Open;
+    if state != old.state || at_corner != old.corner {
+        out.changes += 1;
+    }
+    let mut node = NodeMemory {
+        state,
+        corner: at_corner,
+        ..*old
+    };
+    if let Some((j, cp)) = point.filter(|_| state != NodeState::Open) {
+        if old.state != NodeState::Open && j != old.segment {
+            node.crossed = Some((old.segment, j));
+        }
+        node.segment = j;
+        node.beta = cp.beta();
+        // The anchor moves only when an increment begins: a node
+        // that sticks is at its anchor (or new to contact).
+        if node.anchor.is_none() {
+            node.anchor = Some((j, cp.beta()));
+        }
+        let held = state == NodeState::Stick || at_corner;
+        if held && at_corner && rec.active[k] {
+            // Held in both directions: its whole force.
+            lambda = rec.force[k];
+        }
+        if !held && view.frictionless && rec.active[k] {
+            // No friction: the force is along the target normal.
+            // (The recovery's contactor-frame normals would leave
+            // a component along the target that no row carries:
+            // a phantom friction, and a linear Newton rate.)
+            let n = cp.segment().normal();
+            lambda = n * n.dot(&rec.force[k]);
+        }
+        // The paper's friction is held over the iteration: no
+        // friction in the multiplier's column.
+        let n = view.pair.contactor[k];
+        add_rows(view.segments[j].nodes, n, &cp, held, lambda, 0.0, out);
+        report.contact(view.at, view.pair, k, rec.reported(k), &cp, &mut out.rigid);
+    }
+    // The paper's decisions read tractions: its nodes' forces are taken
+    // as their tractions' signs.
+    let (tn, tt) = if state == NodeState::Open {
+        (0.0, 0.0)
+    } else {
+        (rec.area.tn[k], rec.area.tt[k])
+    };
+    report.result.nodes.tn.push(tn);
+    report.result.nodes.tt.push(tt);
+    report.node(view.x[k], state, [tn, tt]);
+    node
+}
+
+/// Reported tractions on 8-node sides: recovered with the sides' own
+/// quadratic shape functions from the forces of the nodes in contact
+/// (the paper's linear recovery, used for the decisions above, makes
+/// corner and mid-side values alternate on 8-node sides).
+fn quadratic_report(view: &PaperPair, rec: &Recovered, report: &mut Report) {
+    let (problem, pair, m) = (view.at.problem, view.pair, view.x.len());
     let q8 = problem.bodies[pair.body]
         .elements
         .clone()
         .next()
         .is_some_and(|e| problem.mesh.elements[e].kind == crate::mesh::ElementKind::Q8);
-    if q8 && m % 2 == (if pair.closed { 0 } else { 1 }) {
-        let closed_now: Vec<bool> = (0..m)
-            .map(|k| result.nodes.state[k] != NodeState::Open)
-            .collect();
-        let f: Vec<Vector2<f64>> = (0..m)
-            .map(|k| {
-                if closed_now[k] && active[k] {
-                    reported(k)
-                } else {
-                    Vector2::zeros()
-                }
-            })
-            .collect();
-        if let Some(t) = quadratic_tractions(geometry, pair.closed, &x_area, &closed_now, &f) {
-            for k in 0..m {
-                if !closed_now[k] {
-                    continue;
-                }
-                // The target's frame where the node touches it: the
-                // contactor's own frame tilts at the contact edge,
-                // where its next side lifts off, and would show a
-                // normal force as a tangential traction.
-                let (tau, nu) = frames[k].unwrap_or_else(|| node_frame(&x, pair.closed, k));
-                result.nodes.tn[k] = t[k].dot(&nu);
-                result.nodes.tt[k] = t[k].dot(&tau);
-            }
-        }
+    if !(q8 && m % 2 == (if pair.closed { 0 } else { 1 })) {
+        return;
     }
-    Ok(result)
+    let result = &mut report.result;
+    let closed_now: Vec<bool> = (0..m)
+        .map(|k| result.nodes.state[k] != NodeState::Open)
+        .collect();
+    let f: Vec<Vector2<f64>> = (0..m)
+        .map(|k| {
+            if closed_now[k] && rec.active[k] {
+                rec.reported(k)
+            } else {
+                Vector2::zeros()
+            }
+        })
+        .collect();
+    let geometry = geometry(problem);
+    let Some(t) = quadratic_tractions(geometry, pair.closed, &rec.area.x, &closed_now, &f) else {
+        return;
+    };
+    for k in 0..m {
+        if !closed_now[k] {
+            continue;
+        }
+        // The target's frame where the node touches it: the
+        // contactor's own frame tilts at the contact edge,
+        // where its next side lifts off, and would show a
+        // normal force as a tangential traction.
+        let (tau, nu) = report.frames[k].unwrap_or_else(|| node_frame(&view.x, pair.closed, k));
+        result.nodes.tn[k] = t[k].dot(&nu);
+        result.nodes.tt[k] = t[k].dot(&tau);
+    }
 }
 
 /// The rows of Eq. (18) for one node `n` in contact at `cp` on a target
