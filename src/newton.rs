@@ -431,10 +431,22 @@ impl Solver {
                     targets.pop();
                 }
                 Err(reason) => {
-                    if bisections >= self.problem.solver.max_bisections {
+                    // Halving stops at the bisection budget, or where the
+                    // midpoint would round onto an end of the increment (the
+                    // same increment tried again).
+                    let mid = 0.5 * (self.state.time + t);
+                    let halvable = mid > self.state.time && mid < t;
+                    if bisections >= self.problem.solver.max_bisections || !halvable {
                         self.state = start;
+                        let why = if halvable {
+                            format!("after {bisections} bisections")
+                        } else {
+                            format!(
+                                "after {bisections} bisections (the increment cannot be halved further in floating point)"
+                            )
+                        };
                         let msg = format!(
-                            "no convergence from t = {} to t = {t} after {bisections} bisections: {reason}",
+                            "no convergence from t = {} to t = {t} {why}: {reason}",
                             self.state.time
                         );
                         log(LogCategory::Error, &msg);
@@ -444,7 +456,6 @@ impl Solver {
                         });
                     }
                     bisections += 1;
-                    let mid = 0.5 * (self.state.time + t);
                     log(
                         LogCategory::Warning,
                         &format!("increment to t = {t} failed ({reason}); bisecting at t = {mid}"),

@@ -129,3 +129,37 @@ fn a_failed_increment_bisects_and_a_hopeless_one_leaves_the_state_untouched() {
     c.advance(0.5, &mut common::silent()).unwrap();
     assert_eq!(c.state().time, 0.5);
 }
+
+/// Bisection stops where the midpoint would round onto an end of the
+/// increment (issue 13, defect 5: the same increment was tried again, and
+/// one Discard took 51 s): late in time (t = 1.7e9, where the spacing of
+/// doubles is 2.4e-7), a step of 1e-6 that cannot converge is given up
+/// after at most two halvings, however many bisections the settings allow,
+/// and the message says why.
+#[test]
+fn bisection_stops_when_the_midpoint_rounds_onto_an_end() {
+    let (mut c, _) = cantilever(4.0);
+    let mut state = c.state().clone();
+    state.time = 1.7e9;
+    c.restore(state);
+    let before = c.state().clone();
+    // The clamp moved by a tenth of the length, with one iteration allowed:
+    // every increment fails.
+    c.set_input(0, 1, Some(-1.0));
+    c.settings_mut().max_iterations = 1;
+    c.settings_mut().max_bisections = 1000;
+    let mut warnings = 0;
+    let err = c
+        .advance(1.7e9 + 1e-6, &mut |cat, _| {
+            if cat == LogCategory::Warning {
+                warnings += 1
+            }
+        })
+        .unwrap_err();
+    assert!(warnings <= 2, "{warnings} bisections");
+    assert!(
+        err.to_string().contains("cannot be halved further"),
+        "{err}"
+    );
+    assert_eq!(c.state(), &before);
+}
