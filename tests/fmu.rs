@@ -1753,8 +1753,7 @@ fn a_logger_calling_back_gets_an_error_not_a_deadlock() {
 }
 
 /// Time at the edges (issue 13, defect 4): the master's clock must agree
-/// with the FMU's to a few units in the last place or 1e-9 of the step, not
-/// to 1e-9 of t (at t = 1.7e9 a clock off by a second passed); a step too
+/// with the FMU's to a few units in the last place, not to 1e-9 of t (at t = 1.7e9 a clock off by a second passed); a step too
 /// small for t to resolve (t + h == t) is a held step when the inputs did
 /// not change, and an error that says why when they did.
 #[test]

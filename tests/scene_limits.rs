@@ -154,3 +154,41 @@ fn a_fifo_is_not_read() {
     assert!(e.message.contains("not a regular file"), "{e}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Found by tests/fuzz_scene.rs: counts that follow from the geometry or
+/// from a count key outside the mesh table. A plate with a hole whose width
+/// is 1e300 needed 1e300 elements in its strips (a capacity-overflow
+/// panic); a rigid arc of 9e18 segments panicked, one of 1e8 took 15 GB
+/// and minutes.
+#[test]
+fn counts_from_geometry_and_rigid_arcs_are_bounded() {
+    let plate = "{ generator = \"plate_with_hole\", hole_radius = 0.5, width = 1e300, y_range = [-3.0, 3.0], divisions = [10, 24] }";
+    let started = Instant::now();
+    let e = scene::parse(&scene_with(plate, ""), Path::new(FILE)).unwrap_err();
+    assert!(started.elapsed().as_secs_f64() < 1.0);
+    assert_eq!(e.kind, SceneErrorKind::Mesh, "{e}");
+    assert!(e.message.contains("would need 1.818e300 elements"), "{e}");
+    for (segments, ok) in [
+        ("9223372036854775807", false),
+        ("100000000", false),
+        ("5120", true),
+    ] {
+        let text = scene_with(&rectangle("[4, 2]"), "").replace(
+            "[steps]",
+            &format!(
+                "[[rigid]]\nname = \"drum\"\narc = {{ center = [2.0, -10.0], radius = 10.0, angles = [0.0, 180.0], segments = {segments} }}\n\n[steps]"
+            ),
+        );
+        let started = Instant::now();
+        let parsed = scene::parse(&text, Path::new(FILE));
+        assert!(started.elapsed().as_secs_f64() < 1.0, "{segments}");
+        match parsed {
+            Ok(_) => assert!(ok, "{segments} accepted"),
+            Err(e) => {
+                assert!(!ok, "{segments}: {e}");
+                assert_eq!(e.key, "rigid[0].arc.segments", "{e}");
+                assert!(e.message.contains("at most 1000000 segments"), "{e}");
+            }
+        }
+    }
+}

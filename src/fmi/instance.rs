@@ -626,11 +626,11 @@ impl Instance {
             ));
         }
         // The master's clock and the FMU's agree to a few units in the last
-        // place (a master may sum its steps or multiply them out), or to
-        // 1e-9 of the step: not relative to t, which at t = 1e9 would let a
-        // clock off by a whole second through.
+        // place (a master may sum its steps or multiply them out; the FMU's
+        // clock follows the master's): not to a fraction of t, which at
+        // t = 1e9 let a clock off by a whole second through, nor of h.
         let ulp = |x: f64| f64::from_bits(x.abs().to_bits() + 1) - x.abs();
-        if (t - now).abs() > (1e-9 * h).max(8.0 * ulp(now.abs().max(t.abs()))) {
+        if (t - now).abs() > 16.0 * ulp(now.abs().max(t.abs())) {
             return self.error(format!(
                 "fmi2DoStep: currentCommunicationPoint = {t:?}, but the FMU is at t = {now:?} (restore a saved state to go back)"
             ));

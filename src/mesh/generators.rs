@@ -388,16 +388,23 @@ pub fn plate_with_hole(
 
     // Strips: sizes of the O-grid's outer row where it meets each box side.
     let last = 1.0 - w[w.len() - 3];
-    let strip = |from: f64, to: f64, row: f64| -> Vec<f64> {
-        let n = ((to - from) / row).round().max(1.0) as usize;
-        fine(&uniform(n))
+    let strip = |from: f64, to: f64, row: f64| -> Result<Vec<f64>, MeshError> {
+        // Elements as long as the O-grid's outer row: a plate far larger
+        // than its hole would need more than any mesh may have.
+        let n = ((to - from) / row).round().max(1.0);
+        if n > MAX_STRIP as f64 {
+            return Err(g.error(format!(
+                "the plate from {from:.6e} to {to:.6e} would need {n:.3e} elements of the size of the O-grid's outer row (at most {MAX_STRIP}): make the plate smaller against the hole or the O-grid's divisions fewer"
+            )));
+        }
+        Ok(fine(&uniform(n as usize))
             .iter()
             .map(|t| from + (to - from) * t)
-            .collect()
+            .collect())
     };
-    let xs_right = strip(bx, width, (bx - a) * last);
-    let ys_top = strip(bt, y_max, (bt - a) * last);
-    let ys_bottom: Vec<f64> = strip(y_min, -bb, (bb - a) * last);
+    let xs_right = strip(bx, width, (bx - a) * last)?;
+    let ys_top = strip(bt, y_max, (bt - a) * last)?;
+    let ys_bottom: Vec<f64> = strip(y_min, -bb, (bb - a) * last)?;
     let side = |range: std::ops::RangeInclusive<usize>, c: usize| -> Vec<f64> {
         outer[range].iter().map(|p| p[c]).collect()
     };
@@ -506,6 +513,9 @@ fn graded(n: usize, ratio: f64) -> Vec<f64> {
     t[n] = 1.0;
     t
 }
+
+/// Elements one strip of `plate_with_hole` may have.
+const MAX_STRIP: usize = 1_000_000;
 
 fn uniform(n: usize) -> Vec<f64> {
     (0..=n).map(|k| k as f64 / n as f64).collect()

@@ -16,6 +16,9 @@ use toml::Spanned;
 /// Pieces of a broken contactor set described in its error message.
 const MAX_PIECES_SHOWN: usize = 4;
 
+/// Chords a rigid arc may have.
+const MAX_ARC_SEGMENTS: usize = 1_000_000;
+
 impl Resolver<'_> {
     /// Rigid targets; their names are shared with the drivers, since both
     /// report reactions by name.
@@ -140,6 +143,14 @@ impl Resolver<'_> {
         }
         if n == 1 && sweep.abs() == 360.0 {
             return Err(segments_error("a full circle needs at least 2 segments"));
+        }
+        // The contact search runs over every segment of a rigid target:
+        // more than a million is a mistake (the capstans use 5120), and
+        // 1e8 of them took 15 GB and minutes before any step.
+        if n > MAX_ARC_SEGMENTS {
+            return Err(segments_error(&format!(
+                "at most {MAX_ARC_SEGMENTS} segments (a polyline of that many chords is finer than any contactor needs)"
+            )));
         }
         let [cx, cy] = a.center.0;
         let points: Vec<[f64; 2]> = (0..=n)
