@@ -12,6 +12,9 @@ use crate::problem::Problem;
 use crate::results::{DriverResult, LogCategory, StepResult};
 use crate::state::State;
 
+mod sensitivity;
+pub use sensitivity::{Input, Response};
+
 /// A constraint row whose coefficients on free dofs are below this fraction
 /// of those on prescribed dofs (root sum of squares) acts on prescribed dofs
 /// only: the contact search's own tolerance on `beta` (pairs.rs).
@@ -110,6 +113,11 @@ pub struct Solver {
     diagonal_at: Vec<usize>,
     /// Largest diagonal entry of the last assembled tangent.
     k_max: f64,
+    /// The converged state's linearisation, factored once and kept until
+    /// the state changes (a step, a restore, new tunable parameters).
+    linearization: Option<sensitivity::Linearization>,
+    /// Factorizations of converged tangents for the sensitivities.
+    sensitivity_factorizations: usize,
 }
 
 impl Solver {
@@ -160,6 +168,7 @@ impl Solver {
             time: 0.0,
             u: vec![0.0; ndof],
             history: vec![0.0; model.history_len],
+            step_start_history: Vec::new(),
             contact: problem.contacts.iter().map(PairMemory::new).collect(),
             rigid: pairs::scene_poses(&problem, 0.0),
             ties: vec![0.0; problem.ties.iter().map(|t| t.rows.len()).sum()],
@@ -209,6 +218,8 @@ impl Solver {
             size,
             diagonal_at,
             k_max: 0.0,
+            linearization: None,
+            sensitivity_factorizations: 0,
         })
     }
 
@@ -225,6 +236,7 @@ impl Solver {
             (c.mu_s, c.mu_d) = (f.mu_s, f.mu_d);
         }
         self.problem.solver = from.solver.clone();
+        self.linearization = None;
     }
 
     pub fn state(&self) -> &State {
@@ -238,6 +250,7 @@ impl Solver {
 
     pub fn restore(&mut self, state: State) {
         self.state = state;
+        self.linearization = None;
     }
 
     /// Number of unknowns of the linear system.
@@ -247,7 +260,7 @@ impl Solver {
 
     /// Number of numeric factorizations done so far.
     pub fn factorizations(&self) -> usize {
-        self.linear.factorizations + self.augmented.factorizations
+        self.linear.factorizations + self.augmented.factorizations + self.sensitivity_factorizations
     }
 
     /// Override a driver component: reach `value` at the end of the next
@@ -1129,13 +1142,14 @@ impl Solver {
     ) {
         self.state.time = t;
         self.state.u = u;
-        self.state.history = history;
+        self.state.step_start_history = std::mem::replace(&mut self.state.history, history);
         self.state.contact = memory;
         self.state.rigid = poses;
         self.state.ties = ties;
         self.state.driver_forces.clone_from(&self.step_forces);
         self.state.pressures.clone_from(&self.ws.pressures);
         self.contact = contact;
+        self.linearization = None;
     }
 
     /// Element-average Cauchy stress [xx, yy, zz, xy] of each element in the

@@ -1481,3 +1481,256 @@ fn pressure_input_in_the_fmu() {
     assert!(inst.real("wall.Rx").abs() <= 1e-10);
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+// ---------------------------------------------------------------------------
+// Directional derivatives.
+
+impl Inst {
+    fn save(&self) -> fmi2FMUstate {
+        let mut s: fmi2FMUstate = null_mut();
+        unsafe { assert_eq!((lib().fmi2GetFMUstate.as_ref().unwrap())(self.c, &mut s), OK) };
+        s
+    }
+
+    fn restore(&self, s: fmi2FMUstate) {
+        unsafe { assert_eq!((lib().fmi2SetFMUstate.as_ref().unwrap())(self.c, s), OK) };
+    }
+
+    fn free_state(&self, mut s: fmi2FMUstate) {
+        unsafe { assert_eq!((lib().fmi2FreeFMUstate.as_ref().unwrap())(self.c, &mut s), OK) };
+    }
+
+    /// fmi2GetDirectionalDerivative: the status and dvUnknown.
+    fn derivative(&self, unknown: &[u32], known: &[u32], seed: &[f64]) -> (fmi2Status, Vec<f64>) {
+        let mut out = vec![f64::NAN; unknown.len()];
+        let s = unsafe {
+            (lib().fmi2GetDirectionalDerivative.as_ref().unwrap())(
+                self.c,
+                unknown.as_ptr(),
+                unknown.len(),
+                known.as_ptr(),
+                known.len(),
+                seed.as_ptr(),
+                out.as_mut_ptr(),
+            )
+        };
+        (s, out)
+    }
+
+    /// Every Integer output (node states and counts): the contact states.
+    fn contact_states(&self, names: &[String]) -> Vec<i32> {
+        names.iter().map(|n| self.int(n)).collect()
+    }
+}
+
+/// What a derivative check measured: the largest error against central
+/// differences as a fraction of the tolerance's scale, the number of
+/// derivatives compared, and how many were zero.
+#[derive(Debug, Default)]
+struct Measured {
+    worst: f64,
+    worst_at: String,
+    compared: usize,
+}
+
+/// fmi2GetDirectionalDerivative at the state after step `at` of the scene's
+/// own input history (0-based) against central differences of that step:
+/// from the state saved before it, the step taken again with one input at
+/// u +- eps, its outputs read, the state restored. eps starts at 1e-4 of
+/// the input's scale and is halved while either run changes any contact
+/// state (`state[k]`, the counts) from the step's own: the derivative is
+/// that of the equilibrium with the contact states held. The tolerance
+/// (1e-6) is relative to max(|derivative|, output scale / input scale):
+/// central differences of two converged solutions carry the Newton
+/// residual (solver.tolerance 1e-11 of the forces) over 2 eps and a
+/// truncation of order eps^2, both below 1e-7 of that scale; the output
+/// scale is the largest output of the same quantity (force, moment,
+/// length), the input scale the largest value of that kind of input over
+/// the scene (the model's size over 1000 when none moves, for angles that
+/// over the size).
+fn check_derivatives(scene: &Path, tag: &str, at: usize) -> Measured {
+    use contact2d::fmi::variables::{Binding, Causality, PairField, Quantity, Type};
+    let problem = contact2d::scene::load(scene).unwrap();
+    let vars = variables(&problem);
+    let inputs: Vec<_> = vars.iter().filter(|v| v.causality == Causality::Input).collect();
+    let derivable: Vec<_> = vars
+        .iter()
+        .filter(|v| match v.binding {
+            Binding::Reaction { .. } | Binding::DriverDisplacement { .. } => true,
+            Binding::Pair { field, .. } => {
+                matches!(field, PairField::Fx | PairField::Fy | PairField::Fn | PairField::Ft)
+            }
+            _ => false,
+        })
+        .collect();
+    let integers: Vec<String> = vars
+        .iter()
+        .filter(|v| v.causality == Causality::Output && v.ty == Type::Integer)
+        .filter(|v| !v.name.starts_with("solver."))
+        .map(|v| v.name.clone())
+        .collect();
+    let times = &problem.times;
+    let input_at = |v: &contact2d::fmi::variables::Variable, t: f64| {
+        contact2d::fmi::variables::input(&v.binding, &problem, t).unwrap()
+    };
+    // Input scales: the largest value of each kind over the history.
+    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+    for p in &problem.mesh.nodes {
+        for c in 0..2 {
+            lo[c] = lo[c].min(p[c]);
+            hi[c] = hi[c].max(p[c]);
+        }
+    }
+    let size = (hi[0] - lo[0]).hypot(hi[1] - lo[1]);
+    let largest = |q: Quantity| {
+        (inputs.iter().filter(|v| v.quantity == q))
+            .flat_map(|v| times.iter().map(move |&t| input_at(v, t).abs()))
+            .fold(0.0, f64::max)
+    };
+    let length = if largest(Quantity::Length) > 0.0 {
+        largest(Quantity::Length)
+    } else {
+        1e-3 * size
+    };
+    let input_scale = |v: &contact2d::fmi::variables::Variable| match v.quantity {
+        Quantity::Length => length,
+        Quantity::Angle => length / size,
+        q => largest(q).max(f64::MIN_POSITIVE),
+    };
+
+    let u = unpack(scene, tag);
+    let inst = Inst::new(&u, tag);
+    inst.init();
+    assert_eq!(inst.set_real("solver.tolerance", 1e-11), OK);
+    let set_inputs = |t: f64| {
+        for v in &inputs {
+            assert_eq!(inst.set_real(&v.name, input_at(v, t)), OK);
+        }
+    };
+    let mut t = 0.0;
+    for &t1 in &times[..at] {
+        set_inputs(t1);
+        assert_eq!(inst.step(t, t1 - t), OK, "{tag} to {t1}: {:?}", inst.messages());
+        t = t1;
+    }
+    let before = inst.save();
+    let t1 = times[at];
+    set_inputs(t1);
+    assert_eq!(inst.step(t, t1 - t), OK, "{tag} to {t1}: {:?}", inst.messages());
+    assert_eq!(inst.int("solver.substeps"), 0, "{tag}: no bisection");
+    let states = inst.contact_states(&integers);
+    let unknown: Vec<u32> = derivable.iter().map(|v| v.vr).collect();
+    let base: Vec<f64> = derivable.iter().map(|v| inst.real(&v.name)).collect();
+    let mut output_scale = HashMap::new();
+    for (v, y) in derivable.iter().zip(&base) {
+        let s = output_scale.entry(format!("{:?}", v.quantity)).or_insert(0.0f64);
+        *s = s.max(y.abs());
+    }
+    let mut measured = Measured::default();
+    let mut columns = Vec::new();
+    for input in &inputs {
+        let (status, dy) = inst.derivative(&unknown, &[input.vr], &[1.0]);
+        assert_eq!(status, OK, "{tag}: d/d {}: {}", input.name, inst.last_message());
+        columns.push(dy);
+    }
+    for (input, dy) in inputs.iter().zip(&columns) {
+        let value = input_at(input, t1);
+        let mut eps = std::env::var("DD_EPS").map_or(1e-4, |e| e.parse().unwrap()) * input_scale(input);
+        let fd = loop {
+            let mut run = |x: f64| {
+                inst.restore(before);
+                set_inputs(t1);
+                assert_eq!(inst.set_real(&input.name, x), OK);
+                assert_eq!(inst.step(t, t1 - t), OK, "{tag} {} = {x}", input.name);
+                let y: Vec<f64> = derivable.iter().map(|v| inst.real(&v.name)).collect();
+                (y, inst.contact_states(&integers) == states)
+            };
+            let (plus, same_plus) = run(value + eps);
+            if !same_plus && std::env::var_os("DD_DEBUG").is_some() {
+                println!("{} +{eps:e}: {:?} -> {:?}; {:?} vs {:?}", input.name, states, inst.contact_states(&integers), base, plus);
+            }
+            let (minus, same_minus) = run(value - eps);
+            if same_plus && same_minus {
+                break plus
+                    .iter()
+                    .zip(&minus)
+                    .map(|(p, m)| (p - m) / (2.0 * eps))
+                    .collect::<Vec<f64>>();
+            }
+            eps *= 0.5;
+            assert!(eps > 1e-9 * input_scale(input), "{tag}: {} changes the contact states", input.name);
+        };
+        println!("{tag} t = {t1}: {} eps {eps:e}", input.name);
+        for ((v, d), f) in derivable.iter().zip(dy).zip(&fd) {
+            let natural = output_scale[&format!("{:?}", v.quantity)] / input_scale(input);
+            let scale = d.abs().max(natural);
+            let error = (d - f).abs() / scale;
+            measured.compared += 1;
+            if error > measured.worst {
+                measured.worst = error;
+                measured.worst_at = format!("d {} / d {}: {d:e} against {f:e}", v.name, input.name);
+            }
+            assert!(
+                error <= 1e-6,
+                "{tag} t = {t1}: d {} / d {} = {d:e}, central differences {f:e} (eps {eps:e}), \
+                 error {error:e} of {scale:e}",
+                v.name,
+                input.name
+            );
+        }
+    }
+    // The state restored, then a seed of all the inputs at once: the sum
+    // of the columns (the derivative is linear in the seed), from the
+    // factorization kept at the state.
+    inst.restore(before);
+    set_inputs(t1);
+    assert_eq!(inst.step(t, t1 - t), OK);
+    let known: Vec<u32> = inputs.iter().map(|v| v.vr).collect();
+    let seed: Vec<f64> = (0..inputs.len()).map(|i| 1.0 + i as f64).collect();
+    let (status, dy) = inst.derivative(&unknown, &known, &seed);
+    assert_eq!(status, OK);
+    for (o, d) in dy.iter().enumerate() {
+        let sum: f64 = columns.iter().zip(&seed).map(|(c, s)| s * c[o]).sum();
+        let scale = columns.iter().zip(&seed).map(|(c, s)| (s * c[o]).abs()).fold(0.0, f64::max);
+        assert!((d - sum).abs() <= 1e-9 * scale.max(f64::MIN_POSITIVE), "{tag}: {} {d} {sum}", derivable[o].name);
+    }
+    inst.free_state(before);
+    measured
+}
+
+/// A temporary scene file with `text` (removed with its folder on drop).
+struct TempScene(PathBuf);
+
+impl TempScene {
+    fn new(tag: &str, text: &str) -> TempScene {
+        let dir = std::env::temp_dir().join(format!("contact2d-dd-{}-{tag}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("scene.toml");
+        std::fs::write(&path, text).unwrap();
+        TempScene(path)
+    }
+}
+
+impl Drop for TempScene {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(self.0.parent().unwrap());
+    }
+}
+
+#[test]
+fn directional_derivatives_match_central_differences() {
+    let block = std::fs::read_to_string(repo().join("scenes/verification/sliding_block.toml"))
+        .unwrap()
+        .replace("mu_d = 0.2", "mu_d = 0.3");
+    let block = TempScene::new("block", &block);
+    let scenes: Vec<(&Path, usize)> = vec![
+        (&block.0, 1),
+        (&block.0, 5),
+        (&block.0, 12),
+        (&block.0, 20),
+    ];
+    for (scene, at) in scenes {
+        let m = check_derivatives(scene, "dd", at);
+        println!("{}: {} derivatives, worst {:.2e} ({})", scene.display(), m.compared, m.worst, m.worst_at);
+    }
+}

@@ -5,6 +5,7 @@
 mod nodal;
 pub mod pairs;
 pub mod segment;
+pub mod sensitivity;
 pub mod traction;
 
 pub use pairs::PairMemory;
