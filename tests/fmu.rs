@@ -742,20 +742,8 @@ fn null_and_zero_length_arguments() {
         assert_eq!((l.fmi2SetFMUstate.as_ref().unwrap())(inst.c, s), ERROR);
         assert_eq!((l.fmi2FreeFMUstate.as_ref().unwrap())(inst.c, &mut s), OK);
         // Unsupported functions say so.
-        assert_eq!(
-            (l.fmi2GetDirectionalDerivative.as_ref().unwrap())(
-                inst.c,
-                null(),
-                0,
-                null(),
-                0,
-                null(),
-                null_mut()
-            ),
-            ERROR
-        );
-        assert!(inst.last_message().contains("not supported"));
         assert_eq!((l.fmi2CancelStep.as_ref().unwrap())(inst.c), ERROR);
+        assert!(inst.last_message().contains("not supported"));
         let mut st = OK;
         assert_eq!(
             (l.fmi2GetStatus.as_ref().unwrap())(inst.c, fmi2StatusKind_fmi2DoStepStatus, &mut st),
@@ -1829,9 +1817,10 @@ fn directional_derivatives_of_the_shipped_scenes() {
 
 /// The same on the verification scenes that exercise what the shipped ones
 /// do not: a block with a stick zone and a slip zone on a rigid plane
-/// (mu_s = mu_d, so that a motion of the plane keeps the states: with mu_d
-/// < mu_s a node between the two capacities sticks or slides), dragged
-/// sliding as the scene has it, a frictional block on a flexible target
+/// (mu_s = mu_d), pressed and in the drag's transition, and dragged sliding
+/// as the scene has it (mu_d < mu_s: pressed, a motion of the plane makes
+/// its sticking nodes whose force lies between the two capacities slide,
+/// for any size of the motion, so `plane.ux` is a kink there, asserted), a frictional block on a flexible target
 /// (the sliding node's full linearisation: the turning segment, the moving
 /// contact point), lift-off, an inclined plane, von Mises plasticity (the
 /// consistent tangent from the step's start), a total Lagrangian strip, the
@@ -1842,7 +1831,7 @@ fn directional_derivatives_of_the_verification_scenes() {
     let path = |s: &str| repo().join("scenes/verification").join(s);
     let block = TempScene::new(
         "block",
-        &edited("verification/sliding_block.toml", &[("mu_d = 0.2", "mu_d = 0.3")]),
+        &edited("verification/sliding_block.toml", &[("mu_s = 0.3\nmu_d = 0.2", "mu_s = 0.3\nmu_d = 0.3")]),
     );
     let flexible = TempScene::new(
         "flexible",
@@ -1881,8 +1870,10 @@ fn directional_derivatives_of_the_verification_scenes() {
     ];
     let check = |scene, at| Check { scene, at, tolerance: 1e-11, skip: &[] };
     let checks = [
+        check(&block.0, 1),
         check(&block.0, 5),
         check(&block.0, 12),
+        check(&scenes[0], 1),
         check(&scenes[0], 20),
         check(&scenes[1], 1),
         check(&scenes[2], 1),
@@ -1896,11 +1887,97 @@ fn directional_derivatives_of_the_verification_scenes() {
         check(&bar.0, 0),
     ];
     let none: &[&str] = &[];
-    let m = run_checks(&checks, &[none; 13]);
+    let mut kinks = [none; 15];
+    kinks[3] = &["plane.ux"];
+    let m = run_checks(&checks, &kinks);
     // The block in the drag's transition, and on the flexible strip after
     // the press, holds
     // a stick zone and a slip zone.
-    for i in [0, 10] {
+    for i in [0, 1, 12] {
         assert!(m[i].stick_slip.iter().all(|&n| n > 0), "{i}: {:?}", m[i].stick_slip);
     }
+}
+
+/// fmi2GetDirectionalDerivative refuses with fmi2Error, and a message that
+/// names the value reference, what has no derivative: an unknown value
+/// reference, a count, a node state, a zone length, a per-node output, a
+/// solver output or an input as the unknown; an output or a parameter as
+/// the known; a non-finite seed; NULL arrays with a length. Before
+/// fmi2ExitInitializationMode it is not allowed (fmi2Error, as for any call
+/// the state machine does not allow); after fmi2Terminate it is. A pair
+/// under the paper's decisions has no derivative, said by name. Nothing
+/// crashes, and the instance steps on after each refusal.
+#[test]
+fn directional_derivative_refusals() {
+    let u = hertz();
+    let l = lib();
+    let inst = Inst::new(&u, "ddbad");
+    let (ry, uy) = (inst.vr("press.Ry"), inst.vr("press.uy"));
+    let (s, _) = inst.derivative(&[ry], &[uy], &[1.0]);
+    assert_eq!(s, ERROR);
+    assert!(inst.last_message().contains("not allowed in mode Instantiated"), "{}", inst.last_message());
+    unsafe {
+        assert_eq!((l.fmi2SetupExperiment.as_ref().unwrap())(inst.c, 0, 0.0, 0.0, 0, 0.0), OK);
+        assert_eq!((l.fmi2EnterInitializationMode.as_ref().unwrap())(inst.c), OK);
+    }
+    let (s, _) = inst.derivative(&[ry], &[uy], &[1.0]);
+    assert_eq!(s, ERROR);
+    assert!(inst.last_message().contains("not allowed in mode Initialization"));
+    unsafe { assert_eq!((l.fmi2ExitInitializationMode.as_ref().unwrap())(inst.c), OK) };
+    step_hertz(&inst, 0, 2);
+    let (s, good) = inst.derivative(&[ry], &[uy], &[1.0]);
+    assert_eq!(s, OK);
+    assert!(good[0].is_finite() && good[0] != 0.0, "{good:?}");
+    let refused: Vec<(u32, u32, f64)> = vec![
+        (99_999, uy, 1.0),
+        (inst.vr("contact.n_stick"), uy, 1.0),
+        (inst.vr("contact.state[1]"), uy, 1.0),
+        (inst.vr("contact.slip_length"), uy, 1.0),
+        (inst.vr("contact.tn[1]"), uy, 1.0),
+        (inst.vr("solver.residual"), uy, 1.0),
+        (uy, uy, 1.0),
+        (ry, 99_998, 1.0),
+        (ry, inst.vr("contact.Fn"), 1.0),
+        (ry, inst.vr("solver.tolerance"), 1.0),
+        (ry, uy, f64::NAN),
+    ];
+    for (unknown, known, seed) in refused {
+        let (s, _) = inst.derivative(&[ry, unknown], &[known], &[seed]);
+        assert_eq!(s, ERROR, "{unknown} / {known}");
+        let msg = inst.last_message();
+        let named = if unknown == ry { known } else { unknown };
+        assert!(msg.contains(&format!("valueReference {named}")), "{msg}");
+        assert!(msg.starts_with("fmi2GetDirectionalDerivative"), "{msg}");
+    }
+    assert!(inst.messages().iter().any(|m| m.contains("'contact.slip_length'") && m.contains("jumps")));
+    unsafe {
+        let f = l.fmi2GetDirectionalDerivative.as_ref().unwrap();
+        let mut out = [0.0];
+        assert_eq!(f(inst.c, null(), 1, &uy, 1, &1.0, out.as_mut_ptr()), ERROR);
+        assert!(inst.last_message().contains("NULL"));
+        assert_eq!(f(inst.c, &ry, 1, &uy, 1, &1.0, null_mut()), ERROR);
+        assert_eq!(f(inst.c, null(), 0, null(), 0, null(), null_mut()), OK);
+        // No known: the derivative in the zero direction.
+        assert_eq!(f(inst.c, &ry, 1, null(), 0, null(), out.as_mut_ptr()), OK);
+        assert_eq!(out[0], 0.0);
+        assert_eq!(f(null_mut(), &ry, 1, &uy, 1, &1.0, out.as_mut_ptr()), ERROR);
+    }
+    // The same answer as before the refusals, and the instance steps on.
+    assert_eq!(inst.derivative(&[ry], &[uy], &[1.0]), (OK, good));
+    step_hertz(&inst, 2, 3);
+    unsafe { assert_eq!((l.fmi2Terminate.as_ref().unwrap())(inst.c), OK) };
+    assert_eq!(inst.derivative(&[ry], &[uy], &[1.0]).0, OK);
+
+    let paper = TempScene::new(
+        "paper",
+        &edited("verification/sliding_block.toml", &[("mu_s = 0.3\nmu_d = 0.2", "mu_s = 0.3\nmu_d = 0.2\ndecisions = \"paper\"")]),
+    );
+    let u = unpack(&paper.0, "paper");
+    let inst = Inst::new(&u, "paper");
+    inst.init();
+    assert_eq!(inst.set_real("top.uy", -0.005), OK);
+    assert_eq!(inst.step(0.0, 0.5), OK);
+    let (s, _) = inst.derivative(&[inst.vr("top.Ry")], &[inst.vr("top.uy")], &[1.0]);
+    assert_eq!(s, ERROR);
+    assert!(inst.last_message().contains("'base' uses the paper's decisions"), "{}", inst.last_message());
 }
