@@ -352,7 +352,14 @@ impl FactoredLu {
         n: usize,
     ) -> Result<Self, LinearError> {
         let (mut col_ptr, mut row_idx, mut values) = (Vec::new(), Vec::new(), Vec::new());
-        bordered(pattern, k, extra, n, [&mut col_ptr, &mut row_idx], &mut values);
+        bordered(
+            pattern,
+            k,
+            extra,
+            n,
+            [&mut col_ptr, &mut row_idx],
+            &mut values,
+        );
         let mat = SymbolicSparseColMat::new_checked(n, n, col_ptr, None, row_idx);
         let symbolic = SymbolicLu::try_new(mat.as_ref())
             .map_err(|e| LinearError::Factorization(format!("{e:?}")))?;
@@ -389,7 +396,8 @@ impl FactoredLu {
             for (x, d) in rhs.iter_mut().zip(&r) {
                 *x += d;
             }
-            if !(inf(&r) > 1e-15 * inf(rhs)) {
+            let step = inf(&r);
+            if step.is_nan() || step <= 1e-15 * inf(rhs) {
                 break;
             }
         }

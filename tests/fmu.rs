@@ -926,10 +926,13 @@ fn structured_name(name: &str) -> bool {
 }
 
 /// Every shipped scene's variables have structured names, unique; every
-/// output is in <Outputs> with no dependency on an input (there is no
-/// direct feedthrough: outputs change in doStep only).
+/// output is in <Outputs> depending on every input ("dependent": an input's
+/// value is its value at the end of the step, and the outputs there are
+/// functions of it); providesDirectionalDerivative is true where every pair
+/// decides nodally.
 #[test]
 fn model_structure_and_names() {
+    use contact2d::fmi::variables::Causality;
     assert!(structured_name("press.Rx") && structured_name("contact.tn[12]"));
     for bad in ["press-1.Rx", "2a.b", "a..b", "a.tn[0]", "a.tn[x]", "a b"] {
         assert!(!structured_name(bad), "{bad}");
@@ -950,13 +953,34 @@ fn model_structure_and_names() {
             .nth(1)
             .and_then(|rest| rest.split("</Outputs>").next())
             .unwrap();
-        let listed = outputs.matches("<Unknown ").count();
-        let independent = outputs.matches(r#"dependencies="""#).count();
-        let n_out = vars
+        let indices = |c: Causality| {
+            (vars.iter().enumerate())
+                .filter(|(_, v)| v.causality == c)
+                .map(|(i, _)| (i + 1).to_string())
+                .collect::<Vec<_>>()
+        };
+        let (inputs, listed) = (indices(Causality::Input), indices(Causality::Output));
+        assert!(!inputs.is_empty(), "{}", scene.display());
+        let expected: String = listed
             .iter()
-            .filter(|v| v.causality == contact2d::fmi::variables::Causality::Output)
-            .count();
-        assert_eq!((listed, independent), (n_out, n_out), "{}", scene.display());
+            .map(|i| {
+                format!(
+                    "\n      <Unknown index=\"{i}\" dependencies=\"{}\" dependenciesKind=\"{}\"/>",
+                    inputs.join(" "),
+                    vec!["dependent"; inputs.len()].join(" ")
+                )
+            })
+            .collect();
+        assert_eq!(outputs, format!("{expected}\n    "), "{}", scene.display());
+        let nodal =
+            (problem.contacts.iter()).all(|c| c.decisions == contact2d::problem::Decisions::Nodal);
+        assert!(xml.contains(&format!("providesDirectionalDerivative=\"{nodal}\"")));
+        assert_eq!(
+            nodal,
+            !scene.ends_with("cattaneo_mindlin.toml"),
+            "{}",
+            scene.display()
+        );
     }
 }
 
@@ -1476,7 +1500,12 @@ fn pressure_input_in_the_fmu() {
 impl Inst {
     fn save(&self) -> fmi2FMUstate {
         let mut s: fmi2FMUstate = null_mut();
-        unsafe { assert_eq!((lib().fmi2GetFMUstate.as_ref().unwrap())(self.c, &mut s), OK) };
+        unsafe {
+            assert_eq!(
+                (lib().fmi2GetFMUstate.as_ref().unwrap())(self.c, &mut s),
+                OK
+            )
+        };
         s
     }
 
@@ -1485,7 +1514,12 @@ impl Inst {
     }
 
     fn free_state(&self, mut s: fmi2FMUstate) {
-        unsafe { assert_eq!((lib().fmi2FreeFMUstate.as_ref().unwrap())(self.c, &mut s), OK) };
+        unsafe {
+            assert_eq!(
+                (lib().fmi2FreeFMUstate.as_ref().unwrap())(self.c, &mut s),
+                OK
+            )
+        };
     }
 
     /// fmi2GetDirectionalDerivative: the status and dvUnknown.
@@ -1560,13 +1594,19 @@ fn check_derivatives(check: &Check, tag: &str) -> Measured {
     use contact2d::fmi::variables::{Binding, Causality, PairField, Quantity, Type, Variable};
     let problem = contact2d::scene::load(check.scene).unwrap();
     let vars = variables(&problem);
-    let inputs: Vec<&Variable> = vars.iter().filter(|v| v.causality == Causality::Input).collect();
+    let inputs: Vec<&Variable> = vars
+        .iter()
+        .filter(|v| v.causality == Causality::Input)
+        .collect();
     let derivable: Vec<&Variable> = vars
         .iter()
         .filter(|v| match v.binding {
             Binding::Reaction { .. } | Binding::DriverDisplacement { .. } => true,
             Binding::Pair { field, .. } => {
-                matches!(field, PairField::Fx | PairField::Fy | PairField::Fn | PairField::Ft)
+                matches!(
+                    field,
+                    PairField::Fx | PairField::Fy | PairField::Fn | PairField::Ft
+                )
             }
             _ => false,
         })
@@ -1578,7 +1618,8 @@ fn check_derivatives(check: &Check, tag: &str) -> Measured {
         .map(|v| v.name.clone())
         .collect();
     let times = &problem.times;
-    let input_at = |v: &Variable, t: f64| contact2d::fmi::variables::input(&v.binding, &problem, t).unwrap();
+    let input_at =
+        |v: &Variable, t: f64| contact2d::fmi::variables::input(&v.binding, &problem, t).unwrap();
     let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
     for p in &problem.mesh.nodes {
         for c in 0..2 {
@@ -1615,22 +1656,39 @@ fn check_derivatives(check: &Check, tag: &str) -> Measured {
     let mut t = 0.0;
     for &t1 in &times[..check.at] {
         set_inputs(t1);
-        assert_eq!(inst.step(t, t1 - t), OK, "{tag} to {t1}: {:?}", inst.messages());
+        assert_eq!(
+            inst.step(t, t1 - t),
+            OK,
+            "{tag} to {t1}: {:?}",
+            inst.messages()
+        );
         t = t1;
     }
     let before = inst.save();
     let t1 = times[check.at];
     set_inputs(t1);
-    assert_eq!(inst.step(t, t1 - t), OK, "{tag} to {t1}: {:?}", inst.messages());
+    assert_eq!(
+        inst.step(t, t1 - t),
+        OK,
+        "{tag} to {t1}: {:?}",
+        inst.messages()
+    );
     // The derivative is the last increment's: a step taken in one.
     assert_eq!(inst.int("solver.substeps"), 0, "{tag}: no bisection");
     let states = inst.contact_states(&integers);
-    let count = |key: &str| (integers.iter().zip(&states)).filter(|(n, _)| n.ends_with(key)).map(|(_, s)| s).sum();
+    let count = |key: &str| {
+        (integers.iter().zip(&states))
+            .filter(|(n, _)| n.ends_with(key))
+            .map(|(_, s)| s)
+            .sum()
+    };
     let stick_slip = [count(".n_stick"), count(".n_slip")];
     let unknown: Vec<u32> = derivable.iter().map(|v| v.vr).collect();
     let mut output_scale = HashMap::new();
     for v in &derivable {
-        let s = output_scale.entry(format!("{:?}", v.quantity)).or_insert(0.0f64);
+        let s = output_scale
+            .entry(format!("{:?}", v.quantity))
+            .or_insert(0.0f64);
         *s = s.max(inst.real(&v.name).abs());
     }
     let natural = |v: &Variable, input: &Variable| {
@@ -1639,7 +1697,13 @@ fn check_derivatives(check: &Check, tag: &str) -> Measured {
     let columns: Vec<Vec<f64>> = (inputs.iter())
         .map(|input| {
             let (status, dy) = inst.derivative(&unknown, &[input.vr], &[1.0]);
-            assert_eq!(status, OK, "{tag}: d/d {}: {}", input.name, inst.last_message());
+            assert_eq!(
+                status,
+                OK,
+                "{tag}: d/d {}: {}",
+                input.name,
+                inst.last_message()
+            );
             dy
         })
         .collect();
@@ -1686,7 +1750,11 @@ fn check_derivatives(check: &Check, tag: &str) -> Measured {
             let (plus, same_plus, rho_plus) = run(value + eps);
             let (minus, same_minus, rho_minus) = run(value - eps);
             if same_plus && same_minus {
-                let fd: Vec<f64> = plus.iter().zip(&minus).map(|(p, m)| (p - m) / (2.0 * eps)).collect();
+                let fd: Vec<f64> = plus
+                    .iter()
+                    .zip(&minus)
+                    .map(|(p, m)| (p - m) / (2.0 * eps))
+                    .collect();
                 // The differences' noise: each run's outputs are off by about
                 // its residual times the forces, over 2 eps.
                 let noise = 4.0 * rho_plus.max(rho_minus) * input_scale(input) / eps;
@@ -1761,9 +1829,18 @@ fn run_checks(checks: &[Check], kinks: &[&[&str]]) -> Vec<Measured> {
             m.worst_at,
             m.kinks
         );
-        assert!(m.compared > 0, "{}: nothing compared", check.scene.display());
+        assert!(
+            m.compared > 0,
+            "{}: nothing compared",
+            check.scene.display()
+        );
         if m.worst > m.bound || m.kinks != *expected {
-            failed.push(format!("{}: {} kinks {:?}", check.scene.display(), m.worst_at, m.kinks));
+            failed.push(format!(
+                "{}: {} kinks {:?}",
+                check.scene.display(),
+                m.worst_at,
+                m.kinks
+            ));
         }
         all.push(m);
     }
@@ -1799,19 +1876,51 @@ fn directional_derivatives_of_the_shipped_scenes() {
     );
     let axes = ["soil_axis.ux", "pipe_axis_bottom.ux", "pipe_axis_top.ux"];
     let checks = [
-        Check { scene: &pipe, at: 0, tolerance: 1e-10, skip: &axes },
-        Check { scene: &hertz_a, at: 3, tolerance: 1e-11, skip: &[] },
-        Check { scene: &hertz, at: 3, tolerance: 1e-11, skip: &[] },
+        Check {
+            scene: &pipe,
+            at: 0,
+            tolerance: 1e-10,
+            skip: &axes,
+        },
+        Check {
+            scene: &hertz_a,
+            at: 3,
+            tolerance: 1e-11,
+            skip: &[],
+        },
+        Check {
+            scene: &hertz,
+            at: 3,
+            tolerance: 1e-11,
+            skip: &[],
+        },
         // Total Lagrangian Mooney-Rivlin sliding with friction in a rigid
         // channel, at t = 5.5.
-        Check { scene: &sheet, at: 10, tolerance: 1e-11, skip: &[] },
+        Check {
+            scene: &sheet,
+            at: 10,
+            tolerance: 1e-11,
+            skip: &[],
+        },
         // The snapped wire: a stick zone and a slip zone.
-        Check { scene: &wire, at: 1, tolerance: 1e-11, skip: &[] },
+        Check {
+            scene: &wire,
+            at: 1,
+            tolerance: 1e-11,
+            skip: &[],
+        },
     ];
-    let m = run_checks(&checks, &[&[], &[], &[], &[], &["far_end.ux", "cylinder.ux"]]);
+    let m = run_checks(
+        &checks,
+        &[&[], &[], &[], &[], &["far_end.ux", "cylinder.ux"]],
+    );
     // The pipe and the wire hold a stick zone and a slip zone.
     for i in [0, 4] {
-        assert!(m[i].stick_slip.iter().all(|&n| n > 0), "{:?}", m[i].stick_slip);
+        assert!(
+            m[i].stick_slip.iter().all(|&n| n > 0),
+            "{:?}",
+            m[i].stick_slip
+        );
     }
 }
 
@@ -1831,11 +1940,17 @@ fn directional_derivatives_of_the_verification_scenes() {
     let path = |s: &str| repo().join("scenes/verification").join(s);
     let block = TempScene::new(
         "block",
-        &edited("verification/sliding_block.toml", &[("mu_s = 0.3\nmu_d = 0.2", "mu_s = 0.3\nmu_d = 0.3")]),
+        &edited(
+            "verification/sliding_block.toml",
+            &[("mu_s = 0.3\nmu_d = 0.2", "mu_s = 0.3\nmu_d = 0.3")],
+        ),
     );
     let flexible = TempScene::new(
         "flexible",
-        &edited("verification/flexible_target.toml", &[("mu_s = 0.0", "mu_s = 0.3")]),
+        &edited(
+            "verification/flexible_target.toml",
+            &[("mu_s = 0.0", "mu_s = 0.3")],
+        ),
     );
     let tip = TempScene::new(
         "tip",
@@ -1868,7 +1983,12 @@ fn directional_derivatives_of_the_verification_scenes() {
         path("cantilever_tip_load.toml"),
         path("flexible_target.toml"),
     ];
-    let check = |scene, at| Check { scene, at, tolerance: 1e-11, skip: &[] };
+    let check = |scene, at| Check {
+        scene,
+        at,
+        tolerance: 1e-11,
+        skip: &[],
+    };
     let checks = [
         check(&block.0, 1),
         check(&block.0, 5),
@@ -1894,7 +2014,11 @@ fn directional_derivatives_of_the_verification_scenes() {
     // the press, holds
     // a stick zone and a slip zone.
     for i in [0, 1, 12] {
-        assert!(m[i].stick_slip.iter().all(|&n| n > 0), "{i}: {:?}", m[i].stick_slip);
+        assert!(
+            m[i].stick_slip.iter().all(|&n| n > 0),
+            "{i}: {:?}",
+            m[i].stick_slip
+        );
     }
 }
 
@@ -1915,14 +2039,28 @@ fn directional_derivative_refusals() {
     let (ry, uy) = (inst.vr("press.Ry"), inst.vr("press.uy"));
     let (s, _) = inst.derivative(&[ry], &[uy], &[1.0]);
     assert_eq!(s, ERROR);
-    assert!(inst.last_message().contains("not allowed in mode Instantiated"), "{}", inst.last_message());
+    assert!(
+        inst.last_message()
+            .contains("not allowed in mode Instantiated"),
+        "{}",
+        inst.last_message()
+    );
     unsafe {
-        assert_eq!((l.fmi2SetupExperiment.as_ref().unwrap())(inst.c, 0, 0.0, 0.0, 0, 0.0), OK);
-        assert_eq!((l.fmi2EnterInitializationMode.as_ref().unwrap())(inst.c), OK);
+        assert_eq!(
+            (l.fmi2SetupExperiment.as_ref().unwrap())(inst.c, 0, 0.0, 0.0, 0, 0.0),
+            OK
+        );
+        assert_eq!(
+            (l.fmi2EnterInitializationMode.as_ref().unwrap())(inst.c),
+            OK
+        );
     }
     let (s, _) = inst.derivative(&[ry], &[uy], &[1.0]);
     assert_eq!(s, ERROR);
-    assert!(inst.last_message().contains("not allowed in mode Initialization"));
+    assert!(
+        inst.last_message()
+            .contains("not allowed in mode Initialization")
+    );
     unsafe { assert_eq!((l.fmi2ExitInitializationMode.as_ref().unwrap())(inst.c), OK) };
     step_hertz(&inst, 0, 2);
     let (s, good) = inst.derivative(&[ry], &[uy], &[1.0]);
@@ -1949,7 +2087,11 @@ fn directional_derivative_refusals() {
         assert!(msg.contains(&format!("valueReference {named}")), "{msg}");
         assert!(msg.starts_with("fmi2GetDirectionalDerivative"), "{msg}");
     }
-    assert!(inst.messages().iter().any(|m| m.contains("'contact.slip_length'") && m.contains("jumps")));
+    assert!(
+        inst.messages()
+            .iter()
+            .any(|m| m.contains("'contact.slip_length'") && m.contains("jumps"))
+    );
     unsafe {
         let f = l.fmi2GetDirectionalDerivative.as_ref().unwrap();
         let mut out = [0.0];
@@ -1970,7 +2112,13 @@ fn directional_derivative_refusals() {
 
     let paper = TempScene::new(
         "paper",
-        &edited("verification/sliding_block.toml", &[("mu_s = 0.3\nmu_d = 0.2", "mu_s = 0.3\nmu_d = 0.2\ndecisions = \"paper\"")]),
+        &edited(
+            "verification/sliding_block.toml",
+            &[(
+                "mu_s = 0.3\nmu_d = 0.2",
+                "mu_s = 0.3\nmu_d = 0.2\ndecisions = \"paper\"",
+            )],
+        ),
     );
     let u = unpack(&paper.0, "paper");
     let inst = Inst::new(&u, "paper");
@@ -1979,5 +2127,10 @@ fn directional_derivative_refusals() {
     assert_eq!(inst.step(0.0, 0.5), OK);
     let (s, _) = inst.derivative(&[inst.vr("top.Ry")], &[inst.vr("top.uy")], &[1.0]);
     assert_eq!(s, ERROR);
-    assert!(inst.last_message().contains("'base' uses the paper's decisions"), "{}", inst.last_message());
+    assert!(
+        inst.last_message()
+            .contains("'base' uses the paper's decisions"),
+        "{}",
+        inst.last_message()
+    );
 }

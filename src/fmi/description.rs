@@ -97,6 +97,13 @@ fn real(v: f64) -> String {
     format!("{:?}", v + 0.0)
 }
 
+/// Whether fmi2GetDirectionalDerivative answers for this scene: its
+/// contact pairs all decide nodally (the paper's decisions make the
+/// friction a fixed point of recovered resultants, without a derivative).
+pub fn provides_directional_derivative(problem: &Problem) -> bool {
+    (problem.contacts.iter()).all(|c| c.decisions == crate::problem::Decisions::Nodal)
+}
+
 /// The whole `modelDescription.xml`.
 pub fn model_description(problem: &Problem) -> String {
     let vars = variables(problem);
@@ -114,7 +121,8 @@ pub fn model_description(problem: &Problem) -> String {
     );
     let _ = writeln!(
         x,
-        r#"  <CoSimulation modelIdentifier="{MODEL_IDENTIFIER}" needsExecutionTool="false" canHandleVariableCommunicationStepSize="true" canInterpolateInputs="true" maxOutputDerivativeOrder="0" canRunAsynchronuously="false" canBeInstantiatedOnlyOncePerProcess="false" canNotUseMemoryManagementFunctions="true" canGetAndSetFMUstate="true" canSerializeFMUstate="true" providesDirectionalDerivative="false"/>"#
+        r#"  <CoSimulation modelIdentifier="{MODEL_IDENTIFIER}" needsExecutionTool="false" canHandleVariableCommunicationStepSize="true" canInterpolateInputs="true" maxOutputDerivativeOrder="0" canRunAsynchronuously="false" canBeInstantiatedOnlyOncePerProcess="false" canNotUseMemoryManagementFunctions="true" canGetAndSetFMUstate="true" canSerializeFMUstate="true" providesDirectionalDerivative="{}"/>"#,
+        provides_directional_derivative(problem)
     );
     let units: BTreeSet<&str> = vars
         .iter()
@@ -158,7 +166,7 @@ pub fn model_description(problem: &Problem) -> String {
         real(dt)
     );
     let _ = writeln!(x, "  <ModelVariables>");
-    let mut outputs = Vec::new();
+    let (mut outputs, mut inputs) = (Vec::new(), Vec::new());
     for (i, v) in vars.iter().enumerate() {
         let (causality, variability) = match (v.causality, v.ty) {
             (Causality::Parameter, _) if v.tunable() => ("parameter", "tunable"),
@@ -167,8 +175,10 @@ pub fn model_description(problem: &Problem) -> String {
             (Causality::Output, Type::Real) => ("output", "continuous"),
             (Causality::Output, _) => ("output", "discrete"),
         };
-        if v.causality == Causality::Output {
-            outputs.push(i + 1);
+        match v.causality {
+            Causality::Output => outputs.push(i + 1),
+            Causality::Input => inputs.push(i + 1),
+            Causality::Parameter => {}
         }
         let _ = writeln!(
             x,
@@ -203,11 +213,21 @@ pub fn model_description(problem: &Problem) -> String {
     }
     let _ = writeln!(x, "  </ModelVariables>");
     let _ = writeln!(x, "  <ModelStructure>");
-    // No direct feedthrough: an output changes only in doStep, never when
-    // an input is set, so it depends on no input at the same instant.
+    // An input's value is its value at the end of the next step (docs/fmu.md),
+    // so the outputs at a communication point are functions of the inputs'
+    // values there: every output depends on every input (the bodies and
+    // contacts couple them), in no particular way. The outputs change only
+    // in fmi2DoStep, never when an input is set.
+    let dependencies = (inputs.iter().map(|i| i.to_string()))
+        .collect::<Vec<_>>()
+        .join(" ");
+    let kinds = vec!["dependent"; inputs.len()].join(" ");
     let _ = writeln!(x, "    <Outputs>");
     for i in &outputs {
-        let _ = writeln!(x, r#"      <Unknown index="{i}" dependencies=""/>"#);
+        let _ = writeln!(
+            x,
+            r#"      <Unknown index="{i}" dependencies="{dependencies}" dependenciesKind="{kinds}"/>"#
+        );
     }
     let _ = writeln!(x, "    </Outputs>");
     let _ = writeln!(x, "    <InitialUnknowns>");

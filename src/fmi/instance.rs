@@ -556,7 +556,9 @@ impl Instance {
         let mut seeds = Vec::with_capacity(known.len());
         for (&vr, &dv) in known.iter().zip(seed) {
             let Some(&i) = self.by_vr.get(&vr) else {
-                return self.error(format!("{CALL}: vKnown_ref: no variable has valueReference {vr}"));
+                return self.error(format!(
+                    "{CALL}: vKnown_ref: no variable has valueReference {vr}"
+                ));
             };
             let v = &self.vars[i];
             let input = match v.binding {
@@ -572,7 +574,10 @@ impl Instance {
                 }
             };
             if !dv.is_finite() {
-                let msg = format!("{CALL}: dvKnown of '{}' (valueReference {vr}) is {dv}, not a finite number", v.name);
+                let msg = format!(
+                    "{CALL}: dvKnown of '{}' (valueReference {vr}) is {dv}, not a finite number",
+                    v.name
+                );
                 return self.error(msg);
             }
             seeds.push((input, dv));
@@ -580,7 +585,9 @@ impl Instance {
         let mut responses = Vec::with_capacity(unknown.len());
         for &vr in unknown {
             let Some(&i) = self.by_vr.get(&vr) else {
-                return self.error(format!("{CALL}: vUnknown_ref: no variable has valueReference {vr}"));
+                return self.error(format!(
+                    "{CALL}: vUnknown_ref: no variable has valueReference {vr}"
+                ));
             };
             let v = &self.vars[i];
             let why = match v.binding {
@@ -594,10 +601,11 @@ impl Instance {
                 }
                 Binding::Pair { pair, field } => match field {
                     PairField::Fx | PairField::Fy | PairField::Fn | PairField::Ft => {
-                        let component = [PairField::Fx, PairField::Fy, PairField::Fn, PairField::Ft]
-                            .iter()
-                            .position(|&f| f == field)
-                            .unwrap_or(0);
+                        let component =
+                            [PairField::Fx, PairField::Fy, PairField::Fn, PairField::Ft]
+                                .iter()
+                                .position(|&f| f == field)
+                                .unwrap_or(0);
                         responses.push(Response::Pair { pair, component });
                         continue;
                     }
@@ -608,7 +616,10 @@ impl Instance {
                         "the length of a stick or slip zone jumps when a node changes state"
                     }
                 },
-                Binding::Node { field: NodeField::State, .. } => "a node state (Integer) is discrete",
+                Binding::Node {
+                    field: NodeField::State,
+                    ..
+                } => "a node state (Integer) is discrete",
                 Binding::Node { .. } => {
                     "per-node outputs have none; the reactions, the force drivers' displacements and the pair resultants Fx, Fy, Fn, Ft do"
                 }

@@ -105,12 +105,27 @@ impl Solver {
     /// The out-of-balance forces at the converged state (contact
     /// excluded) and, with `k`, the tangent over the free dofs, from the
     /// history its increment started from.
-    fn state_residual(&self, history: &[f64], ws: &mut Workspace, k: Option<&mut [f64]>) -> Result<Vec<f64>, String> {
+    fn state_residual(
+        &self,
+        history: &[f64],
+        ws: &mut Workspace,
+        k: Option<&mut [f64]>,
+    ) -> Result<Vec<f64>, String> {
         let s = &self.state;
         let mut r = vec![0.0; s.u.len()];
         let mut trial = history.to_vec();
         (self.model)
-            .assemble(&self.problem, s.time, &s.u, &mut trial, &mut r, k, None, None, ws)
+            .assemble(
+                &self.problem,
+                s.time,
+                &s.u,
+                &mut trial,
+                &mut r,
+                k,
+                None,
+                None,
+                ws,
+            )
             .map_err(|e| e.to_string())?;
         for (driver, f) in self.problem.drivers.iter().zip(&s.driver_forces) {
             let share = 1.0 / driver.nodes.len().max(1) as f64;
@@ -183,7 +198,8 @@ impl Solver {
             }
         }
         let contact_rows = contact.rows.iter().map(|r| (&r.dofs[..], &r.column[..]));
-        let tie_rows = (self.problem.ties.iter().flat_map(|t| &t.rows)).map(|r| (&r.dofs[..], &r.dofs[..]));
+        let tie_rows =
+            (self.problem.ties.iter().flat_map(|t| &t.rows)).map(|r| (&r.dofs[..], &r.dofs[..]));
         let mut negligible = Vec::new();
         for (i, (dofs, column)) in contact_rows.chain(tie_rows).enumerate() {
             let square = |free: bool| -> f64 {
@@ -221,7 +237,12 @@ impl Solver {
     }
 
     /// `out += K du` over all dofs, with the state's tangent.
-    fn tangent_product(&self, lin: &mut Linearization, du: &[f64], out: &mut [f64]) -> Result<(), String> {
+    fn tangent_product(
+        &self,
+        lin: &mut Linearization,
+        du: &[f64],
+        out: &mut [f64],
+    ) -> Result<(), String> {
         let s = &self.state;
         let mut trial = lin.history.clone();
         let mut r = vec![0.0; du.len()];
@@ -327,14 +348,11 @@ impl Solver {
             }
         }
         let mut dfc = vec![0.0; ndof];
-        lin.contact.force_change(&du, &x[n..n + m], &dpose, &mut dfc);
-        let (pairs, rigids) = lin.contact.resultant_changes(
-            [p.contacts.len(), p.rigids.len()],
-            &du,
-            &dr,
-            eq,
-            &dpose,
-        );
+        lin.contact
+            .force_change(&du, &x[n..n + m], &dpose, &mut dfc);
+        let (pairs, rigids) =
+            lin.contact
+                .resultant_changes([p.contacts.len(), p.rigids.len()], &du, &dr, eq, &dpose);
         responses
             .iter()
             .map(|&response| {
