@@ -785,22 +785,7 @@ impl Solver {
                 &mut self.ws,
             )
             .map_err(|e| e.to_string())?;
-        // Force components of the drivers: each node of the set carries an
-        // equal share of the resultant (a dead load).
-        for (driver, f) in self.problem.drivers.iter().zip(&self.step_forces) {
-            let share = 1.0 / driver.nodes.len().max(1) as f64;
-            for c in (0..2).filter(|&c| driver.force(c).is_some()) {
-                for &n in &driver.nodes {
-                    self.r[2 * n + c] -= share * f[c];
-                }
-            }
-        }
-        let tie_rows = self.problem.ties.iter().flat_map(|t| &t.rows);
-        for (row, &l) in tie_rows.zip(lambda) {
-            for &(d, v) in &row.dofs {
-                self.r[d] -= v * l;
-            }
-        }
+        subtract_loads(&self.problem, &self.step_forces, lambda, &mut self.r);
         let contact = if !self.problem.contacts.is_empty() {
             let mut clog =
                 |m: &str| log(LogCategory::Contact, &format!("t = {t:.6e} it {it}: {m}"));
@@ -1085,19 +1070,7 @@ impl Solver {
         let tie_rows = tie_rows.map(|(dofs, b)| (dofs, b, &[][..]));
         for (i, (dofs, rhs_i, column)) in rows.chain(tie_rows).enumerate() {
             let mut b = rhs_i;
-            // A row whose free coefficients are round-off beside its
-            // prescribed ones (a node held at a target node on a
-            // symmetry plane, its contact point a hair inside the
-            // next segment: `beta` = 1e-8) would fix its tiny free
-            // part with a huge multiplier; it is a row on
-            // prescribed dofs.
-            let square = |free: bool| -> f64 {
-                (dofs.iter())
-                    .filter(|&&(d, _)| (eq[d] != PRESCRIBED) == free)
-                    .map(|&(_, v)| v * v)
-                    .sum()
-            };
-            let free = square(true) > NEGLIGIBLE_ROW * NEGLIGIBLE_ROW * square(false);
+            let free = acts_on_free(dofs, eq);
             for &(d, v) in dofs {
                 if eq[d] == PRESCRIBED {
                     if it == 0 {
@@ -1172,6 +1145,41 @@ impl Solver {
             &mut ws,
         );
         stress
+    }
+}
+
+/// Whether a constraint row acts on free dofs. A row whose free
+/// coefficients are round-off beside its prescribed ones (a node held at a
+/// target node on a symmetry plane, its contact point a hair inside the
+/// next segment: `beta` = 1e-8) would fix its tiny free part with a huge
+/// multiplier; it is a row on prescribed dofs (`NEGLIGIBLE_ROW`).
+fn acts_on_free(dofs: &[(usize, f64)], eq: &[u32]) -> bool {
+    let square = |free: bool| -> f64 {
+        (dofs.iter())
+            .filter(|&&(d, _)| (eq[d] != PRESCRIBED) == free)
+            .map(|&(_, v)| v * v)
+            .sum()
+    };
+    square(true) > NEGLIGIBLE_ROW * NEGLIGIBLE_ROW * square(false)
+}
+
+/// The loads beside the elements' in `r = F_int - R_ext`: each force
+/// driver's resultant `forces`, shared equally by its nodes (a dead load),
+/// and the tie forces `C^T lambda`.
+fn subtract_loads(problem: &Problem, forces: &[[f64; 2]], lambda: &[f64], r: &mut [f64]) {
+    for (driver, f) in problem.drivers.iter().zip(forces) {
+        let share = 1.0 / driver.nodes.len().max(1) as f64;
+        for c in (0..2).filter(|&c| driver.force(c).is_some()) {
+            for &n in &driver.nodes {
+                r[2 * n + c] -= share * f[c];
+            }
+        }
+    }
+    let tie_rows = problem.ties.iter().flat_map(|t| &t.rows);
+    for (row, &l) in tie_rows.zip(lambda) {
+        for &(d, v) in &row.dofs {
+            r[d] -= v * l;
+        }
     }
 }
 

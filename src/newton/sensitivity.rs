@@ -14,7 +14,7 @@
 //! follow from `dr = K du + dr/dx dx - T^T dlambda_ties` and the contact
 //! forces' change.
 
-use super::{NEGLIGIBLE_ROW, Solver};
+use super::{Solver, acts_on_free, subtract_loads};
 use crate::assembly::{PRESCRIBED, Workspace};
 use crate::contact::pairs::{self, Flips};
 use crate::contact::sensitivity::{self, Linearised};
@@ -127,20 +127,7 @@ impl Solver {
                 ws,
             )
             .map_err(|e| e.to_string())?;
-        for (driver, f) in self.problem.drivers.iter().zip(&s.driver_forces) {
-            let share = 1.0 / driver.nodes.len().max(1) as f64;
-            for c in (0..2).filter(|&c| driver.force(c).is_some()) {
-                for &n in &driver.nodes {
-                    r[2 * n + c] -= share * f[c];
-                }
-            }
-        }
-        let tie_rows = self.problem.ties.iter().flat_map(|t| &t.rows);
-        for (row, &l) in tie_rows.zip(&s.ties) {
-            for &(d, v) in &row.dofs {
-                r[d] -= v * l;
-            }
-        }
+        subtract_loads(&self.problem, &s.driver_forces, &s.ties, &mut r);
         Ok(r)
     }
 
@@ -202,15 +189,9 @@ impl Solver {
             (self.problem.ties.iter().flat_map(|t| &t.rows)).map(|r| (&r.dofs[..], &r.dofs[..]));
         let mut negligible = Vec::new();
         for (i, (dofs, column)) in contact_rows.chain(tie_rows).enumerate() {
-            let square = |free: bool| -> f64 {
-                (dofs.iter())
-                    .filter(|&&(d, _)| (eq[d] != PRESCRIBED) == free)
-                    .map(|&(_, v)| v * v)
-                    .sum()
-            };
             // As in Newton's rows: one acting on prescribed dofs alone holds
             // nothing the drivers do not.
-            let free = square(true) > NEGLIGIBLE_ROW * NEGLIGIBLE_ROW * square(false);
+            let free = acts_on_free(dofs, eq);
             negligible.push(!free);
             if !free {
                 extra.push((n + i, n + i, 1.0));
