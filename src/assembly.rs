@@ -299,6 +299,26 @@ impl Model {
         Ok(())
     }
 
+    /// `out += dr/dp`: the load of edge pressure `i` at unit value, at
+    /// displacements `u` (on the current edge for a follower pressure under
+    /// total Lagrangian kinematics): the residual is linear in each
+    /// pressure's value.
+    pub fn pressure_load(
+        &self,
+        problem: &Problem,
+        i: usize,
+        u: &[f64],
+        out: &mut [f64],
+        ws: &mut Workspace,
+    ) {
+        let kept = std::mem::take(&mut ws.pressures);
+        ws.pressures = (0..problem.pressures.len())
+            .map(|j| if j == i { 1.0 } else { 0.0 })
+            .collect();
+        self.add_pressures(problem, 0.0, u, out, None, None, ws);
+        ws.pressures = kept;
+    }
+
     fn scatter_matrix(&self, e: usize, nd: usize, ke: &[[f64; 16]; 16], k: &mut [f64]) {
         let map = &self.scatter[self.scatter_offset[e]..self.scatter_offset[e] + nd * nd];
         for q1 in 0..nd {

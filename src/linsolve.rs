@@ -200,41 +200,17 @@ impl Augmented {
         rhs: &mut [f64],
     ) -> Result<(), LinearError> {
         let n = rhs.len();
-        extra.sort_unstable_by_key(|&(r, c, _)| (c, r));
-        let (col_ptr, row_idx, values) = (&mut self.col_ptr, &mut self.row_idx, &mut self.values);
-        let old_ptr = std::mem::take(col_ptr);
-        let old_idx = std::mem::take(row_idx);
-        values.clear();
-        col_ptr.push(0);
-        let mut e = 0;
-        let mut column: Vec<(usize, f64)> = Vec::new();
-        for c in 0..n {
-            column.clear();
-            if c < pattern.n {
-                for p in pattern.col_ptr[c]..pattern.col_ptr[c + 1] {
-                    column.push((pattern.row_idx[p], k[p]));
-                }
-            }
-            let start = e;
-            while e < extra.len() && extra[e].1 == c {
-                column.push((extra[e].0, extra[e].2));
-                e += 1;
-            }
-            if e > start {
-                column.sort_unstable_by_key(|&(r, _)| r);
-            }
-            let mut last = usize::MAX;
-            for &(r, v) in &column {
-                if r == last {
-                    *values.last_mut().expect("a previous entry") += v;
-                } else {
-                    row_idx.push(r);
-                    values.push(v);
-                    last = r;
-                }
-            }
-            col_ptr.push(row_idx.len());
-        }
+        let old_ptr = std::mem::take(&mut self.col_ptr);
+        let old_idx = std::mem::take(&mut self.row_idx);
+        bordered(
+            pattern,
+            k,
+            extra,
+            n,
+            [&mut self.col_ptr, &mut self.row_idx],
+            &mut self.values,
+        );
+        let (col_ptr, row_idx) = (&self.col_ptr, &self.row_idx);
         let n_disp = pattern.n.min(n);
         let same = self.analysis.as_ref().is_some_and(|a| a.n_disp == n_disp)
             && old_ptr == *col_ptr
@@ -301,6 +277,133 @@ impl Augmented {
         }
         self.lu += 1;
         self.last = Some(Method::Lu);
+        Ok(())
+    }
+}
+
+/// The CSC form (both triangles, rows sorted) of the order-`n` matrix made
+/// of the tangent `k` over `pattern` (its first `pattern.n` unknowns) plus
+/// the entries `extra` (row, col, value; sorted here, duplicates summed).
+fn bordered(
+    pattern: &Pattern,
+    k: &[f64],
+    extra: &mut [(usize, usize, f64)],
+    n: usize,
+    [col_ptr, row_idx]: [&mut Vec<usize>; 2],
+    values: &mut Vec<f64>,
+) {
+    extra.sort_unstable_by_key(|&(r, c, _)| (c, r));
+    col_ptr.clear();
+    row_idx.clear();
+    values.clear();
+    col_ptr.push(0);
+    let mut e = 0;
+    let mut column: Vec<(usize, f64)> = Vec::new();
+    for c in 0..n {
+        column.clear();
+        if c < pattern.n {
+            for p in pattern.col_ptr[c]..pattern.col_ptr[c + 1] {
+                column.push((pattern.row_idx[p], k[p]));
+            }
+        }
+        let start = e;
+        while e < extra.len() && extra[e].1 == c {
+            column.push((extra[e].0, extra[e].2));
+            e += 1;
+        }
+        if e > start {
+            column.sort_unstable_by_key(|&(r, _)| r);
+        }
+        let mut last = usize::MAX;
+        for &(r, v) in &column {
+            if r == last {
+                *values.last_mut().expect("a previous entry") += v;
+            } else {
+                row_idx.push(r);
+                values.push(v);
+                last = r;
+            }
+        }
+        col_ptr.push(row_idx.len());
+    }
+}
+
+/// One sparse LU factorization of a bordered matrix (as [`Augmented`]
+/// builds it), kept for any number of solves: the sensitivities of a
+/// converged state solve with its tangent once per seed. Each solve is
+/// refined against the matrix (a stiff body beside a soft one leaves the
+/// factor a few digits short).
+pub struct FactoredLu {
+    lu: Lu<usize, f64>,
+    mat: SymbolicSparseColMat<usize>,
+    values: Vec<f64>,
+}
+
+/// Refinement steps of a [`FactoredLu`] solve at most; it stops when a
+/// correction is below 1e-15 of the solution.
+const REFINEMENT_STEPS: usize = 3;
+
+impl FactoredLu {
+    /// Factorizes the order-`n` matrix `k` over `pattern` plus `extra`.
+    pub fn new(
+        pattern: &Pattern,
+        k: &[f64],
+        extra: &mut [(usize, usize, f64)],
+        n: usize,
+    ) -> Result<Self, LinearError> {
+        let (mut col_ptr, mut row_idx, mut values) = (Vec::new(), Vec::new(), Vec::new());
+        bordered(
+            pattern,
+            k,
+            extra,
+            n,
+            [&mut col_ptr, &mut row_idx],
+            &mut values,
+        );
+        let mat = SymbolicSparseColMat::new_checked(n, n, col_ptr, None, row_idx);
+        let symbolic = SymbolicLu::try_new(mat.as_ref())
+            .map_err(|e| LinearError::Factorization(format!("{e:?}")))?;
+        let lu = Lu::try_new_with_symbolic(symbolic, SparseColMatRef::new(mat.as_ref(), &values))
+            .map_err(|e| LinearError::Factorization(format!("{e:?}")))?;
+        Ok(FactoredLu { lu, mat, values })
+    }
+
+    /// Solves `A x = rhs` in place.
+    pub fn solve(&self, rhs: &mut [f64]) -> Result<(), LinearError> {
+        let n = self.mat.nrows();
+        if rhs.len() != n {
+            return Err(LinearError::Factorization(format!(
+                "right-hand side of length {} for a matrix of order {n}",
+                rhs.len()
+            )));
+        }
+        let b = rhs.to_vec();
+        self.lu
+            .solve_in_place(MatMut::from_column_major_slice_mut(rhs, n, 1));
+        let inf = |v: &[f64]| v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+        for _ in 0..REFINEMENT_STEPS {
+            // r = b - A x, then x += A^-1 r.
+            let mut r = b.clone();
+            for j in 0..n {
+                let rows = self.mat.row_idx_of_col_raw(j);
+                let values = &self.values[self.mat.col_ptr()[j]..self.mat.col_ptr()[j + 1]];
+                for (&i, &v) in rows.iter().zip(values) {
+                    r[i] -= v * rhs[j];
+                }
+            }
+            self.lu
+                .solve_in_place(MatMut::from_column_major_slice_mut(&mut r, n, 1));
+            for (x, d) in rhs.iter_mut().zip(&r) {
+                *x += d;
+            }
+            let step = inf(&r);
+            if step.is_nan() || step <= 1e-15 * inf(rhs) {
+                break;
+            }
+        }
+        if rhs.iter().any(|v| !v.is_finite()) {
+            return Err(LinearError::NonFinite);
+        }
         Ok(())
     }
 }

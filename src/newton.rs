@@ -12,6 +12,9 @@ use crate::problem::Problem;
 use crate::results::{DriverResult, LogCategory, StepResult};
 use crate::state::State;
 
+mod sensitivity;
+pub use sensitivity::{Input, Response};
+
 /// A constraint row whose coefficients on free dofs are below this fraction
 /// of those on prescribed dofs (root sum of squares) acts on prescribed dofs
 /// only: the contact search's own tolerance on `beta` (pairs.rs).
@@ -169,6 +172,11 @@ pub struct Solver {
     diagonal_at: Vec<usize>,
     /// Largest diagonal entry of the last assembled tangent.
     k_max: f64,
+    /// The converged state's linearisation, factored once and kept until
+    /// the state changes (a step, a restore, new tunable parameters).
+    linearization: Option<sensitivity::Linearization>,
+    /// Factorizations of converged tangents for the sensitivities.
+    sensitivity_factorizations: usize,
 }
 
 impl Solver {
@@ -219,6 +227,7 @@ impl Solver {
             time: 0.0,
             u: vec![0.0; ndof],
             history: vec![0.0; model.history_len],
+            step_start_history: Vec::new(),
             contact: problem.contacts.iter().map(PairMemory::new).collect(),
             rigid: pairs::scene_poses(&problem, 0.0),
             ties: vec![0.0; problem.ties.iter().map(|t| t.rows.len()).sum()],
@@ -268,6 +277,8 @@ impl Solver {
             size,
             diagonal_at,
             k_max: 0.0,
+            linearization: None,
+            sensitivity_factorizations: 0,
         })
     }
 
@@ -284,6 +295,7 @@ impl Solver {
             (c.mu_s, c.mu_d) = (f.mu_s, f.mu_d);
         }
         self.problem.solver = from.solver.clone();
+        self.linearization = None;
     }
 
     pub fn state(&self) -> &State {
@@ -297,6 +309,7 @@ impl Solver {
 
     pub fn restore(&mut self, state: State) {
         self.state = state;
+        self.linearization = None;
     }
 
     /// Number of unknowns of the linear system.
@@ -306,7 +319,7 @@ impl Solver {
 
     /// Number of numeric factorizations done so far.
     pub fn factorizations(&self) -> usize {
-        self.linear.factorizations + self.augmented.factorizations
+        self.linear.factorizations + self.augmented.factorizations + self.sensitivity_factorizations
     }
 
     /// Override a driver component: reach `value` at the end of the next
@@ -895,22 +908,7 @@ impl Solver {
                 &mut self.ws,
             )
             .map_err(|e| e.to_string())?;
-        // Force components of the drivers: each node of the set carries an
-        // equal share of the resultant (a dead load).
-        for (driver, f) in self.problem.drivers.iter().zip(&self.step_forces) {
-            let share = 1.0 / driver.nodes.len().max(1) as f64;
-            for c in (0..2).filter(|&c| driver.force(c).is_some()) {
-                for &n in &driver.nodes {
-                    self.r[2 * n + c] -= share * f[c];
-                }
-            }
-        }
-        let tie_rows = self.problem.ties.iter().flat_map(|t| &t.rows);
-        for (row, &l) in tie_rows.zip(lambda) {
-            for &(d, v) in &row.dofs {
-                self.r[d] -= v * l;
-            }
-        }
+        subtract_loads(&self.problem, &self.step_forces, lambda, &mut self.r);
         let contact = if !self.problem.contacts.is_empty() {
             Some(self.contact_update(step, None, memory, flips, log)?)
         } else {
@@ -1257,19 +1255,7 @@ impl Solver {
         let tie_rows = tie_rows.map(|(dofs, b)| (dofs, b, &[][..]));
         for (i, (dofs, rhs_i, column)) in rows.chain(tie_rows).enumerate() {
             let mut b = rhs_i;
-            // A row whose free coefficients are round-off beside its
-            // prescribed ones (a node held at a target node on a
-            // symmetry plane, its contact point a hair inside the
-            // next segment: `beta` = 1e-8) would fix its tiny free
-            // part with a huge multiplier; it is a row on
-            // prescribed dofs.
-            let square = |free: bool| -> f64 {
-                (dofs.iter())
-                    .filter(|&&(d, _)| (eq[d] != PRESCRIBED) == free)
-                    .map(|&(_, v)| v * v)
-                    .sum()
-            };
-            let free = square(true) > NEGLIGIBLE_ROW * NEGLIGIBLE_ROW * square(false);
+            let free = acts_on_free(dofs, eq);
             for &(d, v) in dofs {
                 if eq[d] == PRESCRIBED {
                     if it == 0 {
@@ -1302,17 +1288,19 @@ impl Solver {
         full
     }
 
-    /// The converged increment becomes the state.
+    /// The converged increment becomes the state (the history the step
+    /// started from is kept for the sensitivities' material tangent).
     fn commit(&mut self, inc: Increment, contact: Option<ContactSystem>) {
         self.state.time = inc.t;
         self.state.u = inc.u;
-        self.state.history = inc.history;
+        self.state.step_start_history = std::mem::replace(&mut self.state.history, inc.history);
         self.state.contact = inc.memory;
         self.state.rigid = inc.poses;
         self.state.ties = inc.lambda;
         self.state.driver_forces.clone_from(&self.step_forces);
         self.state.pressures.clone_from(&self.ws.pressures);
         self.contact = contact;
+        self.linearization = None;
     }
 
     /// Element-average Cauchy stress [xx, yy, zz, xy] of each element in the
@@ -1341,6 +1329,41 @@ impl Solver {
 /// The largest magnitude in `v`.
 fn largest(v: &[f64]) -> f64 {
     v.iter().fold(0.0f64, |a, x| a.max(x.abs()))
+}
+
+/// Whether a constraint row acts on free dofs. A row whose free
+/// coefficients are round-off beside its prescribed ones (a node held at a
+/// target node on a symmetry plane, its contact point a hair inside the
+/// next segment: `beta` = 1e-8) would fix its tiny free part with a huge
+/// multiplier; it is a row on prescribed dofs (`NEGLIGIBLE_ROW`).
+fn acts_on_free(dofs: &[(usize, f64)], eq: &[u32]) -> bool {
+    let square = |free: bool| -> f64 {
+        (dofs.iter())
+            .filter(|&&(d, _)| (eq[d] != PRESCRIBED) == free)
+            .map(|&(_, v)| v * v)
+            .sum()
+    };
+    square(true) > NEGLIGIBLE_ROW * NEGLIGIBLE_ROW * square(false)
+}
+
+/// The loads beside the elements' in `r = F_int - R_ext`: each force
+/// driver's resultant `forces`, shared equally by its nodes (a dead load),
+/// and the tie forces `C^T lambda`.
+fn subtract_loads(problem: &Problem, forces: &[[f64; 2]], lambda: &[f64], r: &mut [f64]) {
+    for (driver, f) in problem.drivers.iter().zip(forces) {
+        let share = 1.0 / driver.nodes.len().max(1) as f64;
+        for c in (0..2).filter(|&c| driver.force(c).is_some()) {
+            for &n in &driver.nodes {
+                r[2 * n + c] -= share * f[c];
+            }
+        }
+    }
+    let tie_rows = problem.ties.iter().flat_map(|t| &t.rows);
+    for (row, &l) in tie_rows.zip(lambda) {
+        for &(d, v) in &row.dofs {
+            r[d] -= v * l;
+        }
+    }
 }
 
 fn norm(v: &[f64]) -> f64 {

@@ -11,6 +11,11 @@ pub struct State {
     pub u: Vec<f64>,
     /// Material history per Gauss point (empty for history-free laws).
     pub history: Vec<f64>,
+    /// The history the increment that reached this state started from:
+    /// the consistent tangent of the state (its sensitivities) is taken
+    /// from it. Empty before the first increment (then `history`).
+    #[serde(default)]
+    pub step_start_history: Vec<f64>,
     /// Contact memory per pair (node states, contact points, segment
     /// states), in scene order.
     pub contact: Vec<crate::contact::PairMemory>,

@@ -763,20 +763,8 @@ fn null_and_zero_length_arguments() {
         assert_eq!((l.fmi2SetFMUstate.as_ref().unwrap())(inst.c, s), ERROR);
         assert_eq!((l.fmi2FreeFMUstate.as_ref().unwrap())(inst.c, &mut s), OK);
         // Unsupported functions say so.
-        assert_eq!(
-            (l.fmi2GetDirectionalDerivative.as_ref().unwrap())(
-                inst.c,
-                null(),
-                0,
-                null(),
-                0,
-                null(),
-                null_mut()
-            ),
-            ERROR
-        );
-        assert!(inst.last_message().contains("not supported"));
         assert_eq!((l.fmi2CancelStep.as_ref().unwrap())(inst.c), ERROR);
+        assert!(inst.last_message().contains("not supported"));
         let mut st = OK;
         assert_eq!(
             (l.fmi2GetStatus.as_ref().unwrap())(inst.c, fmi2StatusKind_fmi2DoStepStatus, &mut st),
@@ -959,10 +947,13 @@ fn structured_name(name: &str) -> bool {
 }
 
 /// Every shipped scene's variables have structured names, unique; every
-/// output is in <Outputs> with no dependency on an input (there is no
-/// direct feedthrough: outputs change in doStep only).
+/// output is in <Outputs> depending on every input ("dependent": an input's
+/// value is its value at the end of the step, and the outputs there are
+/// functions of it); providesDirectionalDerivative is true where every pair
+/// decides nodally.
 #[test]
 fn model_structure_and_names() {
+    use contact2d::fmi::variables::Causality;
     assert!(structured_name("press.Rx") && structured_name("contact.tn[12]"));
     for bad in ["press-1.Rx", "2a.b", "a..b", "a.tn[0]", "a.tn[x]", "a b"] {
         assert!(!structured_name(bad), "{bad}");
@@ -983,13 +974,29 @@ fn model_structure_and_names() {
             .nth(1)
             .and_then(|rest| rest.split("</Outputs>").next())
             .unwrap();
-        let listed = outputs.matches("<Unknown ").count();
-        let independent = outputs.matches(r#"dependencies="""#).count();
-        let n_out = vars
+        let indices = |c: Causality| {
+            (vars.iter().enumerate())
+                .filter(|(_, v)| v.causality == c)
+                .map(|(i, _)| (i + 1).to_string())
+                .collect::<Vec<_>>()
+        };
+        let (inputs, listed) = (indices(Causality::Input), indices(Causality::Output));
+        assert!(!inputs.is_empty(), "{}", scene.display());
+        // No direct feedthrough: every output with no dependency.
+        let expected: String = listed
             .iter()
-            .filter(|v| v.causality == contact2d::fmi::variables::Causality::Output)
-            .count();
-        assert_eq!((listed, independent), (n_out, n_out), "{}", scene.display());
+            .map(|i| format!("\n      <Unknown index=\"{i}\" dependencies=\"\"/>"))
+            .collect();
+        assert_eq!(outputs, format!("{expected}\n    "), "{}", scene.display());
+        let nodal =
+            (problem.contacts.iter()).all(|c| c.decisions == contact2d::problem::Decisions::Nodal);
+        assert!(xml.contains(&format!("providesDirectionalDerivative=\"{nodal}\"")));
+        assert_eq!(
+            nodal,
+            !scene.ends_with("cattaneo_mindlin.toml"),
+            "{}",
+            scene.display()
+        );
     }
 }
 
@@ -1805,4 +1812,691 @@ fn time_edges_have_defined_answers() {
         "{}",
         inst.last_message()
     );
+}
+
+// ---------------------------------------------------------------------------
+// Directional derivatives.
+
+impl Inst {
+    fn save(&self) -> fmi2FMUstate {
+        let mut s: fmi2FMUstate = null_mut();
+        unsafe {
+            assert_eq!(
+                (lib().fmi2GetFMUstate.as_ref().unwrap())(self.c, &mut s),
+                OK
+            )
+        };
+        s
+    }
+
+    fn restore(&self, s: fmi2FMUstate) {
+        unsafe { assert_eq!((lib().fmi2SetFMUstate.as_ref().unwrap())(self.c, s), OK) };
+    }
+
+    fn free_state(&self, mut s: fmi2FMUstate) {
+        unsafe {
+            assert_eq!(
+                (lib().fmi2FreeFMUstate.as_ref().unwrap())(self.c, &mut s),
+                OK
+            )
+        };
+    }
+
+    /// fmi2GetDirectionalDerivative: the status and dvUnknown.
+    fn derivative(&self, unknown: &[u32], known: &[u32], seed: &[f64]) -> (fmi2Status, Vec<f64>) {
+        let mut out = vec![f64::NAN; unknown.len()];
+        let s = unsafe {
+            (lib().fmi2GetDirectionalDerivative.as_ref().unwrap())(
+                self.c,
+                unknown.as_ptr(),
+                unknown.len(),
+                known.as_ptr(),
+                known.len(),
+                seed.as_ptr(),
+                out.as_mut_ptr(),
+            )
+        };
+        (s, out)
+    }
+
+    /// Every Integer output (node states and counts): the contact states.
+    fn contact_states(&self, names: &[String]) -> Vec<i32> {
+        names.iter().map(|n| self.int(n)).collect()
+    }
+}
+
+/// What a derivative check measured: the largest error against central
+/// differences as a fraction of the tolerance's scale, where, and the
+/// number of derivatives compared.
+#[derive(Debug, Default)]
+struct Measured {
+    worst: f64,
+    /// The bound the worst error was held to.
+    bound: f64,
+    worst_at: String,
+    compared: usize,
+    /// Sticking and sliding contactor nodes at the state (all pairs).
+    stick_slip: [i32; 2],
+    /// Inputs none of whose changes (down to a tenth of the first eps)
+    /// keeps the contact states: the outputs have a kink there.
+    kinks: Vec<String>,
+}
+
+/// One derivative check: a scene, the step after which to check (0-based,
+/// along the scene's own inputs), Newton's tolerance for the step and its
+/// differences, and the inputs not differenced (with the reason in the
+/// caller).
+struct Check<'a> {
+    scene: &'a Path,
+    at: usize,
+    tolerance: f64,
+    skip: &'a [&'a str],
+}
+
+/// fmi2GetDirectionalDerivative at the state after step `at` of the scene's
+/// own input history against central differences of that step: from the
+/// state saved before it, the step is taken again with one input at
+/// u +- eps, its outputs read, the state restored. eps is 1e-5 of the
+/// input's scale, halved (twice at most) while either run changes any
+/// contact state (`state[k]`, the counts) from the step's own or does not
+/// converge: the derivative is that of the equilibrium with the contact
+/// states held, and an input no change of which keeps them is a kink,
+/// reported. The tolerance, 1e-6, is relative to max(|derivative|, output
+/// scale / input scale): the differences carry the Newton residual (1e-11
+/// of the forces, or `tolerance`) over 2 eps and a truncation of order eps^2
+/// (measured below 2e-7 of that scale, the sheet's rotation against its
+/// rigid channel the largest), so a wrong term of 1e-6 shows. The output
+/// scale is the step's largest output of the same quantity (force, moment,
+/// length), the input scale the largest value that kind of input takes
+/// over the scene (1/1000 of the model when no length input moves; for
+/// angles that over the model's size).
+fn check_derivatives(check: &Check, tag: &str) -> Measured {
+    use contact2d::fmi::variables::{Binding, Causality, PairField, Quantity, Type, Variable};
+    let problem = contact2d::scene::load(check.scene).unwrap();
+    let vars = variables(&problem);
+    let inputs: Vec<&Variable> = vars
+        .iter()
+        .filter(|v| v.causality == Causality::Input)
+        .collect();
+    let derivable: Vec<&Variable> = vars
+        .iter()
+        .filter(|v| match v.binding {
+            Binding::Reaction { .. } | Binding::DriverDisplacement { .. } => true,
+            Binding::Pair { field, .. } => {
+                matches!(
+                    field,
+                    PairField::Fx | PairField::Fy | PairField::Fn | PairField::Ft
+                )
+            }
+            _ => false,
+        })
+        .collect();
+    let integers: Vec<String> = vars
+        .iter()
+        .filter(|v| v.causality == Causality::Output && v.ty == Type::Integer)
+        .filter(|v| !v.name.starts_with("solver."))
+        .map(|v| v.name.clone())
+        .collect();
+    let times = &problem.times;
+    let input_at =
+        |v: &Variable, t: f64| contact2d::fmi::variables::input(&v.binding, &problem, t).unwrap();
+    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+    for p in &problem.mesh.nodes {
+        for c in 0..2 {
+            lo[c] = lo[c].min(p[c]);
+            hi[c] = hi[c].max(p[c]);
+        }
+    }
+    let size = (hi[0] - lo[0]).hypot(hi[1] - lo[1]);
+    let largest = |q: Quantity| {
+        (inputs.iter().filter(|v| v.quantity == q))
+            .flat_map(|v| times.iter().map(move |&t| input_at(v, t).abs()))
+            .fold(0.0, f64::max)
+    };
+    let length = if largest(Quantity::Length) > 0.0 {
+        largest(Quantity::Length)
+    } else {
+        1e-3 * size
+    };
+    let input_scale = |v: &Variable| match v.quantity {
+        Quantity::Length => length,
+        Quantity::Angle => length / size,
+        q => largest(q),
+    };
+
+    let u = unpack(check.scene, tag);
+    let inst = Inst::new(&u, tag);
+    inst.init();
+    assert_eq!(inst.set_real("solver.tolerance", check.tolerance), OK);
+    let set_inputs = |t: f64| {
+        for v in &inputs {
+            assert_eq!(inst.set_real(&v.name, input_at(v, t)), OK);
+        }
+    };
+    let mut t = 0.0;
+    for &t1 in &times[..check.at] {
+        set_inputs(t1);
+        assert_eq!(
+            inst.step(t, t1 - t),
+            OK,
+            "{tag} to {t1}: {:?}",
+            inst.messages()
+        );
+        t = t1;
+    }
+    let before = inst.save();
+    let t1 = times[check.at];
+    set_inputs(t1);
+    assert_eq!(
+        inst.step(t, t1 - t),
+        OK,
+        "{tag} to {t1}: {:?}",
+        inst.messages()
+    );
+    // The derivative is the last increment's: a step taken in one.
+    assert_eq!(inst.int("solver.substeps"), 0, "{tag}: no bisection");
+    let states = inst.contact_states(&integers);
+    let count = |key: &str| {
+        (integers.iter().zip(&states))
+            .filter(|(n, _)| n.ends_with(key))
+            .map(|(_, s)| s)
+            .sum()
+    };
+    let stick_slip = [count(".n_stick"), count(".n_slip")];
+    let unknown: Vec<u32> = derivable.iter().map(|v| v.vr).collect();
+    let mut output_scale = HashMap::new();
+    for v in &derivable {
+        let s = output_scale
+            .entry(format!("{:?}", v.quantity))
+            .or_insert(0.0f64);
+        *s = s.max(inst.real(&v.name).abs());
+    }
+    let natural = |v: &Variable, input: &Variable| {
+        output_scale[&format!("{:?}", v.quantity)] / input_scale(input)
+    };
+    let columns: Vec<Vec<f64>> = (inputs.iter())
+        .map(|input| {
+            let (status, dy) = inst.derivative(&unknown, &[input.vr], &[1.0]);
+            assert_eq!(
+                status,
+                OK,
+                "{tag}: d/d {}: {}",
+                input.name,
+                inst.last_message()
+            );
+            dy
+        })
+        .collect();
+    // A seed of all the inputs at once is the sum of the columns (the
+    // derivative is linear in the seed; the factorization kept at the state
+    // solves it).
+    let known: Vec<u32> = inputs.iter().map(|v| v.vr).collect();
+    let seed: Vec<f64> = (0..inputs.len()).map(|i| 1.0 + i as f64).collect();
+    let (status, dy) = inst.derivative(&unknown, &known, &seed);
+    assert_eq!(status, OK);
+    for (o, d) in dy.iter().enumerate() {
+        let sum: f64 = columns.iter().zip(&seed).map(|(c, s)| s * c[o]).sum();
+        let scale = (columns.iter().zip(&seed).zip(&inputs))
+            .map(|((c, s), input)| s * c[o].abs().max(natural(derivable[o], input)))
+            .fold(0.0, f64::max);
+        assert!(
+            (d - sum).abs() <= 1e-9 * scale,
+            "{tag}: d {} for the seed of all inputs {d:e}, the sum of the columns {sum:e}",
+            derivable[o].name
+        );
+    }
+
+    let mut measured = Measured {
+        stick_slip,
+        ..Default::default()
+    };
+    for (input, dy) in inputs.iter().zip(&columns) {
+        if check.skip.contains(&input.name.as_str()) {
+            continue;
+        }
+        let value = input_at(input, t1);
+        let initial = 1e-5 * input_scale(input);
+        let mut eps = initial;
+        let run = |x: f64| {
+            inst.restore(before);
+            set_inputs(t1);
+            assert_eq!(inst.set_real(&input.name, x), OK);
+            let converged = inst.step(t, t1 - t) == OK;
+            let y: Vec<f64> = derivable.iter().map(|v| inst.real(&v.name)).collect();
+            let held = converged && inst.contact_states(&integers) == states;
+            (y, held, inst.real("solver.residual"))
+        };
+        let fd = loop {
+            let (plus, same_plus, rho_plus) = run(value + eps);
+            let (minus, same_minus, rho_minus) = run(value - eps);
+            if same_plus && same_minus {
+                let fd: Vec<f64> = plus
+                    .iter()
+                    .zip(&minus)
+                    .map(|(p, m)| (p - m) / (2.0 * eps))
+                    .collect();
+                // The differences' noise: each run's outputs are off by about
+                // its residual times the forces, over 2 eps.
+                let noise = 4.0 * rho_plus.max(rho_minus) * input_scale(input) / eps;
+                break Some((fd, noise.max(1e-6)));
+            }
+            eps *= 0.5;
+            if eps < 0.2 * initial {
+                break None;
+            }
+        };
+        let Some((fd, bound)) = fd else {
+            measured.kinks.push(input.name.clone());
+            continue;
+        };
+        for ((v, d), f) in derivable.iter().zip(dy).zip(&fd) {
+            let error = (d - f).abs() / d.abs().max(natural(v, input));
+            measured.compared += 1;
+            if error / bound >= measured.worst / measured.bound.max(f64::MIN_POSITIVE) {
+                (measured.worst, measured.bound) = (error, bound);
+                measured.worst_at = format!(
+                    "t = {t1}: d {} / d {} = {d:e}, central differences {f:e} (eps {eps:e})",
+                    v.name, input.name
+                );
+            }
+        }
+    }
+    inst.restore(before);
+    inst.free_state(before);
+    measured
+}
+
+/// A temporary scene file with `text` (removed with its folder on drop).
+struct TempScene(PathBuf);
+
+impl TempScene {
+    fn new(tag: &str, text: &str) -> TempScene {
+        let dir = std::env::temp_dir().join(format!("contact2d-dd-{}-{tag}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("scene.toml");
+        std::fs::write(&path, text).unwrap();
+        TempScene(path)
+    }
+}
+
+impl Drop for TempScene {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(self.0.parent().unwrap());
+    }
+}
+
+/// The shipped scene `name` with each `(old, new)` replaced once.
+fn edited(name: &str, edits: &[(&str, &str)]) -> String {
+    let (text, _) = common::scene_text(name, edits);
+    text
+}
+
+/// Runs the checks, prints what each measured, and fails on any error above
+/// its bound, a kink other than `kinks` expects, or a state among `zones`
+/// without both a stick zone and a slip zone.
+fn run_checks(checks: &[Check], kinks: &[&[&str]], zones: &[usize]) {
+    let mut failed = Vec::new();
+    for (i, (check, expected)) in checks.iter().zip(kinks).enumerate() {
+        let m = check_derivatives(check, &format!("dd{i}"));
+        println!(
+            "{} after step {} (stick/slip nodes {:?}): {} derivatives, worst {:.2e} of bound {:.1e} ({}); kinks {:?}",
+            check.scene.display(),
+            check.at,
+            m.stick_slip,
+            m.compared,
+            m.worst,
+            m.bound,
+            m.worst_at,
+            m.kinks
+        );
+        assert!(
+            m.compared > 0,
+            "{}: nothing compared",
+            check.scene.display()
+        );
+        if m.worst > m.bound || m.kinks != *expected {
+            failed.push(format!(
+                "{}: {} kinks {:?}",
+                check.scene.display(),
+                m.worst_at,
+                m.kinks
+            ));
+        }
+        if zones.contains(&i) && m.stick_slip.contains(&0) {
+            failed.push(format!(
+                "{}: stick/slip nodes {:?}",
+                check.scene.display(),
+                m.stick_slip
+            ));
+        }
+    }
+    assert!(failed.is_empty(), "{failed:#?}");
+}
+
+/// The shipped scenes (every one has inputs), each after a step of its own
+/// history, against central differences (`check_derivatives`).
+///
+/// Two kinds of input have no derivative to difference, and are the
+/// solver's behaviour rather than the derivative's:
+/// - a contactor node sticking with its tangential component prescribed
+///   (the wire's far end; the pipe's nodes on its axis) slides for any
+///   motion of that driver or of the target under it, so the wire's
+///   `far_end.ux` and `cylinder.ux` are kinks (asserted);
+/// - the pipe's axis drivers move a node that sits on the soil's node on
+///   the symmetry plane, where a row is taken as acting on prescribed dofs
+///   below 1e-6 of its weight (`NEGLIGIBLE_ROW`): its outputs jump by
+///   hundreds of newtons between +-1e-8 m with the states kept (measured),
+///   so the pipe's and the soil's axis inputs are not differenced; the
+///   Newton tolerance is 1e-9 there (1e-11 does not converge: the steel
+///   pipe in the soft soil).
+#[test]
+fn directional_derivatives_of_the_shipped_scenes() {
+    let path = |s: &str| repo().join("scenes").join(s);
+    let (pipe, hertz_a, hertz, sheet, wire) = (
+        path("buried_pipe.toml"),
+        path("hertz_axisymmetric.toml"),
+        path("hertz_plane_strain.toml"),
+        path("rubber_sheet.toml"),
+        path("wire_winding.toml"),
+    );
+    let axes = ["soil_axis.ux", "pipe_axis_bottom.ux", "pipe_axis_top.ux"];
+    let checks = [
+        Check {
+            scene: &pipe,
+            at: 0,
+            tolerance: 1e-10,
+            skip: &axes,
+        },
+        Check {
+            scene: &hertz_a,
+            at: 3,
+            tolerance: 1e-11,
+            skip: &[],
+        },
+        Check {
+            scene: &hertz,
+            at: 3,
+            tolerance: 1e-11,
+            skip: &[],
+        },
+        // Total Lagrangian Mooney-Rivlin sliding with friction in a rigid
+        // channel, at t = 5.5.
+        Check {
+            scene: &sheet,
+            at: 10,
+            tolerance: 1e-11,
+            skip: &[],
+        },
+        // The snapped wire: a stick zone and a slip zone.
+        Check {
+            scene: &wire,
+            at: 1,
+            tolerance: 1e-11,
+            skip: &[],
+        },
+    ];
+    // The pipe and the wire hold a stick zone and a slip zone.
+    run_checks(
+        &checks,
+        &[&[], &[], &[], &[], &["far_end.ux", "cylinder.ux"]],
+        &[0, 4],
+    );
+}
+
+/// The same on the verification scenes that exercise what the shipped ones
+/// do not: a block with a stick zone and a slip zone on a rigid plane
+/// (mu_s = mu_d), pressed and in the drag's transition, and dragged sliding
+/// as the scene has it (mu_d < mu_s: pressed, a motion of the plane makes
+/// its sticking nodes whose force lies between the two capacities slide,
+/// for any size of the motion, so `plane.ux` is a kink there, asserted), a
+/// frictional block on a flexible target (the sliding node's full
+/// linearisation: the turning segment, the moving contact point), lift-off, an inclined plane, von Mises plasticity (the
+/// consistent tangent from the step's start), a total Lagrangian strip, the
+/// Lame cylinder, the cantilever; a force driver on the cantilever's tip
+/// (`<driver>.uy` and its `.Fy` input) and an edge pressure input on a bar.
+#[test]
+fn directional_derivatives_of_the_verification_scenes() {
+    let path = |s: &str| repo().join("scenes/verification").join(s);
+    let block = TempScene::new(
+        "block",
+        &edited(
+            "verification/sliding_block.toml",
+            &[("mu_s = 0.3\nmu_d = 0.2", "mu_s = 0.3\nmu_d = 0.3")],
+        ),
+    );
+    let flexible = TempScene::new(
+        "flexible",
+        &edited(
+            "verification/flexible_target.toml",
+            &[("mu_s = 0.0", "mu_s = 0.3")],
+        ),
+    );
+    let tip = TempScene::new(
+        "tip",
+        &edited(
+            "verification/cantilever_tip_load.toml",
+            &[(
+                "[[force]]\nset = \"beam.tip\"\nfy = { function = \"ramp\", scale = -80.0 }",
+                "[[driver]]\nname = \"tip\"\nset = \"beam.tip\"\nfy = { function = \"ramp\", scale = -80.0 }",
+            )],
+        ),
+    );
+    let bar = TempScene::new(
+        "bar",
+        &common::bar_scene(
+            "q8",
+            [8, 2],
+            "[[function]]\nname = \"ramp\"\npoints = [[0.0, 0.0], [1.0, 1.0]]\n\n\
+             [[pressure]]\nname = \"pull\"\nset = \"bar.right\"\n\
+             value = { function = \"ramp\", scale = -20.0 }\nfollower = false",
+            1.0,
+        ),
+    );
+    let scenes = [
+        path("sliding_block.toml"),
+        path("lift_off.toml"),
+        path("cgs4_inclined.toml"),
+        path("plastic_strip.toml"),
+        path("rubber_strip.toml"),
+        path("lame_cylinder.toml"),
+        path("cantilever_tip_load.toml"),
+        path("flexible_target.toml"),
+    ];
+    let check = |scene, at| Check {
+        scene,
+        at,
+        tolerance: 1e-11,
+        skip: &[],
+    };
+    let checks = [
+        check(&block.0, 1),
+        check(&block.0, 5),
+        check(&block.0, 12),
+        check(&scenes[0], 1),
+        check(&scenes[0], 20),
+        check(&scenes[1], 1),
+        check(&scenes[2], 1),
+        check(&scenes[3], 2),
+        check(&scenes[4], 1),
+        check(&scenes[5], 0),
+        check(&scenes[6], 1),
+        check(&scenes[7], 1),
+        check(&flexible.0, 19),
+        check(&tip.0, 1),
+        check(&bar.0, 0),
+    ];
+    let none: &[&str] = &[];
+    let mut kinks = [none; 15];
+    kinks[3] = &["plane.ux"];
+    // The block pressed and in the drag's transition, and on the flexible
+    // strip after the press, holds a stick zone and a slip zone.
+    run_checks(&checks, &kinks, &[0, 1, 12]);
+}
+
+/// fmi2GetDirectionalDerivative refuses with fmi2Error, and a message that
+/// names the value reference, what has no derivative: an unknown value
+/// reference, a count, a node state, a zone length, a per-node output, a
+/// solver output or an input as the unknown; an output or a parameter as
+/// the known; a non-finite seed; NULL arrays with a length. Before
+/// fmi2ExitInitializationMode it is not allowed (fmi2Error, as for any call
+/// the state machine does not allow); after fmi2Terminate it is. A pair
+/// under the paper's decisions has no derivative, said by name. Nothing
+/// crashes, and the instance steps on after each refusal.
+#[test]
+fn directional_derivative_refusals() {
+    let u = hertz();
+    let l = lib();
+    let inst = Inst::new(&u, "ddbad");
+    let (ry, uy) = (inst.vr("press.Ry"), inst.vr("press.uy"));
+    let (s, _) = inst.derivative(&[ry], &[uy], &[1.0]);
+    assert_eq!(s, ERROR);
+    assert!(
+        inst.last_message()
+            .contains("not allowed in mode Instantiated"),
+        "{}",
+        inst.last_message()
+    );
+    unsafe {
+        assert_eq!(
+            (l.fmi2SetupExperiment.as_ref().unwrap())(inst.c, 0, 0.0, 0.0, 0, 0.0),
+            OK
+        );
+        assert_eq!(
+            (l.fmi2EnterInitializationMode.as_ref().unwrap())(inst.c),
+            OK
+        );
+    }
+    let (s, _) = inst.derivative(&[ry], &[uy], &[1.0]);
+    assert_eq!(s, ERROR);
+    assert!(
+        inst.last_message()
+            .contains("not allowed in mode Initialization")
+    );
+    unsafe { assert_eq!((l.fmi2ExitInitializationMode.as_ref().unwrap())(inst.c), OK) };
+    step_hertz(&inst, 0, 2);
+    let (s, good) = inst.derivative(&[ry], &[uy], &[1.0]);
+    assert_eq!(s, OK);
+    assert!(good[0].is_finite() && good[0] != 0.0, "{good:?}");
+    let refused: Vec<(u32, u32, f64)> = vec![
+        (99_999, uy, 1.0),
+        (inst.vr("contact.n_stick"), uy, 1.0),
+        (inst.vr("contact.state[1]"), uy, 1.0),
+        (inst.vr("contact.slip_length"), uy, 1.0),
+        (inst.vr("contact.tn[1]"), uy, 1.0),
+        (inst.vr("solver.residual"), uy, 1.0),
+        (uy, uy, 1.0),
+        (ry, 99_998, 1.0),
+        (ry, inst.vr("contact.Fn"), 1.0),
+        (ry, inst.vr("solver.tolerance"), 1.0),
+        (ry, uy, f64::NAN),
+    ];
+    for (unknown, known, seed) in refused {
+        let (s, _) = inst.derivative(&[ry, unknown], &[known], &[seed]);
+        assert_eq!(s, ERROR, "{unknown} / {known}");
+        let msg = inst.last_message();
+        let named = if unknown == ry { known } else { unknown };
+        assert!(msg.contains(&format!("valueReference {named}")), "{msg}");
+        assert!(msg.starts_with("fmi2GetDirectionalDerivative"), "{msg}");
+    }
+    assert!(
+        inst.messages()
+            .iter()
+            .any(|m| m.contains("'contact.slip_length'") && m.contains("jumps"))
+    );
+    unsafe {
+        let f = l.fmi2GetDirectionalDerivative.as_ref().unwrap();
+        let mut out = [0.0];
+        assert_eq!(f(inst.c, null(), 1, &uy, 1, &1.0, out.as_mut_ptr()), ERROR);
+        assert!(inst.last_message().contains("NULL"));
+        assert_eq!(f(inst.c, &ry, 1, &uy, 1, &1.0, null_mut()), ERROR);
+        assert_eq!(f(inst.c, null(), 0, null(), 0, null(), null_mut()), OK);
+        // No known: the derivative in the zero direction.
+        assert_eq!(f(inst.c, &ry, 1, null(), 0, null(), out.as_mut_ptr()), OK);
+        assert_eq!(out[0], 0.0);
+        assert_eq!(f(null_mut(), &ry, 1, &uy, 1, &1.0, out.as_mut_ptr()), ERROR);
+    }
+    // The same answer as before the refusals, and the instance steps on.
+    assert_eq!(inst.derivative(&[ry], &[uy], &[1.0]), (OK, good));
+    step_hertz(&inst, 2, 3);
+    unsafe { assert_eq!((l.fmi2Terminate.as_ref().unwrap())(inst.c), OK) };
+    assert_eq!(inst.derivative(&[ry], &[uy], &[1.0]).0, OK);
+
+    let paper = TempScene::new(
+        "paper",
+        &edited(
+            "verification/sliding_block.toml",
+            &[(
+                "mu_s = 0.3\nmu_d = 0.2",
+                "mu_s = 0.3\nmu_d = 0.2\ndecisions = \"paper\"",
+            )],
+        ),
+    );
+    let u = unpack(&paper.0, "paper");
+    let inst = Inst::new(&u, "paper");
+    inst.init();
+    assert_eq!(inst.set_real("top.uy", -0.005), OK);
+    assert_eq!(inst.step(0.0, 0.5), OK);
+    let (s, _) = inst.derivative(&[inst.vr("top.Ry")], &[inst.vr("top.uy")], &[1.0]);
+    assert_eq!(s, ERROR);
+    assert!(
+        inst.last_message()
+            .contains("'base' uses the paper's decisions"),
+        "{}",
+        inst.last_message()
+    );
+}
+
+/// The sensitivities factor a state's tangent once, at the first request,
+/// and solve every later one with it; a step or a restored state makes a
+/// new one.
+#[test]
+fn sensitivities_factor_once_per_state() {
+    use contact2d::newton::{Input, Response};
+    let problem =
+        contact2d::scene::load(&repo().join("scenes/verification/sliding_block.toml")).unwrap();
+    let mut solver = Solver::new(problem.clone()).unwrap();
+    for &t in &problem.times[..6] {
+        solver.advance(t, &mut |_, _| {}).unwrap();
+    }
+    let seed = [(
+        Input::Driver {
+            driver: 0,
+            component: 0,
+        },
+        1.0,
+    )];
+    let rx = [Response::Reaction {
+        index: 0,
+        component: 0,
+    }];
+    let before = solver.factorizations();
+    let first = solver.sensitivity(&seed, &rx).unwrap();
+    assert_eq!(solver.factorizations(), before + 1);
+    for _ in 0..3 {
+        assert_eq!(solver.sensitivity(&seed, &rx).unwrap(), first);
+    }
+    assert_eq!(
+        solver.factorizations(),
+        before + 1,
+        "solved with the kept factor"
+    );
+    let state = solver.state().clone();
+    solver.advance(problem.times[6], &mut |_, _| {}).unwrap();
+    let after_step = solver.factorizations();
+    solver.sensitivity(&seed, &rx).unwrap();
+    assert_eq!(
+        solver.factorizations(),
+        after_step + 1,
+        "a new state, a new factor"
+    );
+    solver.restore(state);
+    assert_eq!(
+        solver.sensitivity(&seed, &rx).unwrap(),
+        first,
+        "the restored state's"
+    );
+    assert_eq!(solver.factorizations(), after_step + 2);
+    // Not an input, not a result: refused by name.
+    let bad = solver.sensitivity(&[(Input::Pressure { pressure: 0 }, 1.0)], &rx);
+    assert!(bad.unwrap_err().contains("Pressure"));
 }

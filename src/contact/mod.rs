@@ -7,6 +7,7 @@ mod nodal;
 pub mod outputs;
 pub mod pairs;
 pub mod segment;
+pub mod sensitivity;
 pub mod traction;
 
 pub use pairs::PairMemory;

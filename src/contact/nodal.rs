@@ -20,18 +20,18 @@ use nalgebra::Vector2;
 /// What one node is, after this iteration's decision.
 #[derive(Clone, Debug)]
 pub(crate) struct Decision {
-    state: NodeState,
+    pub(super) state: NodeState,
     /// Target segment and contact point (None when open).
-    point: Option<(usize, ContactPoint)>,
+    pub(super) point: Option<(usize, ContactPoint)>,
     /// The node's contact force for the rows (zero for a new contact).
-    lambda: Vector2<f64>,
+    pub(super) lambda: Vector2<f64>,
     /// Normal force (compression positive) of a sliding node.
-    p_n: f64,
-    slip_sign: f64,
+    pub(super) p_n: f64,
+    pub(super) slip_sign: f64,
     /// Where its slip is measured from (segment, beta): see `decide`.
     anchor: Option<(usize, f64)>,
     /// Frictionless, held at a reflex corner of the target (two rows).
-    corner: bool,
+    pub(super) corner: bool,
     /// Kept in contact after the predictor though its force pulls
     /// (`Start::settling`): the iteration has not converged while any is.
     held_back: bool,

@@ -97,6 +97,13 @@ fn real(v: f64) -> String {
     format!("{:?}", v + 0.0)
 }
 
+/// Whether fmi2GetDirectionalDerivative answers for this scene: its
+/// contact pairs all decide nodally (the paper's decisions make the
+/// friction a fixed point of recovered resultants, without a derivative).
+pub fn provides_directional_derivative(problem: &Problem) -> bool {
+    (problem.contacts.iter()).all(|c| c.decisions == crate::problem::Decisions::Nodal)
+}
+
 /// The whole `modelDescription.xml`.
 pub fn model_description(problem: &Problem) -> String {
     let vars = variables(problem);
@@ -114,7 +121,8 @@ pub fn model_description(problem: &Problem) -> String {
     );
     let _ = writeln!(
         x,
-        r#"  <CoSimulation modelIdentifier="{MODEL_IDENTIFIER}" needsExecutionTool="false" canHandleVariableCommunicationStepSize="true" canInterpolateInputs="true" maxOutputDerivativeOrder="0" canRunAsynchronuously="false" canBeInstantiatedOnlyOncePerProcess="false" canNotUseMemoryManagementFunctions="true" canGetAndSetFMUstate="true" canSerializeFMUstate="true" providesDirectionalDerivative="false"/>"#
+        r#"  <CoSimulation modelIdentifier="{MODEL_IDENTIFIER}" needsExecutionTool="false" canHandleVariableCommunicationStepSize="true" canInterpolateInputs="true" maxOutputDerivativeOrder="0" canRunAsynchronuously="false" canBeInstantiatedOnlyOncePerProcess="false" canNotUseMemoryManagementFunctions="true" canGetAndSetFMUstate="true" canSerializeFMUstate="true" providesDirectionalDerivative="{}"/>"#,
+        provides_directional_derivative(problem)
     );
     let units: BTreeSet<&str> = vars
         .iter()
@@ -203,8 +211,11 @@ pub fn model_description(problem: &Problem) -> String {
     }
     let _ = writeln!(x, "  </ModelVariables>");
     let _ = writeln!(x, "  <ModelStructure>");
-    // No direct feedthrough: an output changes only in doStep, never when
-    // an input is set, so it depends on no input at the same instant.
+    // No direct feedthrough: an output changes only in fmi2DoStep, never
+    // when an input is set, so it depends on no input at the same instant
+    // (a master needs no algebraic loop through this FMU). The directional
+    // derivatives are of the step's results with respect to the inputs the
+    // step reached (docs/fmu.md), not of a feedthrough.
     let _ = writeln!(x, "    <Outputs>");
     for i in &outputs {
         let _ = writeln!(x, r#"      <Unknown index="{i}" dependencies=""/>"#);

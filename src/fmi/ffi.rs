@@ -657,18 +657,30 @@ const _: fmi2GetDirectionalDerivativeTYPE = Some(fmi2GetDirectionalDerivative);
 #[unsafe(no_mangle)]
 pub extern "C" fn fmi2GetDirectionalDerivative(
     c: fmi2Component,
-    _vUnknown_ref: *const fmi2ValueReference,
-    _nUnknown: usize,
-    _vKnown_ref: *const fmi2ValueReference,
-    _nKnown: usize,
-    _dvKnown: *const fmi2Real,
-    _dvUnknown: *mut fmi2Real,
+    vUnknown_ref: *const fmi2ValueReference,
+    nUnknown: usize,
+    vKnown_ref: *const fmi2ValueReference,
+    nKnown: usize,
+    dvKnown: *const fmi2Real,
+    dvUnknown: *mut fmi2Real,
 ) -> fmi2Status {
-    unsupported(
-        c,
-        "fmi2GetDirectionalDerivative",
-        "providesDirectionalDerivative is false",
-    )
+    const CALL: &str = "fmi2GetDirectionalDerivative";
+    with(c, CALL, |inst, _| {
+        let arrays = unsafe {
+            (
+                slice(vUnknown_ref, nUnknown),
+                slice(vKnown_ref, nKnown),
+                slice(dvKnown, nKnown),
+                slice_mut(dvUnknown, nUnknown),
+            )
+        };
+        match arrays {
+            (Some(unknown), Some(known), Some(seed), Some(out)) => {
+                inst.directional_derivative(unknown, known, seed, out)
+            }
+            _ => null(inst, CALL, "vUnknown_ref, vKnown_ref, dvKnown or dvUnknown"),
+        }
+    })
 }
 
 fn unsupported(c: fmi2Component, call: &str, why: &str) -> fmi2Status {

@@ -4,8 +4,10 @@
 //! results, and calls the solver.
 
 use super::description::{LOG_CATEGORIES, guid};
-use super::variables::{Binding, Causality, Start, Type, Variable, output, variables};
-use crate::newton::{SolveError, Solver};
+use super::variables::{
+    Binding, Causality, NodeField, PairField, Start, Type, Variable, output, variables,
+};
+use crate::newton::{Input, Response, SolveError, Solver};
 use crate::problem::{Problem, check_coefficient, check_modulus, check_poisson};
 use crate::results::{LogCategory, StepResult};
 use crate::state::State;
@@ -600,6 +602,117 @@ impl Instance {
             out.push(self.output_dir.clone());
         }
         Ok(out)
+    }
+
+    /// `fmi2GetDirectionalDerivative`: `out = (d unknown / d known) seed`
+    /// at the current state, the unknowns being Real outputs (reactions,
+    /// force drivers' displacements, pair resultants) and the knowns the
+    /// Real inputs. The derivative is that of the outputs of the step that
+    /// reached the state with respect to the input values the step reached
+    /// (docs/fmu.md). From fmi2ExitInitializationMode on: the state is
+    /// the solver's.
+    pub fn directional_derivative(
+        &mut self,
+        unknown: &[u32],
+        known: &[u32],
+        seed: &[f64],
+        out: &mut [f64],
+    ) -> Status {
+        const CALL: &str = "fmi2GetDirectionalDerivative";
+        if let Err(s) = self.require(CALL, &[Mode::StepComplete, Mode::Terminated]) {
+            return s;
+        }
+        let mut seeds = Vec::with_capacity(known.len());
+        for (&vr, &dv) in known.iter().zip(seed) {
+            let Some(&i) = self.by_vr.get(&vr) else {
+                return self.error(format!(
+                    "{CALL}: vKnown_ref: no variable has valueReference {vr}"
+                ));
+            };
+            let v = &self.vars[i];
+            let input = match v.binding {
+                Binding::DriverInput { driver, component } => Input::Driver { driver, component },
+                Binding::PressureInput { pressure } => Input::Pressure { pressure },
+                Binding::RigidInput { rigid, component } => Input::Rigid { rigid, component },
+                _ => {
+                    let msg = format!(
+                        "{CALL}: vKnown_ref: '{}' (valueReference {vr}) is not an input; the knowns are the continuous Real inputs",
+                        v.name
+                    );
+                    return self.error(msg);
+                }
+            };
+            if !dv.is_finite() {
+                let msg = format!(
+                    "{CALL}: dvKnown of '{}' (valueReference {vr}) is {dv}, not a finite number",
+                    v.name
+                );
+                return self.error(msg);
+            }
+            seeds.push((input, dv));
+        }
+        let mut responses = Vec::with_capacity(unknown.len());
+        for &vr in unknown {
+            let Some(&i) = self.by_vr.get(&vr) else {
+                return self.error(format!(
+                    "{CALL}: vUnknown_ref: no variable has valueReference {vr}"
+                ));
+            };
+            let v = &self.vars[i];
+            let why = match v.binding {
+                Binding::Reaction { index, component } => {
+                    responses.push(Response::Reaction { index, component });
+                    continue;
+                }
+                Binding::DriverDisplacement { driver, component } => {
+                    responses.push(Response::DriverDisplacement { driver, component });
+                    continue;
+                }
+                Binding::Pair { pair, field } => match field {
+                    PairField::Fx | PairField::Fy | PairField::Fn | PairField::Ft => {
+                        let component =
+                            [PairField::Fx, PairField::Fy, PairField::Fn, PairField::Ft]
+                                .iter()
+                                .position(|&f| f == field)
+                                .unwrap_or(0);
+                        responses.push(Response::Pair { pair, component });
+                        continue;
+                    }
+                    PairField::NStick | PairField::NSlip | PairField::NOpen => {
+                        "a node count (Integer) changes only in steps"
+                    }
+                    PairField::StickLength | PairField::SlipLength => {
+                        "the length of a stick or slip zone jumps when a node changes state"
+                    }
+                },
+                Binding::Node {
+                    field: NodeField::State,
+                    ..
+                } => "a node state (Integer) is discrete",
+                Binding::Node { .. } => {
+                    "per-node outputs have none; the reactions, the force drivers' displacements and the pair resultants Fx, Fy, Fn, Ft do"
+                }
+                Binding::Iterations | Binding::Substeps | Binding::Residual => {
+                    "it describes the solver's work, not the physics"
+                }
+                _ => "it is not an output; the unknowns are outputs",
+            };
+            let msg = format!(
+                "{CALL}: vUnknown_ref: '{}' (valueReference {vr}) has no directional derivative: {why}",
+                v.name
+            );
+            return self.error(msg);
+        }
+        let Some(solver) = self.solver.as_mut() else {
+            return self.error(format!("{CALL}: no solver (internal)"));
+        };
+        match solver.sensitivity(&seeds, &responses) {
+            Ok(values) => {
+                out.copy_from_slice(&values);
+                Status::Ok
+            }
+            Err(msg) => self.error(format!("{CALL}: {msg}")),
+        }
     }
 
     /// Time of the last converged step.

@@ -277,6 +277,36 @@ fn unsymmetric_system_takes_lu() {
     assert!(residual(&dense(&p, &k, &extra, n), &x, &b) < 1e-10);
 }
 
+/// The kept LU factor of an unsymmetric bordered system solves any number
+/// of right-hand sides as a dense LU does, and refuses one of the wrong
+/// length.
+#[test]
+fn factored_lu_solves_many_right_hand_sides() {
+    let mut rng = Rng(23);
+    let (p, k) = q4(9, 9, true);
+    let rows = contact_rows(9, 9, 4, &mut rng);
+    let n = p.n + rows.len();
+    let mut extra = border(p.n, &rows);
+    extra.push((2, 7, 0.3));
+    let a = dense(&p, &k, &extra, n);
+    let factor = FactoredLu::new(&p, &k, &mut extra, n).unwrap();
+    for _ in 0..3 {
+        let b = rhs(n, &mut rng);
+        let mut x = b.clone();
+        factor.solve(&mut x).unwrap();
+        let x_dense = a
+            .clone()
+            .lu()
+            .solve(&DVector::from_column_slice(&b))
+            .unwrap();
+        let scale = x_dense.amax();
+        for i in 0..n {
+            assert!((x[i] - x_dense[i]).abs() <= 1e-9 * scale, "{i}");
+        }
+    }
+    assert!(factor.solve(&mut vec![0.0; n + 1]).is_err());
+}
+
 #[test]
 fn symbolic_analysis_reused_while_the_pattern_holds() {
     let mut rng = Rng(11);

@@ -1,0 +1,323 @@
+//! The contact conditions of a converged state linearised exactly, with the
+//! contact states held (sticking nodes tied, sliding nodes with their
+//! friction `mu_d p_n` against their slip, open nodes free): what the
+//! sensitivities of the state (the FMU's directional derivatives) solve
+//! with. Newton's own rows drop terms the paper drops (the turn of the
+//! target normal, and Eq. 24's symmetric sliding gradient for the exact
+//! `b a^T`, docs/contact.md section 7); here every term is kept, so the
+//! solution is the derivative of the converged state.
+//!
+//! Per node in contact, with `G = [I, -(1-beta) I, -beta I]` over the node
+//! and the target segment's ends A, B (none for a rigid target), the
+//! contact force on the dofs is `G^T lambda` and the condition holds the
+//! node on the target:
+//! - held (sticking, or a frictionless node at a reflex corner): `lambda`
+//!   is two multipliers, beta is fixed, `x_k - x_C = 0`;
+//! - sliding: `lambda = -P (n_s + phi n_r)` with `P` the multiplier (the
+//!   normal force) and `phi = s mu_d`, beta follows the projection, and
+//!   `n_s . (x_k - x_A) = 0`.
+//!
+//! A rigid target's pose `[ux, uy, theta]` moves its material point at `x`
+//! with `d x = (d ux, d uy) + d theta e_z x (x - reference)`.
+
+use super::pairs::{ContactSystem, rigid_points};
+use crate::assembly::PRESCRIBED;
+use crate::problem::{Decisions, Problem, Target};
+use crate::results::NodeState;
+use nalgebra::Vector2;
+
+/// One linearised contact condition: `sum dofs . du + sum poses . dpose =
+/// 0`, and the contact force its multiplier brings, `column` per dof.
+#[derive(Clone, Debug, Default)]
+pub struct Row {
+    pub dofs: Vec<(usize, f64)>,
+    /// (rigid target, pose component, coefficient).
+    pub poses: Vec<(usize, usize, f64)>,
+    pub column: Vec<(usize, f64)>,
+}
+
+/// How the target segment a node touches turns: the rate `omega` of its
+/// tangent (`d n_r = omega n_s`, `d n_s = -omega n_r`).
+#[derive(Clone, Copy, Debug)]
+pub enum Turn {
+    /// `omega = n_s . (du_B - du_A) / length`.
+    Segment { a: usize, b: usize, length: f64 },
+    /// `omega = d theta` of the rigid target.
+    Rigid { rigid: usize },
+}
+
+/// A contactor node in contact, as the pair results count it.
+#[derive(Clone, Debug)]
+pub struct NodeForce {
+    pub pair: usize,
+    /// Mesh node.
+    pub node: usize,
+    /// Its contact force (the out-of-balance force at its free
+    /// components), the target's normal and tangent where it touches, and
+    /// the contact point.
+    pub force: Vector2<f64>,
+    pub normal: Vector2<f64>,
+    pub tangent: Vector2<f64>,
+    pub point: Vector2<f64>,
+    pub turn: Turn,
+    /// Held at a material point of the target (else it slides along it).
+    pub held: bool,
+    /// A rigid target's moved reference point (the moment's origin).
+    pub reference: [f64; 2],
+}
+
+/// The linearised contact part of a converged state.
+#[derive(Clone, Debug, Default)]
+pub struct Linearised {
+    /// `d(G^T lambda)/du` at fixed multipliers over all dofs: (row dof,
+    /// column dof, value). Only a sliding node on a flexible target has one.
+    pub k: Vec<(usize, usize, f64)>,
+    /// `d(G^T lambda)/d pose` at fixed multipliers: (dof, rigid, pose
+    /// component, value). Only a sliding node on a turning rigid target.
+    pub pose: Vec<(usize, usize, usize, f64)>,
+    pub rows: Vec<Row>,
+    pub nodes: Vec<NodeForce>,
+}
+
+/// Derivatives of a material point of a rigid target at `x` with respect to
+/// its pose [ux, uy, theta] (`reference`: the moved reference point).
+fn material_velocity(x: Vector2<f64>, reference: [f64; 2]) -> [Vector2<f64>; 3] {
+    [
+        Vector2::new(1.0, 0.0),
+        Vector2::new(0.0, 1.0),
+        Vector2::new(-(x.y - reference[1]), x.x - reference[0]),
+    ]
+}
+
+/// The linearisation of the contact conditions `system` holds at the
+/// converged displacements `u` and poses `poses`, with `r` the
+/// out-of-balance forces there (contact excluded) and `eq` the equation map.
+/// `system` must come from the nodal decisions (`pairs::update`); a pair
+/// under the paper's decisions (friction as a fixed point of the recovered
+/// segment resultants) has no such linearisation.
+pub fn linearise(
+    problem: &Problem,
+    poses: &[[f64; 3]],
+    r: &[f64],
+    eq: &[u32],
+    system: &ContactSystem,
+) -> Result<Linearised, String> {
+    let mut out = Linearised::default();
+    for (p, pair) in problem.contacts.iter().enumerate() {
+        if pair.decisions == Decisions::Paper {
+            return Err(format!(
+                "contact pair '{}' uses the paper's decisions (decisions = \"paper\"): its \
+                 friction is a fixed point of the recovered segment resultants, which has no \
+                 derivative; the nodal decisions (the default) have one",
+                pair.name
+            ));
+        }
+        let decisions = system.decisions.get(p).ok_or_else(|| {
+            format!(
+                "contact pair '{}': no decisions at this state (internal)",
+                pair.name
+            )
+        })?;
+        let component = |d: usize| if eq[d] == PRESCRIBED { 0.0 } else { r[d] };
+        for (k, d) in decisions.iter().enumerate() {
+            let Some((j, cp)) = d.point.as_ref() else {
+                continue;
+            };
+            let n = pair.contactor[k];
+            let seg = cp.segment();
+            let (n_s, n_r, length, beta) = (seg.normal(), seg.tangent(), seg.length(), cp.beta());
+            let (target, turn, reference) = match &pair.target {
+                Target::Body { segments, .. } => {
+                    let [a, b] = *segments.get(*j).ok_or_else(|| {
+                        format!("contact pair '{}': no target segment {j}", pair.name)
+                    })?;
+                    (Some([a, b]), Turn::Segment { a, b, length }, [0.0; 2])
+                }
+                Target::Rigid(ri) => {
+                    let (_, reference) = rigid_points(problem, *ri, poses[*ri]);
+                    (None, Turn::Rigid { rigid: *ri }, reference)
+                }
+            };
+            let held = d.state == NodeState::Stick || d.corner;
+            out.nodes.push(NodeForce {
+                pair: p,
+                node: n,
+                force: Vector2::new(component(2 * n), component(2 * n + 1)),
+                normal: n_s,
+                tangent: n_r,
+                point: cp.point(),
+                turn,
+                held,
+                reference,
+            });
+            // The node and the segment ends with their weights in G.
+            let mut ends = vec![(n, 1.0)];
+            if let Some([a, b]) = target {
+                ends.push((a, -(1.0 - beta)));
+                ends.push((b, -beta));
+            }
+            let spread = |v: Vector2<f64>| -> Vec<(usize, f64)> {
+                let mut e = Vec::with_capacity(6);
+                for &(m, w) in &ends {
+                    e.push((2 * m, w * v.x));
+                    e.push((2 * m + 1, w * v.y));
+                }
+                e
+            };
+            let rigid_poses = |v: Vector2<f64>| -> Vec<(usize, usize, f64)> {
+                match turn {
+                    Turn::Rigid { rigid } => {
+                        let w = material_velocity(cp.point(), reference);
+                        (0..3).map(|c| (rigid, c, -v.dot(&w[c]))).collect()
+                    }
+                    Turn::Segment { .. } => Vec::new(),
+                }
+            };
+            if held {
+                // x_k - x_C = 0 in both directions; lambda on the node, its
+                // reaction on A and B (Eqs. 19-21): G^T lambda.
+                for e in [Vector2::new(1.0, 0.0), Vector2::new(0.0, 1.0)] {
+                    let dofs = spread(e);
+                    out.rows.push(Row {
+                        column: dofs.clone(),
+                        dofs,
+                        poses: rigid_poses(e),
+                    });
+                }
+                continue;
+            }
+            // Sliding: the normal gap, and the friction that follows P.
+            let phi = if pair.mu_s == 0.0 && pair.mu_d == 0.0 {
+                0.0
+            } else {
+                d.slip_sign * pair.mu_d
+            };
+            let c = n_s + phi * n_r;
+            let (p_n, lambda) = (d.p_n, d.lambda);
+            out.rows.push(Row {
+                dofs: spread(n_s),
+                poses: rigid_poses(n_s),
+                column: spread(-c),
+            });
+            // d lambda at fixed P as the segment turns: -P (d n_s + phi d n_r)
+            // = P omega (n_r - phi n_s).
+            let w = p_n * (n_r - phi * n_s);
+            match (target, turn) {
+                (Some([a, b]), _) => {
+                    // omega and d beta (Eq. 14, at zero overlap) over the six dofs.
+                    let mut omega = [(2 * b, n_s.x), (2 * b + 1, n_s.y)].to_vec();
+                    omega.extend([(2 * a, -n_s.x), (2 * a + 1, -n_s.y)]);
+                    for e in &mut omega {
+                        e.1 /= length;
+                    }
+                    let raw = seg.project(cp.point() + cp.overlap()).beta();
+                    let dbeta = if (0.0..=1.0).contains(&raw) {
+                        spread(n_r / length)
+                    } else {
+                        Vec::new()
+                    };
+                    for &(m, g) in &ends {
+                        for c in 0..2 {
+                            for &(q, o) in &omega {
+                                out.k.push((2 * m + c, q, g * w[c] * o));
+                            }
+                        }
+                    }
+                    // G(beta)^T lambda: A carries -(1 - beta) lambda, B -beta lambda.
+                    for &(q, v) in &dbeta {
+                        for c in 0..2 {
+                            out.k.push((2 * a + c, q, lambda[c] * v));
+                            out.k.push((2 * b + c, q, -lambda[c] * v));
+                        }
+                    }
+                }
+                (None, Turn::Rigid { rigid }) => {
+                    for c in 0..2 {
+                        out.pose.push((2 * n + c, rigid, 2, w[c]));
+                    }
+                }
+                (None, Turn::Segment { .. }) => {}
+            }
+        }
+    }
+    Ok(out)
+}
+
+impl Linearised {
+    /// `out += d(G^T lambda)`: the change of the contact forces on every dof
+    /// for displacement changes `du` (all dofs), multiplier changes
+    /// `multipliers` (one per row) and pose changes `dpose`.
+    pub fn force_change(
+        &self,
+        du: &[f64],
+        multipliers: &[f64],
+        dpose: &[[f64; 3]],
+        out: &mut [f64],
+    ) {
+        for &(i, j, v) in &self.k {
+            out[i] += v * du[j];
+        }
+        for &(i, rigid, c, v) in &self.pose {
+            out[i] += v * dpose[rigid][c];
+        }
+        for (row, &m) in self.rows.iter().zip(multipliers) {
+            for &(i, v) in &row.column {
+                out[i] += v * m;
+            }
+        }
+    }
+
+    /// Changes of each pair's resultants [Fx, Fy, Fn, Ft] (`pairs` of
+    /// them) and of each rigid target's reaction [Rx, Ry, Mz] (`rigids`),
+    /// for displacement changes `du`, out-of-balance force changes `dr`
+    /// (all dofs; `eq` marks the prescribed ones, whose force counts as
+    /// zero) and pose changes `dpose`.
+    pub fn resultant_changes(
+        &self,
+        [pairs, rigids]: [usize; 2],
+        du: &[f64],
+        dr: &[f64],
+        eq: &[u32],
+        dpose: &[[f64; 3]],
+    ) -> (Vec<[f64; 4]>, Vec<[f64; 3]>) {
+        let mut pair = vec![[0.0; 4]; pairs];
+        let mut rigid = vec![[0.0; 3]; rigids];
+        let component = |d: usize| if eq[d] == PRESCRIBED { 0.0 } else { dr[d] };
+        let at = |v: &[f64], m: usize| Vector2::new(v[2 * m], v[2 * m + 1]);
+        for node in &self.nodes {
+            let df = Vector2::new(component(2 * node.node), component(2 * node.node + 1));
+            let omega = match node.turn {
+                Turn::Segment { a, b, length } => {
+                    node.normal.dot(&(at(du, b) - at(du, a))) / length
+                }
+                Turn::Rigid { rigid } => dpose[rigid][2],
+            };
+            let (f, n_s, n_r) = (node.force, node.normal, node.tangent);
+            let out = &mut pair[node.pair];
+            out[0] += df.x;
+            out[1] += df.y;
+            // Fn = -sum f . n_s, Ft = -sum f . n_r, with the frame turning.
+            out[2] -= df.dot(&n_s) - omega * f.dot(&n_r);
+            out[3] -= df.dot(&n_r) + omega * f.dot(&n_s);
+            let Turn::Rigid { rigid: ri } = node.turn else {
+                continue;
+            };
+            // The target's reaction: -f at the contact point, the moment
+            // about the moved reference point.
+            let v = material_velocity(node.point, node.reference);
+            let carried: Vector2<f64> = (0..3).map(|c| v[c] * dpose[ri][c]).sum();
+            let dx = if node.held {
+                carried
+            } else {
+                n_s * n_s.dot(&carried) + n_r * n_r.dot(&at(du, node.node))
+            };
+            let arm = node.point - Vector2::new(node.reference[0], node.reference[1]);
+            let darm = dx - Vector2::new(dpose[ri][0], dpose[ri][1]);
+            let out = &mut rigid[ri];
+            out[0] -= df.x;
+            out[1] -= df.y;
+            out[2] -= darm.x * f.y - darm.y * f.x + arm.x * df.y - arm.y * df.x;
+        }
+        (pair, rigid)
+    }
+}
