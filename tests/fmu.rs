@@ -167,6 +167,23 @@ impl Inst {
             .unwrap_or_else(|| panic!("no variable {name}"))
     }
 
+    /// Setup and enter initialisation (both must succeed); the status of
+    /// fmi2ExitInitializationMode.
+    fn init_status(&self) -> fmi2Status {
+        let l = lib();
+        unsafe {
+            assert_eq!(
+                (l.fmi2SetupExperiment.as_ref().unwrap())(self.c, 0, 0.0, 0.0, 0, 0.0),
+                OK
+            );
+            assert_eq!(
+                (l.fmi2EnterInitializationMode.as_ref().unwrap())(self.c),
+                OK
+            );
+            (l.fmi2ExitInitializationMode.as_ref().unwrap())(self.c)
+        }
+    }
+
     fn init(&self) {
         let l = lib();
         unsafe {
@@ -1565,21 +1582,7 @@ fn scene_parameters_are_fmu_parameters() {
     // the scene line and the expression.
     let inst = Inst::new(&u, "negative");
     assert_eq!(inst.set_real("length", -1.0), OK);
-    let l = lib();
-    unsafe {
-        assert_eq!(
-            (l.fmi2SetupExperiment.as_ref().unwrap())(inst.c, 0, 0.0, 0.0, 0, 0.0),
-            OK
-        );
-        assert_eq!(
-            (l.fmi2EnterInitializationMode.as_ref().unwrap())(inst.c),
-            OK
-        );
-        assert_eq!(
-            (l.fmi2ExitInitializationMode.as_ref().unwrap())(inst.c),
-            ERROR
-        );
-    }
+    assert_eq!(inst.init_status(), ERROR);
     let msg = inst.last_message();
     assert!(
         msg.contains("scene.toml:") && msg.contains("(from \"length\" = -1"),
@@ -1589,20 +1592,7 @@ fn scene_parameters_are_fmu_parameters() {
     // More elements: a new interface (more nodes), refused with the fix.
     let inst = Inst::new(&u, "finer");
     assert_eq!(inst.set_real("half", 8.0), OK);
-    unsafe {
-        assert_eq!(
-            (l.fmi2SetupExperiment.as_ref().unwrap())(inst.c, 0, 0.0, 0.0, 0, 0.0),
-            OK
-        );
-        assert_eq!(
-            (l.fmi2EnterInitializationMode.as_ref().unwrap())(inst.c),
-            OK
-        );
-        assert_eq!(
-            (l.fmi2ExitInitializationMode.as_ref().unwrap())(inst.c),
-            ERROR
-        );
-    }
+    assert_eq!(inst.init_status(), ERROR);
     let msg = inst.last_message();
     assert!(
         msg.contains("half = 8") && msg.contains("export the scene again"),

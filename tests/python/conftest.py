@@ -229,3 +229,18 @@ def open_fmu(unpacked):
     yield open_
     for s in reversed(made):
         s.free()
+
+
+def assert_fmu_validates(fmu):
+    """fmpy's validation and fmutool's compliance check find no problem."""
+    import sys
+
+    from fmpy.validation import validate_fmu
+
+    assert validate_fmu(str(fmu)) == []
+    fmutool = Path(sys.executable).with_name("fmutool")
+    done = subprocess.run([str(fmutool), "-input", str(fmu), "-check"], capture_output=True, text=True, timeout=120)
+    out = done.stdout + done.stderr
+    assert done.returncode == 0, out
+    assert "No semantic error against the FMI-2 standard." in out, out
+    assert "ERROR" not in out, out

@@ -12,6 +12,7 @@ REPO = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(REPO / "examples" / "winding_machine"))
 
 import winding  # noqa: E402
+from conftest import assert_fmu_validates  # noqa: E402
 
 STEP = 0.025
 B = 2.0  # machine.py's strip width
@@ -129,15 +130,5 @@ def test_libcosim_runs_the_example_like_fmpy(built):
 def test_capstan_fmu_validates(built):
     """fmpy's validation and fmutool's check find nothing in the shipped
     example's contact FMU."""
-    import subprocess
-
-    from fmpy.validation import validate_fmu
-
     _, _, capstan = built
-    assert validate_fmu(str(capstan)) == []
-    fmutool = Path(sys.executable).with_name("fmutool")
-    done = subprocess.run([str(fmutool), "-input", str(capstan), "-check"], capture_output=True, text=True, timeout=120)
-    out = done.stdout + done.stderr
-    assert done.returncode == 0, out
-    assert "No semantic error against the FMI-2 standard." in out, out
-    assert "ERROR" not in out, out
+    assert_fmu_validates(capstan)
