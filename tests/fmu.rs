@@ -58,6 +58,40 @@ unsafe extern "C" fn logger(
         .push((status, text(category), text(message)));
 }
 
+/// A master's logger as Rust writes it (no variadic arguments: the FMU
+/// passes its message as one `%s` argument).
+type PlainLogger = unsafe extern "C" fn(
+    fmi2ComponentEnvironment,
+    fmi2String,
+    fmi2Status,
+    fmi2String,
+    fmi2String,
+    *const c_char,
+);
+
+/// Callbacks with `logger` as the FMI logger and `env` as its environment.
+fn callbacks(logger: PlainLogger, env: *mut c_void) -> Box<fmi2CallbackFunctions> {
+    Box::new(fmi2CallbackFunctions {
+        logger: Some(unsafe {
+            std::mem::transmute::<
+                PlainLogger,
+                unsafe extern "C" fn(
+                    fmi2ComponentEnvironment,
+                    fmi2String,
+                    fmi2Status,
+                    fmi2String,
+                    fmi2String,
+                    ...
+                ),
+            >(logger)
+        }),
+        allocateMemory: None,
+        freeMemory: None,
+        stepFinished: None,
+        componentEnvironment: env,
+    })
+}
+
 /// An FMU unpacked by hand: `resources/scene.toml` and the variables.
 struct Unpacked {
     resources: CString,
@@ -111,32 +145,7 @@ impl Inst {
 
     fn with_guid(u: &Unpacked, name: &str, guid: &CStr) -> Result<Inst, Vec<String>> {
         let log: Box<Log> = Box::default();
-        let callbacks = Box::new(fmi2CallbackFunctions {
-            logger: Some(unsafe {
-                std::mem::transmute::<
-                    unsafe extern "C" fn(
-                        fmi2ComponentEnvironment,
-                        fmi2String,
-                        fmi2Status,
-                        fmi2String,
-                        fmi2String,
-                        *const c_char,
-                    ),
-                    unsafe extern "C" fn(
-                        fmi2ComponentEnvironment,
-                        fmi2String,
-                        fmi2Status,
-                        fmi2String,
-                        fmi2String,
-                        ...
-                    ),
-                >(logger)
-            }),
-            allocateMemory: None,
-            freeMemory: None,
-            stepFinished: None,
-            componentEnvironment: &*log as *const Log as *mut c_void,
-        });
+        let callbacks = callbacks(logger, &*log as *const Log as *mut c_void);
         let name = CString::new(name).unwrap();
         let c = unsafe {
             (lib().fmi2Instantiate.as_ref().unwrap())(
@@ -1676,32 +1685,7 @@ fn a_logger_calling_back_gets_an_error_not_a_deadlock() {
         vr: u.vr["press.uy"],
         statuses: Mutex::new(Vec::new()),
     });
-    let callbacks = Box::new(fmi2CallbackFunctions {
-        logger: Some(unsafe {
-            std::mem::transmute::<
-                unsafe extern "C" fn(
-                    fmi2ComponentEnvironment,
-                    fmi2String,
-                    fmi2Status,
-                    fmi2String,
-                    fmi2String,
-                    *const c_char,
-                ),
-                unsafe extern "C" fn(
-                    fmi2ComponentEnvironment,
-                    fmi2String,
-                    fmi2Status,
-                    fmi2String,
-                    fmi2String,
-                    ...
-                ),
-            >(reentrant_logger)
-        }),
-        allocateMemory: None,
-        freeMemory: None,
-        stepFinished: None,
-        componentEnvironment: &*reentry as *const Reentry as *mut c_void,
-    });
+    let callbacks = callbacks(reentrant_logger, &*reentry as *const Reentry as *mut c_void);
     let l = lib();
     let name = CString::new("reentry").unwrap();
     let c = unsafe {
