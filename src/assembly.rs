@@ -6,7 +6,7 @@ use crate::element::{face_shape, gauss_1d};
 use crate::kinematics::{ElementData, ElementError, ElementOutput, integrate};
 use crate::material::{self, MaterialLaw, Voigt};
 use crate::mesh::face_local_nodes;
-use crate::problem::{AnalysisKind, Kinematics, Problem};
+use crate::problem::{AnalysisKind, Distribution, Kinematics, Problem};
 use std::f64::consts::PI;
 
 /// Marks a prescribed degree of freedom in the equation map.
@@ -34,7 +34,8 @@ pub struct Model {
     element_initial_stress: Vec<Voigt>,
     /// Body force entries (index into problem.body_forces) per element body.
     element_body: Vec<usize>,
-    /// Equation of each dof (2 per node), or PRESCRIBED.
+    /// Equation of each dof (2 per node), or PRESCRIBED. The dofs of a
+    /// rigid force set share one equation per component.
     pub eq: Vec<u32>,
     pub pattern: Pattern,
     /// Per element, nd*nd slots into the value array (row-major local).
@@ -109,11 +110,33 @@ impl Model {
                 }
             }
         }
+        // A rigid force component's set is one unknown: each of its dofs
+        // is numbered as the set's first (lowest) free dof.
+        let mut leader: Vec<usize> = (0..2 * mesh.nodes.len()).collect();
+        for d in &problem.drivers {
+            for c in (0..2).filter(|&c| d.force(c).is_some()) {
+                if d.distribution != Distribution::Rigid {
+                    continue;
+                }
+                let dofs = d.nodes.iter().map(|&k| 2 * k + c);
+                let dofs: Vec<usize> = dofs.filter(|&q| !prescribed[q]).collect();
+                if let Some(&first) = dofs.iter().min() {
+                    for q in dofs {
+                        leader[q] = first;
+                    }
+                }
+            }
+        }
         let mut eq = vec![PRESCRIBED; 2 * mesh.nodes.len()];
         let mut n = 0u32;
-        for (dof, slot) in eq.iter_mut().enumerate() {
-            if !prescribed[dof] {
-                *slot = n;
+        for dof in 0..eq.len() {
+            if prescribed[dof] {
+                continue;
+            }
+            if leader[dof] != dof {
+                eq[dof] = eq[leader[dof]];
+            } else {
+                eq[dof] = n;
                 n += 1;
             }
         }

@@ -931,6 +931,8 @@ impl Solver {
         rhs: &mut [f64],
     ) -> Result<(Option<Vec<f64>>, Measure), String> {
         let mut react2 = 0.0;
+        // Summed: the dofs of a rigid force set share an equation.
+        rhs[..self.model.free_dofs()].fill(0.0);
         for (dof, &q) in self.model.eq.iter().enumerate() {
             if q == PRESCRIBED {
                 react2 += self.r[dof] * self.r[dof];
@@ -940,7 +942,7 @@ impl Solver {
                 } else {
                     self.r[dof]
                 };
-                rhs[q as usize] = -v;
+                rhs[q as usize] -= v;
             }
         }
         // The right-hand side without the contact forces: the inner solves
@@ -1347,8 +1349,9 @@ fn acts_on_free(dofs: &[(usize, f64)], eq: &[u32]) -> bool {
 }
 
 /// The loads beside the elements' in `r = F_int - R_ext`: each force
-/// driver's resultant `forces`, shared equally by its nodes (a dead load),
-/// and the tie forces `C^T lambda`.
+/// driver's resultant `forces`, shared equally by its nodes (a dead load;
+/// on a rigid set the shares sum into the set's one equation, which takes
+/// the whole resultant), and the tie forces `C^T lambda`.
 fn subtract_loads(problem: &Problem, forces: &[[f64; 2]], lambda: &[f64], r: &mut [f64]) {
     for (driver, f) in problem.drivers.iter().zip(forces) {
         let share = 1.0 / driver.nodes.len().max(1) as f64;

@@ -116,9 +116,10 @@ impl Scaled {
 }
 
 /// Prescribed components of a node set: a displacement (`ux`, `uy`) or a
-/// force (`fx`, `fy`: the set's resultant, shared equally by its nodes), at
-/// most one of the two per component. A component with neither is free.
-/// Its reaction (or its applied force) is reported under the driver's name.
+/// force (`fx`, `fy`: the set's resultant, acting on the set as
+/// `distribution` says), at most one of the two per component. A component
+/// with neither is free. Its reaction (or its applied force) is reported
+/// under the driver's name.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Driver {
     pub name: String,
@@ -127,6 +128,21 @@ pub struct Driver {
     pub uy: Option<Scaled>,
     pub fx: Option<Scaled>,
     pub fy: Option<Scaled>,
+    pub distribution: Distribution,
+}
+
+/// How a force driver's resultant acts on its node set.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Distribution {
+    /// Each node carries an equal share (a dead load); the nodes move
+    /// apart as the body lets them.
+    #[default]
+    Equal,
+    /// The set moves as one in each force component (a rigid clamp, the
+    /// plane end of a wire or strip): its nodes share one unknown per
+    /// component, which takes the whole resultant, and the body decides
+    /// how the force spreads over the set.
+    Rigid,
 }
 
 impl Driver {

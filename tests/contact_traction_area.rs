@@ -35,6 +35,7 @@ fn squeeze(kind: ElementKind, kinematics: Kinematics) -> (f64, f64, f64, Vec<f64
         uy: None,
         fx: None,
         fy: None,
+        distribution: Default::default(),
     });
     p.drivers.push(Driver {
         name: "press".into(),
@@ -46,6 +47,7 @@ fn squeeze(kind: ElementKind, kinematics: Kinematics) -> (f64, f64, f64, Vec<f64
         }),
         fx: None,
         fy: None,
+        distribution: Default::default(),
     });
     p.times = vec![0.5, 1.0];
     let mut s = Solver::new(p).unwrap();

@@ -1,12 +1,15 @@
-//! Drivers that prescribe a force (`fx`, `fy`: the set's resultant, shared
-//! equally by its nodes) instead of a displacement: the scene keys, a bar
-//! against F L / (E A), the elastica of scenes/verification/
-//! cantilever_tip_load.toml loaded through a force driver, and the same
-//! state reached by the displacement the force produced.
+//! Drivers that prescribe a force (`fx`, `fy`: the set's resultant, in
+//! equal shares or on a set that moves as one) instead of a displacement:
+//! the scene keys, a bar against F L / (E A), the elastica of
+//! scenes/verification/cantilever_tip_load.toml loaded through a force
+//! driver, the same state reached by the displacement the force produced,
+//! and a frictional block brought by a force input to the state its
+//! displacement-driven twin reaches.
 
 mod common;
 
 use contact2d::newton::Solver;
+use contact2d::results::NodeState;
 use contact2d::scene::SceneErrorKind;
 use std::path::Path;
 
@@ -141,4 +144,158 @@ fn a_component_is_a_displacement_or_a_force() {
             .contains("at least one component: ux or fx, uy or fy"),
         "{e}"
     );
+}
+
+/// `distribution = "rigid"`: the bar of the test above, four elements
+/// through its height and nu = 0.3, pulled at its right end by fx = F on a
+/// set that moves as one (a plane end). A uniform stress F / A with a free
+/// lateral contraction is the exact solution (the wall is a roller, so the
+/// end may stay plane), and the bilinear element holds it exactly: every
+/// end node moves by F L / (E A) to round-off. Equal shares on the same
+/// five nodes are not the consistent loads of a uniform traction (1/8, 1/4,
+/// 1/4, 1/4, 1/8), so there the end does not stay plane.
+#[test]
+fn a_rigid_force_set_moves_as_one() {
+    let end = |distribution: &str| {
+        let load = format!(
+            "[[driver]]\nname = \"pull\"\nset = \"bar.right\"\nfx = 40.0\ndistribution = \"{distribution}\""
+        );
+        let text = common::bar_scene("q4", [8, 4], &load, 1.0).replace("nu = 0.0", "nu = 0.3");
+        let problem = contact2d::scene::parse(&text, Path::new("scenes/bar.toml")).unwrap();
+        let mut solver = Solver::new(problem).unwrap();
+        let step = run(&mut solver);
+        let nodes = solver.problem().mesh.node_sets["bar.right"].clone();
+        let ux: Vec<f64> = nodes.iter().map(|&n| solver.state().u[2 * n]).collect();
+        (step.drivers[2].1.clone(), ux)
+    };
+    let expected = 40.0 * 10.0 / (1000.0 * 1.0 * 2.0);
+    let (pull, ux) = end("rigid");
+    assert_eq!(ux.len(), 5);
+    for &u in &ux {
+        assert!(
+            (u - expected).abs() <= 1e-12 * expected,
+            "ux {ux:?} vs {expected}"
+        );
+    }
+    let mean = pull.ux.unwrap();
+    assert!(
+        (mean - expected).abs() <= 1e-12 * expected,
+        "reported {mean}"
+    );
+    assert_eq!(pull.rx, 40.0);
+    let (_, ux) = end("equal");
+    let spread =
+        ux.iter().fold(f64::MIN, |a, &b| a.max(b)) - ux.iter().fold(f64::MAX, |a, &b| a.min(b));
+    assert!(
+        spread > 1e-3 * expected,
+        "equal shares keep the end plane: {ux:?}"
+    );
+}
+
+/// The check of a force input: the sliding block of
+/// scenes/verification/sliding_block.toml pressed and dragged sideways in
+/// one increment, its top moved by a displacement, and the same scene with
+/// the top pulled by the force that displacement needed, on a rigid set
+/// (what a displacement driver does to a set: it moves as one). One
+/// increment from the same start is the same discrete problem, friction
+/// included, so the force reaches the displacement's state in one step, in
+/// partial slip (the edges slide, the middle sticks). (In full slip a
+/// force-driven block has no equilibrium beyond mu N: its drag is a limit
+/// load.)
+/// Tolerance: both runs stop at the force tolerance (1e-8 of the force
+/// scale); the block's compliance turns that into well under 1e-6 of the
+/// drag.
+#[test]
+fn a_force_input_reaches_the_displacement_driven_state() {
+    let scene =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/verification/sliding_block.toml");
+    let text = std::fs::read_to_string(&scene).unwrap();
+    let solve = |top: &str| {
+        let text = text
+            .replace(
+                "ux = { function = \"drag\", scale = 0.2 }\nuy = { function = \"press\", scale = -0.01 }",
+                &format!("uy = -0.01\n\n[[driver]]\nname = \"drag\"\nset = \"block.top\"\n{top}"),
+            )
+            .replace("times = [0.5, 1.0, 1.02,", "times = [1.0]\nold = [1.02,")
+            // Held sideways by a force alone, the block has no stiffness
+            // until it touches: it starts in touch (docs/scenes.md).
+            .replace("points = [[10.0, 0.0], [-10.0, 0.0]]", "points = [[10.0, 1e-8], [-10.0, 1e-8]]");
+        let text = text.split("\nold = ").next().unwrap().to_string();
+        let problem = contact2d::scene::parse(&text, &scene).unwrap();
+        let mut solver = Solver::new(problem).unwrap();
+        let step = run(&mut solver);
+        (step, solver.state().u.clone())
+    };
+    for drag in [0.002, 0.004] {
+        let (moved, u_moved) = solve(&format!("ux = {drag:e}"));
+        let force = moved.drivers.iter().find(|d| d.0 == "drag").unwrap().1.rx;
+        let (pulled, u_pulled) = solve(&format!("fx = {force:e}\ndistribution = \"rigid\""));
+        let by_force = &pulled.drivers.iter().find(|d| d.0 == "drag").unwrap().1;
+        let ux = by_force.ux.unwrap();
+        assert!((ux - drag).abs() <= 1e-6 * drag, "ux {ux} vs {drag}");
+        let u_max = u_moved.iter().fold(0.0f64, |a, b| a.max(b.abs()));
+        let diff = (u_moved.iter().zip(&u_pulled))
+            .map(|(a, b)| (a - b).abs())
+            .fold(0.0, f64::max);
+        assert!(
+            diff <= 1e-6 * u_max,
+            "drag {drag}: states differ by {diff} (max |u| {u_max})"
+        );
+        let (a, b) = (&moved.pairs[0].1, &pulled.pairs[0].1);
+        assert_eq!(
+            a.nodes.state, b.nodes.state,
+            "drag {drag}: stick/slip states"
+        );
+        let sliding = a
+            .nodes
+            .state
+            .iter()
+            .filter(|&&s| s == NodeState::Slip)
+            .count();
+        eprintln!(
+            "drag {drag}: Fx {force:.4}, {sliding} of {} nodes slide, {} / {} iterations",
+            a.nodes.state.len(),
+            moved.iterations,
+            pulled.iterations
+        );
+        assert!(sliding > 0, "drag {drag}: the edges slide");
+        assert!(pulled.iterations <= 15, "{} iterations", pulled.iterations);
+    }
+}
+
+#[test]
+fn a_distribution_needs_a_force_and_a_rigid_set_its_own_nodes() {
+    let bar = |load: &str| {
+        let text = common::bar_scene("q4", [8, 1], load, 1.0);
+        contact2d::scene::parse(&text, Path::new("scenes/bar.toml")).unwrap_err()
+    };
+    let e =
+        bar("[[driver]]\nname = \"pull\"\nset = \"bar.right\"\nux = 1.0\ndistribution = \"rigid\"");
+    assert!(
+        e.to_string().contains("driver[2].distribution")
+            && e.message.contains("prescribes no force"),
+        "{e}"
+    );
+    let e = bar(
+        "[[driver]]\nname = \"pull\"\nset = \"bar.right\"\nfx = 1.0\ndistribution = \"clamped\"",
+    );
+    assert!(e.to_string().contains("clamped"), "{e}");
+    // bar.left is held in x by the wall: a rigid fx on it would have to
+    // move it.
+    let e =
+        bar("[[driver]]\nname = \"pull\"\nset = \"bar.left\"\nfx = 1.0\ndistribution = \"rigid\"");
+    assert!(
+        e.to_string().contains("driver[2].set")
+            && e.message.contains("rigid force fx")
+            && e.message.contains("`wall`"),
+        "{e}"
+    );
+    // Equal shares on a held node are a load the wall takes: allowed.
+    let text = common::bar_scene(
+        "q4",
+        [8, 1],
+        "[[driver]]\nname = \"pull\"\nset = \"bar.left\"\nfx = 1.0",
+        1.0,
+    );
+    contact2d::scene::parse(&text, Path::new("scenes/bar.toml")).unwrap();
 }

@@ -19,6 +19,7 @@ fn driver(name: &str, nodes: Vec<usize>, ux: Option<Scaled>, uy: Option<Scaled>)
         uy,
         fx: None,
         fy: None,
+        distribution: Default::default(),
     }
 }
 

@@ -29,6 +29,7 @@ fn cantilever(k: f64) -> (Solver, usize) {
         uy: Some(Scaled::constant(0.0)),
         fx: None,
         fy: None,
+        distribution: Default::default(),
     });
     let tip = common::nodes_where(&p.mesh, |x, y| {
         (x - l).abs() < 1e-12 && (y - h / 2.0).abs() < 1e-12

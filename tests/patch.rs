@@ -44,6 +44,7 @@ fn check(kind: ElementKind, analysis: AnalysisKind, kinematics: Kinematics, h: [
             }),
             fx: None,
             fy: None,
+            distribution: Default::default(),
         });
     }
     let mut s = Solver::new(p).unwrap();

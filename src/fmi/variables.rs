@@ -3,7 +3,7 @@
 //! Value references run 1, 2, ... over all types, parameters first, then
 //! inputs, then outputs, in scene order: unique across types.
 
-use crate::problem::{ForceUnit, LengthUnit, MaterialSpec, Problem};
+use crate::problem::{Distribution, ForceUnit, LengthUnit, MaterialSpec, Problem};
 use crate::results::StepResult;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -284,22 +284,31 @@ pub fn variables(problem: &Problem) -> Vec<Variable> {
     let f = &problem.functions;
     for (d, driver) in problem.drivers.iter().enumerate() {
         for component in 0..2 {
-            let (key, what, quantity, value) =
-                match (driver.displacement(component), driver.force(component)) {
-                    (Some(v), _) => (
-                        ["ux", "uy"][component],
-                        "prescribed displacement",
-                        Quantity::Length,
-                        v,
-                    ),
-                    (None, Some(v)) => (
-                        ["Fx", "Fy"][component],
-                        "prescribed force (the set's resultant, shared equally by its nodes)",
-                        Quantity::Force,
-                        v,
-                    ),
-                    (None, None) => continue,
-                };
+            let (key, what, quantity, value) = match (
+                driver.displacement(component),
+                driver.force(component),
+            ) {
+                (Some(v), _) => (
+                    ["ux", "uy"][component],
+                    "prescribed displacement",
+                    Quantity::Length,
+                    v,
+                ),
+                (None, Some(v)) => (
+                    ["Fx", "Fy"][component],
+                    match driver.distribution {
+                        Distribution::Equal => {
+                            "prescribed force (the set's resultant, shared equally by its nodes)"
+                        }
+                        Distribution::Rigid => {
+                            "prescribed force (the set's resultant; the set moves as one)"
+                        }
+                    },
+                    Quantity::Force,
+                    v,
+                ),
+                (None, None) => continue,
+            };
             add(
                 format!("{}.{key}", driver.name),
                 Type::Real,
@@ -383,10 +392,16 @@ pub fn variables(problem: &Problem) -> Vec<Variable> {
                 Type::Real,
                 Output,
                 Quantity::Length,
-                format!(
-                    "mean displacement {key} of the nodes of driver '{}' under its force",
-                    driver.name
-                ),
+                match driver.distribution {
+                    Distribution::Equal => format!(
+                        "mean displacement {key} of the nodes of driver '{}' under its force",
+                        driver.name
+                    ),
+                    Distribution::Rigid => format!(
+                        "displacement {key} of the set of driver '{}', which moves as one under its force",
+                        driver.name
+                    ),
+                },
                 None,
                 Binding::DriverDisplacement {
                     driver: d,

@@ -261,7 +261,8 @@ impl Solver {
                 Input::Driver { driver, component } => {
                     let d = &p.drivers[driver];
                     if d.force(component).is_some() {
-                        // Each node carries an equal share of the resultant.
+                        // Each node carries an equal share of the resultant
+                        // (summed into one equation on a rigid set).
                         let share = v / d.nodes.len().max(1) as f64;
                         for &node in &d.nodes {
                             load[2 * node + component] -= share;
@@ -298,7 +299,8 @@ impl Solver {
         let mut x = vec![0.0; n + lin.negligible.len()];
         for (dof, &q) in eq.iter().enumerate() {
             if q != PRESCRIBED {
-                x[q as usize] = carried[dof] - moved[dof];
+                // Summed: the dofs of a rigid force set share an equation.
+                x[q as usize] += carried[dof] - moved[dof];
             }
         }
         for (i, (dofs, poses)) in contact_rows.chain(tie_rows).enumerate() {

@@ -12,8 +12,8 @@ mod tie;
 
 use crate::mesh::{Edge, Mesh};
 use crate::problem::{
-    self, AnalysisKind, Body, BodyForce, Driver, InitialStress, Kinematics, Material, MaterialSpec,
-    NodalForce, Pressure, Problem, Scaled, SolverSettings, TimeFunction, Units,
+    self, AnalysisKind, Body, BodyForce, Distribution, Driver, InitialStress, Kinematics, Material,
+    MaterialSpec, NodalForce, Pressure, Problem, Scaled, SolverSettings, TimeFunction, Units,
 };
 use locate::Source;
 use raw::{AnalysisName, KinematicsName, ModelName, ValueSpec};
@@ -733,6 +733,20 @@ impl<'a> Resolver<'a> {
                     ));
                 }
             }
+            let distribution = match d.distribution.as_ref() {
+                None => Distribution::Equal,
+                Some(s) if fx.is_none() && fy.is_none() => {
+                    return Err(self.invalid(
+                        s.span(),
+                        format!("driver[{i}].distribution"),
+                        "distribution says how a force acts on the set, and this driver prescribes no force (fx or fy)",
+                    ));
+                }
+                Some(s) => match s.get_ref() {
+                    raw::DistributionName::Equal => Distribution::Equal,
+                    raw::DistributionName::Rigid => Distribution::Rigid,
+                },
+            };
             drivers.push(Driver {
                 name: d.name.get_ref().clone(),
                 nodes,
@@ -740,9 +754,59 @@ impl<'a> Resolver<'a> {
                 uy,
                 fx,
                 fy,
+                distribution,
             });
         }
+        self.rigid_sets_apart(list, &drivers)?;
         Ok(drivers)
+    }
+
+    /// A rigid force component makes its set's nodes one unknown: none of
+    /// them may be prescribed in that component by a displacement, nor
+    /// belong to another rigid set of the same component.
+    fn rigid_sets_apart(
+        &self,
+        list: &[Spanned<raw::Driver>],
+        drivers: &[Driver],
+    ) -> Result<(), SceneError> {
+        let mut owner: std::collections::HashMap<(usize, usize), (usize, bool)> =
+            std::collections::HashMap::new();
+        for (i, d) in drivers.iter().enumerate() {
+            for c in 0..2 {
+                let rigid = d.force(c).is_some() && d.distribution == Distribution::Rigid;
+                if !rigid && d.displacement(c).is_none() {
+                    continue;
+                }
+                for &n in &d.nodes {
+                    let Some(&(j, other_rigid)) = owner.get(&(n, c)) else {
+                        owner.insert((n, c), (i, rigid));
+                        continue;
+                    };
+                    if !(rigid || other_rigid) || j == i {
+                        continue;
+                    }
+                    let axis = ['x', 'y'][c];
+                    let how = |r: bool| {
+                        if r {
+                            format!("a rigid force f{axis}")
+                        } else {
+                            format!("a displacement u{axis}")
+                        }
+                    };
+                    return Err(self.invalid(
+                        list[i].span(),
+                        format!("driver[{i}].set"),
+                        format!(
+                            "node {n} gets {} here and {} from driver `{}`: a rigid force set moves as one, so none of its nodes may be driven in that component by another driver",
+                            how(rigid),
+                            how(other_rigid),
+                            drivers[j].name
+                        ),
+                    ));
+                }
+            }
+        }
+        Ok(())
     }
 
     /// Node sets picked by location, added to the mesh as `<body>.<name>`.

@@ -232,6 +232,15 @@ pub(super) struct Driver {
     pub uy: Option<ValueSpec>,
     pub fx: Option<ValueSpec>,
     pub fy: Option<ValueSpec>,
+    pub distribution: Option<Spanned<DistributionName>>,
+}
+
+/// How a force driver's resultant acts on its set.
+#[derive(Deserialize, Clone, Copy)]
+#[serde(rename_all = "snake_case")]
+pub(super) enum DistributionName {
+    Equal,
+    Rigid,
 }
 
 /// A rigid target: a polyline given by its points, or an arc.

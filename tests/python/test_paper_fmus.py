@@ -11,6 +11,7 @@ what the CLI solves; the inputs are the values at the end of each step
 import csv
 import subprocess
 
+import numpy as np
 import pytest
 from fmpy import extract
 from fmpy.fmi2 import fmi2LastSuccessfulTime
@@ -113,3 +114,41 @@ def test_input_derivatives_follow_the_scene_in_fmpy(contact2d, cli_summary, tmp_
                 assert abs(slave.real(n) - then[n]) <= 1e-15 * max(1.0, abs(then[n])), n
     finally:
         slave.free()
+
+
+def test_fmpy_simulate_fmu_cannot_yet_drive_input_derivatives(contact2d, tmp_path):
+    """Issue 12 asks for fmpy's own simulate_fmu(..., set_input_derivatives=True)
+    to reproduce the CLI from the `contact2d inputs` table. fmpy 0.3.32 (the
+    newest release, and its main branch as of 2026-07) cannot, for reasons in
+    fmpy's simulation.py, not in the FMU:
+    - `Input.__init__` allocates `(value_type * 9)()` derivative slots
+      whatever the number of inputs, so `derivatives[:] = d` raises
+      ValueError unless a type has exactly nine inputs (the sliding block
+      has five);
+    - at a table row t_k, `Input.interpolate` returns the slope of the
+      segment before t_k (forward only at a repeated time, an event);
+    - at the first row it returns slope 0, so the first step holds the
+      start values.
+    The test above drives the same table through fmpy's FMU2Slave instead
+    and matches the CLI at every increment. This one keeps watch: when a
+    new fmpy accepts the call, it fails, and should become the
+    simulate_fmu comparison the issue asks for."""
+    import fmpy
+
+    scene = REPO / "scenes" / "verification" / "sliding_block.toml"
+    fmu = tmp_path / "sliding_block.fmu"
+    done = subprocess.run(
+        [str(contact2d), "export", str(scene), "-o", str(fmu)], capture_output=True, text=True, timeout=300
+    )
+    assert done.returncode == 0, done.stderr
+    table = input_table(contact2d, scene, tmp_path)
+    names = list(table[0][1])
+    assert len(names) != 9
+    signals = np.array(
+        [(t, *(row[n] for n in names)) for t, row in table],
+        dtype=[("time", np.float64)] + [(n, np.float64) for n in names],
+    )
+    with pytest.raises(ValueError, match="same size"):
+        fmpy.simulate_fmu(
+            str(fmu), stop_time=table[-1][0], input=signals, set_input_derivatives=True, output_interval=table[-1][0]
+        )
