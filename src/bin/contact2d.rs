@@ -51,13 +51,17 @@ enum Command {
         #[arg(long = "set", value_name = "NAME=VALUE", value_parser = parameter)]
         set: Vec<(String, f64)>,
     },
-    /// Build the FMU (FMI 2.0 co-simulation) of a scene.
+    /// Build the FMU (FMI 2.0 co-simulation, or FMI 3.0 with --fmi 3) of a scene.
     Export {
         /// The scene file (TOML).
         scene: PathBuf,
         /// The FMU to write.
         #[arg(short, long, value_name = "NAME.fmu")]
         output: PathBuf,
+        /// The FMI version: 2 (FMI 2.0, the default) or 3 (FMI 3.0, with a
+        /// pair's per-node outputs as arrays).
+        #[arg(long, value_name = "VERSION", default_value = "2", value_parser = ["2", "3"])]
+        fmi: String,
         /// The shared library to ship (default: libcontact2d.so beside this
         /// executable, as `cargo build --release` leaves it).
         #[arg(long, value_name = "FILE")]
@@ -97,12 +101,19 @@ fn main() -> ExitCode {
         Command::Export {
             scene,
             output,
+            fmi,
             library,
-        } => export(&scene, &output, library),
+        } => export(&scene, &output, &fmi, library),
     }
 }
 
-fn export(scene: &Path, output: &Path, library: Option<PathBuf>) -> ExitCode {
+fn export(scene: &Path, output: &Path, fmi: &str, library: Option<PathBuf>) -> ExitCode {
+    use contact2d::fmi::export::FmiVersion;
+    let version = if fmi == "3" {
+        FmiVersion::Fmi3
+    } else {
+        FmiVersion::Fmi2
+    };
     let library = library.or_else(|| {
         std::env::current_exe()
             .ok()
@@ -113,7 +124,7 @@ fn export(scene: &Path, output: &Path, library: Option<PathBuf>) -> ExitCode {
             "libcontact2d.so not found beside this executable: build it with `cargo build --release`, or pass --library",
         );
     };
-    match contact2d::fmi::export::export(scene, output, &library) {
+    match contact2d::fmi::export::export_version(scene, output, &library, version) {
         Ok(done) => {
             say(
                 &None,

@@ -65,7 +65,7 @@ fn fnv1a64(bytes: &[u8], seed: u64) -> u64 {
     })
 }
 
-fn unit_of(v: &Variable, problem: &Problem) -> Option<&'static str> {
+pub(super) fn unit_of(v: &Variable, problem: &Problem) -> Option<&'static str> {
     match v.ty {
         Type::Real => unit(v.quantity, problem.units.length, problem.units.force),
         _ => None,
@@ -73,7 +73,7 @@ fn unit_of(v: &Variable, problem: &Problem) -> Option<&'static str> {
 }
 
 /// XML attribute text.
-fn escape(s: &str) -> String {
+pub(super) fn escape(s: &str) -> String {
     let mut out = String::with_capacity(s.len());
     for c in s.chars() {
         match c {
@@ -92,7 +92,7 @@ fn escape(s: &str) -> String {
 }
 
 /// A Real start value written so that it reads back to the same f64.
-fn real(v: f64) -> String {
+pub(super) fn real(v: f64) -> String {
     // -0.0 reads as 0.0.
     format!("{:?}", v + 0.0)
 }
@@ -124,30 +124,7 @@ pub fn model_description(problem: &Problem) -> String {
         r#"  <CoSimulation modelIdentifier="{MODEL_IDENTIFIER}" needsExecutionTool="false" canHandleVariableCommunicationStepSize="true" canInterpolateInputs="true" maxOutputDerivativeOrder="0" canRunAsynchronuously="false" canBeInstantiatedOnlyOncePerProcess="false" canNotUseMemoryManagementFunctions="true" canGetAndSetFMUstate="true" canSerializeFMUstate="true" providesDirectionalDerivative="{}"/>"#,
         provides_directional_derivative(problem)
     );
-    let units: BTreeSet<&str> = vars
-        .iter()
-        .filter_map(|v| unit_of(v, problem))
-        .chain(["s"])
-        .collect();
-    let _ = writeln!(x, "  <UnitDefinitions>");
-    for u in &units {
-        let (exp, factor) = base_unit(u);
-        let mut attrs = String::new();
-        for (name, e) in ["kg", "m", "s", "rad"].iter().zip(exp) {
-            if e != 0 {
-                let _ = write!(attrs, r#" {name}="{e}""#);
-            }
-        }
-        if factor != 1.0 {
-            let _ = write!(attrs, r#" factor="{}""#, real(factor));
-        }
-        let _ = writeln!(
-            x,
-            "    <Unit name=\"{}\"><BaseUnit{attrs}/></Unit>",
-            escape(u)
-        );
-    }
-    let _ = writeln!(x, "  </UnitDefinitions>");
+    unit_definitions(&mut x, &vars, problem);
     let _ = writeln!(x, "  <LogCategories>");
     for (name, what) in LOG_CATEGORIES {
         let _ = writeln!(
@@ -229,4 +206,33 @@ pub fn model_description(problem: &Problem) -> String {
     let _ = writeln!(x, "  </ModelStructure>");
     let _ = writeln!(x, "</fmiModelDescription>");
     x
+}
+
+/// `<UnitDefinitions>`: every unit the variables use, and seconds; the same
+/// element in FMI 2.0 and 3.0.
+pub(super) fn unit_definitions(x: &mut String, vars: &[Variable], problem: &Problem) {
+    let units: BTreeSet<&str> = vars
+        .iter()
+        .filter_map(|v| unit_of(v, problem))
+        .chain(["s"])
+        .collect();
+    let _ = writeln!(x, "  <UnitDefinitions>");
+    for u in &units {
+        let (exp, factor) = base_unit(u);
+        let mut attrs = String::new();
+        for (name, e) in ["kg", "m", "s", "rad"].iter().zip(exp) {
+            if e != 0 {
+                let _ = write!(attrs, r#" {name}="{e}""#);
+            }
+        }
+        if factor != 1.0 {
+            let _ = write!(attrs, r#" factor="{}""#, real(factor));
+        }
+        let _ = writeln!(
+            x,
+            "    <Unit name=\"{}\"><BaseUnit{attrs}/></Unit>",
+            escape(u)
+        );
+    }
+    let _ = writeln!(x, "  </UnitDefinitions>");
 }

@@ -1,7 +1,9 @@
 //! `contact2d export`: the FMU of a scene, a zip with
 //! `modelDescription.xml`, `binaries/linux64/contact2d.so` and `resources/`
 //! (the scene as `scene.toml`, and the mesh files it reads, at the same
-//! relative paths).
+//! relative paths); with `--fmi 3`, the FMI 3.0 FMU: its model description
+//! and `binaries/x86_64-linux/contact2d.so` (the same library, which has
+//! both interfaces).
 
 use super::SCENE_FILE;
 use super::description::{MODEL_IDENTIFIER, model_description};
@@ -30,10 +32,32 @@ pub fn find_library(exe: &Path) -> Option<PathBuf> {
         .map(|(_, p)| p)
 }
 
-/// Writes the FMU of `scene` to `out`, with the shared library `library`.
+/// Writes the FMI 2.0 FMU of `scene` to `out`, with the shared library
+/// `library`.
 pub fn export(scene: &Path, out: &Path, library: &Path) -> Result<Exported, String> {
+    export_version(scene, out, library, FmiVersion::Fmi2)
+}
+
+/// Which standard an exported FMU follows.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FmiVersion {
+    Fmi2,
+    Fmi3,
+}
+
+/// Writes the FMU of `scene` to `out` for FMI `version`, with the shared
+/// library `library`.
+pub fn export_version(
+    scene: &Path,
+    out: &Path,
+    library: &Path,
+    version: FmiVersion,
+) -> Result<Exported, String> {
     let problem = crate::scene::load(scene).map_err(|e| e.to_string())?;
-    let xml = model_description(&problem);
+    let (xml, platform) = match version {
+        FmiVersion::Fmi2 => (model_description(&problem), "linux64"),
+        FmiVersion::Fmi3 => (super::fmi3::model_description3(&problem), "x86_64-linux"),
+    };
     let scene_text = std::fs::read(scene).map_err(|e| format!("{}: {e}", scene.display()))?;
     let lib = std::fs::read(library).map_err(|e| {
         format!(
@@ -67,7 +91,7 @@ pub fn export(scene: &Path, out: &Path, library: &Path) -> Result<Exported, Stri
         files.push((format!("resources/{name}"), bytes));
     }
     files.push(("modelDescription.xml".into(), xml.into_bytes()));
-    files.push((format!("binaries/linux64/{MODEL_IDENTIFIER}.so"), lib));
+    files.push((format!("binaries/{platform}/{MODEL_IDENTIFIER}.so"), lib));
 
     if let Some(parent) = out.parent().filter(|p| !p.as_os_str().is_empty()) {
         std::fs::create_dir_all(parent).map_err(|e| format!("{}: {e}", parent.display()))?;

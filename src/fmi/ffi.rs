@@ -13,11 +13,14 @@ use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::path::PathBuf;
 use std::sync::{Mutex, TryLockError};
 
-/// What `fmi2Component` points to.
-struct Component {
-    instance: Mutex<Instance>,
+/// What `fmi2Component` (and `fmi3Instance`) points to.
+pub(super) struct Component {
+    pub(super) instance: Mutex<Instance>,
     /// Strings handed out by fmi2GetString live until the next call.
-    strings: Mutex<Vec<CString>>,
+    pub(super) strings: Mutex<Vec<CString>>,
+    /// The FMI 3.0 variables (arrays of FMI 2.0 ones) of an instance made
+    /// by fmi3InstantiateCoSimulation; None for FMI 2.0.
+    pub(super) fmi3: Option<super::ffi3::Variables3>,
 }
 
 /// The master's logger; the environment pointer is the master's and stays
@@ -78,7 +81,7 @@ fn status(s: Status) -> fmi2Status {
     }
 }
 
-fn panic_text(p: &(dyn std::any::Any + Send)) -> String {
+pub(super) fn panic_text(p: &(dyn std::any::Any + Send)) -> String {
     p.downcast_ref::<&str>()
         .map(|s| s.to_string())
         .or_else(|| p.downcast_ref::<String>().cloned())
@@ -87,7 +90,7 @@ fn panic_text(p: &(dyn std::any::Any + Send)) -> String {
 
 /// Runs `f` on the instance behind `c`: a NULL component is refused, a
 /// panic is caught and marks the instance failed.
-fn with(
+pub(super) fn with(
     c: fmi2Component,
     call: &str,
     f: impl FnOnce(&mut Instance, &Component) -> Status,
@@ -121,7 +124,7 @@ fn with(
 }
 
 /// A slice from a C array; NULL with n > 0 is an error, n = 0 is empty.
-unsafe fn slice<'a, T>(p: *const T, n: usize) -> Option<&'a [T]> {
+pub(super) unsafe fn slice<'a, T>(p: *const T, n: usize) -> Option<&'a [T]> {
     if n == 0 {
         Some(&[])
     } else if p.is_null() {
@@ -131,7 +134,7 @@ unsafe fn slice<'a, T>(p: *const T, n: usize) -> Option<&'a [T]> {
     }
 }
 
-unsafe fn slice_mut<'a, T>(p: *mut T, n: usize) -> Option<&'a mut [T]> {
+pub(super) unsafe fn slice_mut<'a, T>(p: *mut T, n: usize) -> Option<&'a mut [T]> {
     if n == 0 {
         Some(&mut [])
     } else if p.is_null() {
@@ -141,7 +144,7 @@ unsafe fn slice_mut<'a, T>(p: *mut T, n: usize) -> Option<&'a mut [T]> {
     }
 }
 
-fn null(inst: &mut Instance, call: &str, what: &str) -> Status {
+pub(super) fn null(inst: &mut Instance, call: &str, what: &str) -> Status {
     inst.log(
         crate::results::LogCategory::Error,
         &format!("{call}: {what} is NULL"),
@@ -149,12 +152,12 @@ fn null(inst: &mut Instance, call: &str, what: &str) -> Status {
     Status::Error
 }
 
-unsafe fn string(p: fmi2String) -> Option<String> {
+pub(super) unsafe fn string(p: fmi2String) -> Option<String> {
     (!p.is_null()).then(|| unsafe { CStr::from_ptr(p) }.to_string_lossy().into_owned())
 }
 
 /// `file:///a/b%20c/resources` (or a plain path) to a path.
-fn resource_path(uri: &str) -> PathBuf {
+pub(super) fn resource_path(uri: &str) -> PathBuf {
     let rest = uri
         .strip_prefix("file://localhost")
         .or_else(|| uri.strip_prefix("file://"))
@@ -260,6 +263,7 @@ pub extern "C" fn fmi2Instantiate(
             Ok(instance) => Box::into_raw(Box::new(Component {
                 instance: Mutex::new(instance),
                 strings: Mutex::new(Vec::new()),
+                fmi3: None,
             })) as fmi2Component,
             Err(msg) => fail(msg),
         }
@@ -683,7 +687,7 @@ pub extern "C" fn fmi2GetDirectionalDerivative(
     })
 }
 
-fn unsupported(c: fmi2Component, call: &str, why: &str) -> fmi2Status {
+pub(super) fn unsupported(c: fmi2Component, call: &str, why: &str) -> fmi2Status {
     with(c, call, |inst, _| {
         inst.log(
             crate::results::LogCategory::Error,

@@ -156,6 +156,11 @@ impl Instance {
         }
     }
 
+    /// The FMU's variables, in value-reference order.
+    pub fn variables(&self) -> &[Variable] {
+        &self.vars
+    }
+
     pub fn mode(&self) -> Mode {
         self.mode
     }

@@ -1,10 +1,13 @@
-//! The FMU (FMI 2.0 co-simulation, SPEC section 4): the variables of a
-//! scene, its `modelDescription.xml`, one instance's state machine, the C
-//! interface, and `export`, which zips them with the shared library.
+//! The FMU (FMI 2.0 co-simulation, SPEC section 4; and FMI 3.0 from the
+//! same library): the variables of a scene, its `modelDescription.xml`,
+//! one instance's state machine, the C interfaces, and `export`, which zips
+//! them with the shared library.
 
 pub mod description;
 pub mod export;
 mod ffi;
+mod ffi3;
+pub mod fmi3;
 pub mod instance;
 pub mod variables;
 
