@@ -129,11 +129,30 @@ def test_libcosim_loads_sets_the_input_and_steps(fmus, cli_summary):
 SHIPPED = sorted((REPO / "scenes").glob("*.toml")) + sorted((REPO / "scenes" / "verification").glob("*.toml"))
 
 
+@pytest.mark.parametrize("fmi", [2, 3])
 @pytest.mark.parametrize("scene", SHIPPED, ids=[p.stem for p in SHIPPED])
-def test_every_shipped_fmu_validates(contact2d, tmp_path, scene):
-    """fmpy's validation and fmutool's check find no problem in the FMU of
-    any shipped scene (the machine example's capstan: test_winding_machine)."""
+def test_every_shipped_fmu_validates(contact2d, tmp_path, scene, fmi):
+    """fmpy's validation and fmutool's check find no problem in the FMI 2.0
+    and the FMI 3.0 FMU of any shipped scene (the machine example's capstan:
+    test_winding_machine, and below)."""
     fmu = tmp_path / f"{scene.stem}.fmu"
-    done = subprocess.run([str(contact2d), "export", str(scene), "-o", str(fmu)], capture_output=True, text=True, timeout=300)
+    done = subprocess.run(
+        [str(contact2d), "export", str(scene), "-o", str(fmu), "--fmi", str(fmi)],
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
     assert done.returncode == 0, done.stderr
-    assert_fmu_validates(fmu)
+    assert_fmu_validates(fmu, fmi=fmi)
+
+
+def test_capstan_fmi3_validates(contact2d, tmp_path):
+    """The machine example's capstan as FMI 3.0: scene parameters, force and
+    displacement inputs, tunable friction, 65-node arrays."""
+    scene = REPO / "examples" / "winding_machine" / "capstan.toml"
+    fmu = tmp_path / "capstan3.fmu"
+    done = subprocess.run(
+        [str(contact2d), "export", str(scene), "-o", str(fmu), "--fmi", "3"], capture_output=True, text=True, timeout=300
+    )
+    assert done.returncode == 0, done.stderr
+    assert_fmu_validates(fmu, fmi=3)
