@@ -117,11 +117,7 @@ impl VtkSeries {
                 .collect();
             let displacement = vectors(&moved);
             let mut piece = Piece::polyline(rigid.points.clone(), false);
-            piece.point_data.push(DataArray {
-                name: "displacement",
-                components: &["x", "y", "z"],
-                values: Values::F64(&displacement),
-            });
+            (piece.point_data).push(DataArray::vector("displacement", &displacement));
             let part = 1 + problem.contacts.len() + r;
             write(part, format!("rigid.{}", rigid.name), file, piece)?;
         }
@@ -151,11 +147,7 @@ fn contactor_piece<'a>(
     let n = &r.nodes;
     let mut piece = Piece::polyline(reference, closed);
     piece.point_data = vec![
-        DataArray {
-            name: "displacement",
-            components: &["x", "y", "z"],
-            values: Values::F64(displacement),
-        },
+        DataArray::vector("displacement", displacement),
         DataArray::scalar("state", Values::I32(state)),
         DataArray::scalar("tn", Values::F64(&n.tn)),
         DataArray::scalar("tt", Values::F64(&n.tt)),

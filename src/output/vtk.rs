@@ -96,6 +96,15 @@ impl<'a> DataArray<'a> {
         }
     }
 
+    /// A vector of VTK's three components (x, y, z) per entry.
+    pub fn vector(name: &'a str, xyz: &'a [f64]) -> Self {
+        DataArray {
+            name,
+            components: &["x", "y", "z"],
+            values: Values::F64(xyz),
+        }
+    }
+
     fn n_components(&self) -> usize {
         self.components.len().max(1)
     }
@@ -208,12 +217,7 @@ impl<'a> Piece<'a> {
         )?;
         writeln!(w, "<Points>")?;
         let xyz: Vec<f64> = self.points.iter().flat_map(|p| [p[0], p[1], 0.0]).collect();
-        let points = DataArray {
-            name: "Points",
-            components: &["x", "y", "z"],
-            values: Values::F64(&xyz),
-        };
-        write_array(w, &points, &mut appended)?;
+        write_array(w, &DataArray::vector("Points", &xyz), &mut appended)?;
         writeln!(w, "</Points>")?;
         writeln!(w, "<Cells>")?;
         for (name, values) in [
@@ -331,11 +335,9 @@ pub fn write_vtu(
     let displacement = vectors(u);
     let stress: Vec<f64> = element_stress.iter().flatten().copied().collect();
     let vm: Vec<f64> = element_stress.iter().map(von_mises).collect();
-    piece.point_data.push(DataArray {
-        name: "displacement",
-        components: &["x", "y", "z"],
-        values: Values::F64(&displacement),
-    });
+    piece
+        .point_data
+        .push(DataArray::vector("displacement", &displacement));
     piece
         .cell_data
         .push(DataArray::scalar("von_mises", Values::F64(&vm)));
