@@ -221,6 +221,11 @@ impl Reporter {
         if self.verbosity >= level {
             say(&self.bar, line);
         }
+        self.log(line);
+    }
+
+    /// A line for the log file only (the errors, which stderr shows).
+    fn log(&mut self, line: &str) {
         if let Some((path, w)) = &mut self.log
             && self.log_error.is_none()
             && let Err(e) = writeln!(w, "{line}")
@@ -415,7 +420,7 @@ fn run(scene: &Path, o: &RunOptions) -> ExitCode {
         out.line(Verbosity::Quiet, &done);
     } else {
         for e in &errors {
-            out.line(Verbosity::Verbose, &format!("error: {e}"));
+            out.log(&format!("error: {e}"));
         }
     }
     errors.extend(out.finish().err());
