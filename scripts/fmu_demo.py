@@ -7,19 +7,20 @@ The input follows the piecewise linear path (time:value pairs), each leg cut
 into the given number of steps; after every step the script prints the
 contact resultants, the stick/slip/open counts and the Newton work, and at
 the end it writes DIR/tractions.png: the normal and tangential tractions
-over the contact surface at a few steps.
+over the contact surface at a few steps, in the scene's units, with Hertz's
+pressure when the FMU's scene is a Hertz problem and without a panel of
+round-off (scripts/traction_plots.py).
 """
 
 import argparse
 import os
 import sys
 
-import matplotlib
+from fmpy import extract, read_model_description
+from fmpy.fmi2 import FMU2Slave
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-from fmpy import extract, read_model_description  # noqa: E402
-from fmpy.fmi2 import FMU2Slave  # noqa: E402
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import traction_plots as tp  # noqa: E402
 
 
 def main() -> int:
@@ -50,10 +51,10 @@ def main() -> int:
     node_vars = {k: [vr(f"{args.pair}.{k}[{i}]") for i in range(1, nodes + 1)] for k in ("x", "tn", "tt")}
     state_vrs = [vr(f"{args.pair}.state[{i}]") for i in range(1, nodes + 1)]
 
-    unzipped = extract(args.fmu)
+    unpacked = extract(args.fmu)
     fmu = FMU2Slave(
         guid=md.guid,
-        unzipDirectory=unzipped,
+        unzipDirectory=unpacked,
         modelIdentifier=md.coSimulation.modelIdentifier,
         instanceName="demo",
     )
@@ -90,29 +91,21 @@ def main() -> int:
                 tn = fmu.getReal(node_vars["tn"])
                 tt = fmu.getReal(node_vars["tt"])
                 st = fmu.getInteger(state_vrs)
-                snapshots.append((t, value, x, tn, tt, st))
+                label = f"t = {t:g}, {args.input} = {value:.4g}"
+                snapshots.append(tp.Snapshot(label, x, tn, tt, st, fn))
     fmu.terminate()
     fmu.freeInstance()
 
-    fig, (ax_n, ax_t) = plt.subplots(1, 2, figsize=(11, 4.2))
-    for t_, value, x, tn, tt, st in snapshots:
-        closed = [i for i, s in enumerate(st) if s != 0]
-        if not closed:
-            continue
-        lo, hi = max(min(closed) - 1, 0), min(max(closed) + 2, len(x))
-        label = f"t = {t_:g}, {args.input} = {value:.4g}"
-        ax_n.plot(x[lo:hi], tn[lo:hi], ".-", label=label)
-        ax_t.plot(x[lo:hi], tt[lo:hi], ".-", label=label)
-    ax_n.set_title(f"{args.pair}: normal traction tn (compression > 0)")
-    ax_t.set_title(f"{args.pair}: tangential traction tt")
-    for ax in (ax_n, ax_t):
-        ax.set_xlabel("x (current)")
-        ax.grid(True)
-        ax.legend(fontsize=7)
-    fig.tight_layout()
-    os.makedirs(args.out, exist_ok=True)
-    png = os.path.join(args.out, "tractions.png")
-    fig.savefig(png, dpi=110)
+    # The scene travels in the FMU: its units, and whether it is a Hertz
+    # problem.
+    scene = tp.load_scene(os.path.join(unpacked, "resources", "scene.toml"))
+    hertz = tp.hertz_reference(scene, args.pair)
+    plan = tp.plan(args.pair, snapshots, tp.scene_units(scene), hertz)
+    for c in (c for panel in plan.panels for c in panel.curves if c.analytic_of):
+        print(c.label)
+    for d in plan.dropped:
+        print(d)
+    png = tp.draw([plan], os.path.join(args.out, "tractions.png"))
     print(f"plot: {png}")
     return 0
 

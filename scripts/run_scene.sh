@@ -4,7 +4,9 @@
 # Writes out/<stem>/summary.json, out/<stem>/vtk/<stem>.pvd (open the .pvd in
 # ParaView; "Warp By Vector" on displacement shows the deformation) and, for
 # a scene with contact, out/<stem>/tractions.png (normal and tangential
-# tractions over the contactor at each increment).
+# tractions over the contactor at each increment, in the scene's units, with
+# Hertz's pressure on a Hertz scene and no panel of round-off: see
+# scripts/traction_plots.py).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -21,7 +23,7 @@ target/release/contact2d run "$scene" --summary "$out/summary.json" --vtk "$out/
 # A failed increment still leaves the summary (exit code 1); a bad scene not.
 [ -f "$out/summary.json" ] || exit "$status"
 
-.venv/bin/python - "$out/summary.json" <<'PY'
+.venv/bin/python - "$out/summary.json" "$scene" <<'PY'
 import json, sys
 
 s = json.load(open(sys.argv[1]))
@@ -51,30 +53,20 @@ for p in pairs:
               f"{r['n_open'] if r['n_open'] is not None else '-':>5}")
 if pairs:
     import os
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    fig, axes = plt.subplots(len(pairs), 2, figsize=(11, 4 * len(pairs)), squeeze=False)
-    for row, p in enumerate(pairs):
-        for st in steps:
-            nodes = st["pairs"][p]["nodes"]
-            closed = [k for k, s_ in enumerate(nodes["state"]) if s_ != 0]
-            if not closed:
-                continue
-            lo, hi = max(min(closed) - 1, 0), min(max(closed) + 2, len(nodes["x"]))
-            xs = nodes["x"][lo:hi]
-            axes[row][0].plot(xs, nodes["tn"][lo:hi], ".-", label=f"t = {st['time']:g}")
-            axes[row][1].plot(xs, nodes["tt"][lo:hi], ".-", label=f"t = {st['time']:g}")
-        axes[row][0].set_title(f"{p}: normal traction (compression > 0)")
-        axes[row][1].set_title(f"{p}: tangential traction")
-        for ax in axes[row]:
-            ax.set_xlabel("x (current)")
-            ax.grid(True)
-            ax.legend(fontsize=7)
-    fig.tight_layout()
-    png = os.path.join(os.path.dirname(sys.argv[1]), "tractions.png")
-    fig.savefig(png, dpi=110)
+
+    sys.path.insert(0, "scripts")
+    import traction_plots as tp
+
+    scene = tp.load_scene(sys.argv[2])
+    units = tp.scene_units(scene)
+    plans = [tp.plan(p, tp.summary_snapshots(s, p), units, tp.hertz_reference(scene, p)) for p in pairs]
+    png = tp.draw(plans, os.path.join(os.path.dirname(sys.argv[1]), "tractions.png"))
     print()
+    for p, pl in zip(pairs, plans):
+        for c in (c for panel in pl.panels for c in panel.curves if c.analytic_of):
+            print(f"{p}: {c.label}")
+        for d in pl.dropped:
+            print(f"{p}: {d}")
     print(f"plot: {png}")
 PY
 echo

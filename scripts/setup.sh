@@ -9,7 +9,8 @@ cd "$(dirname "$0")/.."
 
 # ---------------------------------------------------------------------------
 # Debian packages: libclang-dev for bindgen, which fmi-sys runs on the FMI
-# headers at build time.
+# headers at build time. (pyvista's VTK wheels read files without libGL or
+# X11: the tests do not render, so no graphics package is needed.)
 DEB_PACKAGES="libclang-dev"
 # ---------------------------------------------------------------------------
 

@@ -221,6 +221,39 @@ impl Model {
         self.pattern.n
     }
 
+    /// The element-average equivalent plastic strain of each element in
+    /// `history` (0 in an element whose law is not plastic); None when no
+    /// law of the model is.
+    pub fn element_plastic_strains(
+        &self,
+        mesh: &crate::mesh::Mesh,
+        history: &[f64],
+    ) -> Option<Vec<f64>> {
+        let plastic = |law: &dyn MaterialLaw| {
+            let probe = vec![0.0; law.history_len()];
+            law.equivalent_plastic_strain(&probe).is_some()
+        };
+        if !self.laws.iter().any(|l| plastic(&**l)) {
+            return None;
+        }
+        let strains = (mesh.elements.iter().enumerate())
+            .map(|(e, el)| {
+                let law = &*self.laws[self.element_law[e]];
+                let per_point = law.history_len();
+                let points = crate::element::gauss_points(el.kind).len();
+                let h0 = self.history_offset[e];
+                let values: Vec<f64> = (0..points)
+                    .filter_map(|g| {
+                        let at = h0 + g * per_point;
+                        law.equivalent_plastic_strain(history.get(at..at + per_point)?)
+                    })
+                    .collect();
+                values.iter().sum::<f64>() / values.len().max(1) as f64
+            })
+            .collect();
+        Some(strains)
+    }
+
     /// Residual r = f_int - f_ext over all dofs (prescribed ones give the
     /// reactions), and with `k` the tangent values over the pattern. With
     /// `stress`, the element-average Cauchy stresses too. With `kdu =

@@ -1305,6 +1305,12 @@ impl Solver {
         self.linearization = None;
     }
 
+    /// Element-average equivalent plastic strain of each element in the
+    /// converged state; None when no material of the scene is plastic.
+    pub fn element_plastic_strains(&self) -> Option<Vec<f64>> {
+        (self.model).element_plastic_strains(&self.problem.mesh, &self.state.history)
+    }
+
     /// Element-average Cauchy stress [xx, yy, zz, xy] of each element in the
     /// converged state.
     pub fn element_stresses(&self) -> Vec<[f64; 4]> {

@@ -1130,8 +1130,9 @@ fn output_dir_gets_one_vtk_file_per_step() {
         .collect();
     files.sort();
     assert_eq!(files, ["vtk_out_0001.vtu", "vtk_out_0002.vtu"]);
-    let vtu = std::fs::read_to_string(dir.join("vtk_out_0002.vtu")).unwrap();
-    assert!(vtu.contains("displacement"));
+    // Binary appended data after the XML: look for the array's name.
+    let vtu = std::fs::read(dir.join("vtk_out_0002.vtu")).unwrap();
+    assert!(vtu.windows(14).any(|w| w == b"\"displacement\""));
     let _ = std::fs::remove_dir_all(&dir);
 }
 

@@ -2,7 +2,7 @@
 //! connectivity, values that round-trip) and the summary JSON shape.
 
 use contact2d::mesh::{Element, ElementKind, Mesh};
-use contact2d::output::{Summary, von_mises, write_pvd, write_vtu};
+use contact2d::output::{PvdEntry, Summary, von_mises, write_pvd, write_vtu};
 use contact2d::results::{DriverResult, NodeState, PairNodes, PairResult, StepResult};
 use std::path::PathBuf;
 
@@ -12,29 +12,88 @@ fn scratch(name: &str) -> PathBuf {
     dir.join(name)
 }
 
-/// The whitespace-separated values of the DataArray named `name`.
-fn data_array<'a>(xml: &'a str, name: &str) -> Vec<&'a str> {
-    let tag = format!("Name=\"{name}\"");
+/// The XML part of a `.vtu` (before its appended binary data) and the
+/// appended bytes (after the underscore, up to the newline before the
+/// closing tag).
+fn split_vtu(bytes: &[u8]) -> (String, &[u8]) {
+    let tag = b"<AppendedData encoding=\"raw\">\n_";
+    let at = bytes
+        .windows(tag.len())
+        .position(|w| w == tag)
+        .expect("appended raw data");
+    let end = bytes.len() - b"\n</AppendedData>\n</VTKFile>\n".len();
+    assert_eq!(&bytes[end..], b"\n</AppendedData>\n</VTKFile>\n");
+    let xml = String::from_utf8(bytes[..at].to_vec()).unwrap();
+    (xml, &bytes[at + tag.len()..end])
+}
+
+/// An attribute of the XML element that starts at `element`.
+fn attribute<'a>(element: &'a str, key: &str) -> Option<&'a str> {
+    let element = &element[..element.find('>').unwrap()];
+    let start = element.find(&format!(" {key}=\""))? + key.len() + 3;
+    let end = start + element[start..].find('"').unwrap();
+    Some(&element[start..end])
+}
+
+/// The type and decompressed bytes of the DataArray named `name`: its
+/// header (UInt64 block count, block size, last block size, compressed
+/// sizes) at its offset into the appended data, then zlib blocks.
+fn data_array(vtu: &[u8], name: &str) -> (String, Vec<u8>) {
+    use std::io::Read;
+    let (xml, appended) = split_vtu(vtu);
     let at = xml
-        .find(&tag)
+        .find(&format!("Name=\"{name}\""))
         .unwrap_or_else(|| panic!("no DataArray {name}"));
-    let start = at + xml[at..].find('>').unwrap() + 1;
-    let end = start + xml[start..].find("</DataArray>").unwrap();
-    xml[start..end].split_whitespace().collect()
+    let element = &xml[xml[..at].rfind('<').unwrap()..];
+    assert_eq!(attribute(element, "format"), Some("appended"));
+    let offset: usize = attribute(element, "offset").unwrap().parse().unwrap();
+    let word = |i: usize| {
+        let b = &appended[offset + 8 * i..offset + 8 * i + 8];
+        u64::from_le_bytes(b.try_into().unwrap()) as usize
+    };
+    let (blocks, block, last) = (word(0), word(1), word(2));
+    let mut start = offset + 8 * (3 + blocks);
+    let mut raw = Vec::new();
+    for k in 0..blocks {
+        let size = word(3 + k);
+        let mut inflated = Vec::new();
+        flate2::read::ZlibDecoder::new(&appended[start..start + size])
+            .read_to_end(&mut inflated)
+            .unwrap();
+        let expected = if k + 1 == blocks && last > 0 {
+            last
+        } else {
+            block
+        };
+        assert_eq!(inflated.len(), expected, "block {k} of {name}");
+        raw.extend_from_slice(&inflated);
+        start += size;
+    }
+    (attribute(element, "type").unwrap().to_string(), raw)
 }
 
-fn numbers(xml: &str, name: &str) -> Vec<f64> {
-    data_array(xml, name)
-        .iter()
-        .map(|v| v.parse::<f64>().unwrap())
+fn numbers(vtu: &[u8], name: &str) -> Vec<f64> {
+    let (kind, raw) = data_array(vtu, name);
+    assert_eq!(kind, "Float64", "{name}");
+    raw.chunks(8)
+        .map(|b| f64::from_le_bytes(b.try_into().unwrap()))
         .collect()
 }
 
-fn integers(xml: &str, name: &str) -> Vec<usize> {
-    data_array(xml, name)
-        .iter()
-        .map(|v| v.parse::<usize>().unwrap())
-        .collect()
+fn integers(vtu: &[u8], name: &str) -> Vec<usize> {
+    let (kind, raw) = data_array(vtu, name);
+    match kind.as_str() {
+        "Int64" => raw
+            .chunks(8)
+            .map(|b| i64::from_le_bytes(b.try_into().unwrap()) as usize)
+            .collect(),
+        "Int32" => raw
+            .chunks(4)
+            .map(|b| i32::from_le_bytes(b.try_into().unwrap()) as usize)
+            .collect(),
+        "UInt8" => raw.iter().map(|&b| b as usize).collect(),
+        other => panic!("{name}: {other}"),
+    }
 }
 
 fn two_q4() -> Mesh {
@@ -81,12 +140,15 @@ fn vtu_of_two_q4_elements() {
     ];
     let stress = [[1.0, 0.0, 0.0, 0.0], [0.0, 0.0, 0.0, 2.0]];
     let path = scratch("two_q4.vtu");
-    write_vtu(&path, &mesh, &u, &stress).unwrap();
-    let xml = std::fs::read_to_string(&path).unwrap();
+    write_vtu(&path, &mesh, &u, &stress, None).unwrap();
+    let xml = std::fs::read(&path).unwrap();
+    let (head, _) = split_vtu(&xml);
 
-    assert!(xml.starts_with("<?xml"));
-    assert!(xml.contains(r#"<VTKFile type="UnstructuredGrid""#));
-    assert!(xml.contains(r#"<Piece NumberOfPoints="6" NumberOfCells="2">"#));
+    assert!(head.starts_with("<?xml"));
+    assert!(head.contains(r#"<VTKFile type="UnstructuredGrid""#));
+    assert!(head.contains(r#"compressor="vtkZLibDataCompressor""#));
+    assert!(head.contains(r#"<Piece NumberOfPoints="6" NumberOfCells="2">"#));
+    assert!(!head.contains("plastic_strain"));
     assert_eq!(integers(&xml, "types"), vec![9, 9]);
     assert_eq!(integers(&xml, "offsets"), vec![4, 8]);
     assert_eq!(integers(&xml, "connectivity"), vec![0, 1, 4, 3, 1, 2, 5, 4]);
@@ -144,10 +206,15 @@ fn vtu_of_one_q8_element() {
     let u: Vec<f64> = (0..16).map(|i| 1e-3 * i as f64 / 3.0).collect();
     let s = [10.0, -4.0, 1.5, 2.25];
     let path = scratch("one_q8.vtu");
-    write_vtu(&path, &mesh, &u, &[s]).unwrap();
-    let xml = std::fs::read_to_string(&path).unwrap();
+    write_vtu(&path, &mesh, &u, &[s], Some(&[0.125])).unwrap();
+    let xml = std::fs::read(&path).unwrap();
 
-    assert!(xml.contains(r#"<Piece NumberOfPoints="8" NumberOfCells="1">"#));
+    assert!(
+        split_vtu(&xml)
+            .0
+            .contains(r#"<Piece NumberOfPoints="8" NumberOfCells="1">"#)
+    );
+    assert_eq!(numbers(&xml, "plastic_strain"), vec![0.125]);
     assert_eq!(integers(&xml, "types"), vec![23]);
     assert_eq!(integers(&xml, "offsets"), vec![8]);
     assert_eq!(integers(&xml, "connectivity"), (0..8).collect::<Vec<_>>());
@@ -166,19 +233,27 @@ fn vtu_of_one_q8_element() {
 fn vtu_refuses_arrays_of_the_wrong_length() {
     let mesh = two_q4();
     let path = scratch("wrong.vtu");
-    let err = write_vtu(&path, &mesh, &[0.0; 11], &[[0.0; 4]; 2]).unwrap_err();
+    let err = write_vtu(&path, &mesh, &[0.0; 11], &[[0.0; 4]; 2], None).unwrap_err();
     assert_eq!(err.kind(), std::io::ErrorKind::InvalidInput);
-    let err = write_vtu(&path, &mesh, &[0.0; 12], &[[0.0; 4]; 1]).unwrap_err();
+    let err = write_vtu(&path, &mesh, &[0.0; 12], &[[0.0; 4]; 1], None).unwrap_err();
+    assert_eq!(err.kind(), std::io::ErrorKind::InvalidInput);
+    let err = write_vtu(&path, &mesh, &[0.0; 12], &[[0.0; 4]; 2], Some(&[0.0])).unwrap_err();
     assert_eq!(err.kind(), std::io::ErrorKind::InvalidInput);
 }
 
 #[test]
 fn pvd_lists_the_series_in_order() {
     let path = scratch("series.pvd");
+    let entry = |time: f64, part: usize, name: &str, file: &str| PvdEntry {
+        time,
+        part,
+        name: name.into(),
+        file: file.into(),
+    };
     let entries = vec![
-        (0.5, "run_0001.vtu".to_string()),
-        (1.0, "run_0002.vtu".to_string()),
-        (0.1 + 0.2, "a&b\"<c>.vtu".to_string()),
+        entry(0.5, 0, "solid", "run_0001.vtu"),
+        entry(1.0, 0, "solid", "run_0002.vtu"),
+        entry(0.1 + 0.2, 1, "contact.c<1>", "a&b\"<c>.vtu"),
     ];
     write_pvd(&path, &entries).unwrap();
     let xml = std::fs::read_to_string(&path).unwrap();
@@ -193,6 +268,9 @@ fn pvd_lists_the_series_in_order() {
     assert_eq!(attr(sets[0], "file"), "run_0001.vtu");
     assert_eq!(attr(sets[1], "file"), "run_0002.vtu");
     assert_eq!(attr(sets[2], "file"), "a&amp;b&quot;&lt;c&gt;.vtu");
+    assert_eq!(attr(sets[2], "name"), "contact.c&lt;1&gt;");
+    assert_eq!(attr(sets[2], "part"), "1");
+    assert_eq!(attr(sets[0], "part"), "0");
     let times: Vec<f64> = sets
         .iter()
         .map(|l| attr(l, "timestep").parse().unwrap())

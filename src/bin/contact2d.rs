@@ -5,7 +5,7 @@
 
 use clap::{Parser, Subcommand};
 use contact2d::newton::Solver;
-use contact2d::output::{Summary, write_pvd, write_vtu};
+use contact2d::output::{Frame, Summary, VtkSeries};
 use contact2d::problem::{
     AnalysisKind, FrictionRule, Kinematics, MaterialSpec, Problem, Recovery, Scaled, Target,
 };
@@ -50,6 +50,16 @@ enum Command {
         /// Set a scene parameter ([parameters]) to another value; repeatable.
         #[arg(long = "set", value_name = "NAME=VALUE", value_parser = parameter)]
         set: Vec<(String, f64)>,
+        /// Print only errors (on stderr) and the final line; no progress bar.
+        #[arg(short, long, conflicts_with = "verbose")]
+        quiet: bool,
+        /// Also print every Newton iteration and contact decision.
+        #[arg(short, long)]
+        verbose: bool,
+        /// Write every line, Newton iterations and contact decisions
+        /// included, to FILE (whatever --quiet or --verbose say).
+        #[arg(long, value_name = "FILE")]
+        log: Option<PathBuf>,
     },
     /// Build the FMU (FMI 2.0 co-simulation, or FMI 3.0 with --fmi 3) of a scene.
     Export {
@@ -95,7 +105,24 @@ fn main() -> ExitCode {
             summary,
             vtk,
             set,
-        } => run(&scene, &set, summary.as_deref(), vtk.as_deref()),
+            quiet,
+            verbose,
+            log,
+        } => {
+            let verbosity = match (quiet, verbose) {
+                (true, _) => Verbosity::Quiet,
+                (_, true) => Verbosity::Verbose,
+                _ => Verbosity::Normal,
+            };
+            let options = RunOptions {
+                set: &set,
+                summary: summary.as_deref(),
+                vtk: vtk.as_deref(),
+                log: log.as_deref(),
+                verbosity,
+            };
+            run(&scene, &options)
+        }
         Command::Check { scene, set } => check(&scene, &set),
         Command::Inputs { scene, output } => inputs(&scene, output.as_deref()),
         Command::Export {
@@ -138,7 +165,8 @@ fn export(scene: &Path, output: &Path, fmi: &str, library: Option<PathBuf>) -> E
             );
             ExitCode::SUCCESS
         }
-        Err(e) => scene_failure(e),
+        Err(e @ contact2d::fmi::export::ExportError::Scene(_)) => scene_failure(e),
+        Err(e) => failure(e),
     }
 }
 
@@ -177,18 +205,90 @@ fn say(bar: &Option<ProgressBar>, line: &str) {
     }
 }
 
-fn run(
-    scene: &Path,
-    set: &[(String, f64)],
-    summary_path: Option<&Path>,
-    vtk_dir: Option<&Path>,
-) -> ExitCode {
-    let problem = match contact2d::scene::load_with(scene, set) {
+/// How much `run` prints on stdout.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+enum Verbosity {
+    /// The final line only (errors go to stderr at every level).
+    Quiet,
+    /// What the scene is, a line per increment, bisections, the final line.
+    Normal,
+    /// Also every Newton iteration and contact decision.
+    Verbose,
+}
+
+/// Where the lines of a run go: stdout as far as the verbosity asks (above
+/// the progress bar), and every one of them to the log file when there is
+/// one. A log that cannot be written is reported at the end (exit code 1);
+/// the solve goes on.
+struct Reporter {
+    verbosity: Verbosity,
+    bar: Option<ProgressBar>,
+    log: Option<(PathBuf, std::io::BufWriter<std::fs::File>)>,
+    log_error: Option<String>,
+}
+
+impl Reporter {
+    fn line(&mut self, level: Verbosity, line: &str) {
+        if self.verbosity >= level {
+            say(&self.bar, line);
+        }
+        self.log(line);
+    }
+
+    /// A line for the log file only (the errors, which stderr shows).
+    fn log(&mut self, line: &str) {
+        if let Some((path, w)) = &mut self.log
+            && self.log_error.is_none()
+            && let Err(e) = writeln!(w, "{line}")
+        {
+            self.log_error = Some(format!("cannot write {}: {e}", path.display()));
+        }
+    }
+
+    /// A message of the solver: Newton iterations and contact decisions at
+    /// `--verbose`, warnings (bisections) by default, errors at `--verbose`
+    /// (the reason of a failure ends the run on stderr).
+    fn solver(&mut self, category: LogCategory, msg: &str) {
+        let level = match category {
+            LogCategory::Warning => Verbosity::Normal,
+            LogCategory::Newton | LogCategory::Contact | LogCategory::Error => Verbosity::Verbose,
+        };
+        self.line(level, &format!("  [{}] {msg}", category.fmi_name()));
+    }
+
+    /// Flushes the log; the first error it met, if any.
+    fn finish(&mut self) -> Result<(), String> {
+        if let Some(b) = &self.bar {
+            b.finish_and_clear();
+        }
+        if let Some((path, w)) = &mut self.log
+            && self.log_error.is_none()
+            && let Err(e) = w.flush()
+        {
+            self.log_error = Some(format!("cannot write {}: {e}", path.display()));
+        }
+        self.log_error.take().map_or(Ok(()), Err)
+    }
+}
+
+/// What `run` was asked for besides the scene.
+struct RunOptions<'a> {
+    set: &'a [(String, f64)],
+    summary: Option<&'a Path>,
+    vtk: Option<&'a Path>,
+    log: Option<&'a Path>,
+    verbosity: Verbosity,
+}
+
+fn run(scene: &Path, o: &RunOptions) -> ExitCode {
+    let problem = match contact2d::scene::load_with(scene, o.set) {
         Ok(p) => p,
         Err(e) => return scene_failure(e),
     };
-    for w in &problem.warnings {
-        eprintln!("warning: {w}");
+    if o.verbosity > Verbosity::Quiet {
+        for w in &problem.warnings {
+            eprintln!("warning: {w}");
+        }
     }
     let times = problem.times.clone();
     let driver_names: Vec<String> = problem.drivers.iter().map(|d| d.name.clone()).collect();
@@ -203,28 +303,47 @@ fn run(
     };
 
     // Fail before solving when the outputs cannot be written.
-    if let Some(dir) = vtk_dir
+    if let Some(dir) = o.vtk
         && let Err(e) = std::fs::create_dir_all(dir)
     {
         return failure(format!("cannot create {}: {e}", dir.display()));
     }
-    if let Some(parent) = summary_path.and_then(Path::parent)
-        && !parent.as_os_str().is_empty()
-        && let Err(e) = std::fs::create_dir_all(parent)
-    {
-        return failure(format!("cannot create {}: {e}", parent.display()));
+    for path in [o.summary, o.log].into_iter().flatten() {
+        if let Some(parent) = path.parent()
+            && !parent.as_os_str().is_empty()
+            && let Err(e) = std::fs::create_dir_all(parent)
+        {
+            return failure(format!("cannot create {}: {e}", parent.display()));
+        }
     }
+    let log = match o.log.map(|p| (p, std::fs::File::create(p))) {
+        None => None,
+        Some((p, Ok(f))) => Some((p.to_path_buf(), std::io::BufWriter::new(f))),
+        Some((p, Err(e))) => return failure(format!("cannot create {}: {e}", p.display())),
+    };
     let stem = scene
         .file_stem()
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_else(|| "scene".into());
 
-    say(
-        &None,
+    let bar = (o.verbosity > Verbosity::Quiet && std::io::stdout().is_terminal()).then(|| {
+        let style =
+            ProgressStyle::with_template("{bar:40} {pos}/{len} increments, {msg} [{elapsed}]")
+                .unwrap_or_else(|_| ProgressStyle::default_bar());
+        ProgressBar::new(times.len() as u64).with_style(style)
+    });
+    let mut out = Reporter {
+        verbosity: o.verbosity,
+        bar,
+        log,
+        log_error: None,
+    };
+    out.line(
+        Verbosity::Normal,
         &format!("contact2d {VERSION}: {title} ({})", scene.display()),
     );
-    say(
-        &None,
+    out.line(
+        Verbosity::Normal,
         &format!(
             "{n_nodes} nodes, {n_elements} elements, {} unknowns, {} increments",
             solver.dofs(),
@@ -232,25 +351,30 @@ fn run(
         ),
     );
 
-    let bar = std::io::stdout().is_terminal().then(|| {
-        let style =
-            ProgressStyle::with_template("{bar:40} {pos}/{len} increments, {msg} [{elapsed}]")
-                .unwrap_or_else(|_| ProgressStyle::default_bar());
-        ProgressBar::new(times.len() as u64).with_style(style)
-    });
-
     let mut summary = Summary::new(scene.display().to_string(), title, solver.dofs());
-    let mut series: Vec<(f64, String)> = Vec::new();
-    let mut solve_time = Duration::ZERO;
+    let mut series = o.vtk.map(|dir| VtkSeries::new(dir, &stem));
     let mut failed = None;
+    if let Some(series) = &mut series {
+        let rest = StepResult::at_rest(solver.problem(), solver.state().time, &solver.state().u);
+        if let Err(e) = write_frame(series, 0, &solver, &rest) {
+            failed = Some(format!(
+                "cannot write the VTK frame at t = {}: {e}",
+                rest.time
+            ));
+        }
+    }
+    let mut solve_time = Duration::ZERO;
     for (i, &t) in times.iter().enumerate() {
+        if failed.is_some() {
+            break;
+        }
         let mut newton_lines = 0;
         let started = Instant::now();
         let result = solver.advance(t, &mut |cat, msg| {
             if cat == LogCategory::Newton {
                 newton_lines += 1;
             }
-            say(&bar, &format!("  [{}] {msg}", cat.fmi_name()));
+            out.solver(cat, msg);
         });
         solve_time += started.elapsed();
         let step = match result {
@@ -273,71 +397,74 @@ fn run(
             let [fx, fy] = tie.force;
             line.push_str(&format!("  {name}: tie Fx = {fx:.6e} Fy = {fy:.6e}"));
         }
-        say(&bar, &line);
-        summary.steps.push(step);
-        if let Some(dir) = vtk_dir {
-            let file = format!("{stem}_{:04}.vtu", i + 1);
-            let stress = solver.element_stresses();
-            let p = solver.problem();
-            if let Err(e) = write_vtu(&dir.join(&file), &p.mesh, &solver.state().u, &stress) {
-                failed = Some(format!("cannot write {}: {e}", dir.join(&file).display()));
-                break;
-            }
-            series.push((t, file));
+        out.line(Verbosity::Normal, &line);
+        if let Some(series) = &mut series
+            && let Err(e) = write_frame(series, i + 1, &solver, &step)
+        {
+            failed = Some(format!("cannot write the VTK frame at t = {t}: {e}"));
         }
-        if let Some(b) = &bar {
+        summary.steps.push(step);
+        if let Some(b) = &out.bar {
             b.set_message(format!("t = {t}"));
             b.inc(1);
         }
     }
-    if let Some(b) = &bar {
-        b.finish_and_clear();
-    }
     summary.wall_s = solve_time.as_secs_f64();
-    let written = write_outputs(&summary, summary_path, vtk_dir, &stem, &series);
-    if let Some(e) = failed {
-        if let Err(w) = written {
-            eprintln!("error: {w}");
+    let mut errors: Vec<String> = failed.into_iter().collect();
+    if let Some(series) = &series
+        && let Err(e) = series.write_pvd()
+    {
+        errors.push(format!("cannot write {}: {e}", series.pvd_path().display()));
+    }
+    if let Some(path) = o.summary {
+        match summary.write(path) {
+            Ok(()) => out.line(Verbosity::Normal, &format!("summary: {}", path.display())),
+            Err(e) => errors.push(format!("cannot write {}: {e}", path.display())),
         }
-        return failure(e);
     }
-    if let Err(e) = written {
-        return failure(e);
-    }
-    say(
-        &None,
-        &format!(
+    if errors.is_empty() {
+        let done = format!(
             "done: {} increments in {:.3} s",
             summary.steps.len(),
             summary.wall_s
-        ),
-    );
-    ExitCode::SUCCESS
+        );
+        out.line(Verbosity::Quiet, &done);
+    } else {
+        for e in &errors {
+            out.log(&format!("error: {e}"));
+        }
+    }
+    errors.extend(out.finish().err());
+    match errors.split_last() {
+        None => ExitCode::SUCCESS,
+        Some((last, first)) => {
+            for e in first {
+                eprintln!("error: {e}");
+            }
+            failure(last)
+        }
+    }
 }
 
-/// The summary (when asked for) and the VTK series (when there is one).
-fn write_outputs(
-    summary: &Summary,
-    summary_path: Option<&Path>,
-    vtk_dir: Option<&Path>,
-    stem: &str,
-    series: &[(f64, String)],
-) -> Result<(), String> {
-    let mut result = Ok(());
-    if let Some(dir) = vtk_dir {
-        let pvd = dir.join(format!("{stem}.pvd"));
-        if let Err(e) = write_pvd(&pvd, series) {
-            result = Err(format!("cannot write {}: {e}", pvd.display()));
-        }
-    }
-    if let Some(path) = summary_path {
-        if let Err(e) = summary.write(path) {
-            result = Err(format!("cannot write {}: {e}", path.display()));
-        } else {
-            say(&None, &format!("summary: {}", path.display()));
-        }
-    }
-    result
+/// One frame of the VTK series: the solver's converged state with the
+/// contact results of `step`.
+fn write_frame(
+    series: &mut VtkSeries,
+    index: usize,
+    solver: &Solver,
+    step: &StepResult,
+) -> std::io::Result<()> {
+    let stress = solver.element_stresses();
+    let plastic = solver.element_plastic_strains();
+    let frame = Frame {
+        time: step.time,
+        u: &solver.state().u,
+        stress: &stress,
+        plastic_strain: plastic.as_deref(),
+        pairs: &step.pairs,
+        rigid_poses: &solver.state().rigid,
+    };
+    series.write_frame(index, solver.problem(), &frame)
 }
 
 /// One line per increment: time, work (Newton iterations, linear solves,

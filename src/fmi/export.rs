@@ -32,9 +32,19 @@ pub fn find_library(exe: &Path) -> Option<PathBuf> {
         .map(|(_, p)| p)
 }
 
+/// Why an FMU was not written: the scene (or a mesh file it reads) is wrong
+/// or unreadable, or the library could not be read or the FMU written.
+#[derive(Debug, thiserror::Error)]
+pub enum ExportError {
+    #[error("{0}")]
+    Scene(String),
+    #[error("{0}")]
+    Output(String),
+}
+
 /// Writes the FMI 2.0 FMU of `scene` to `out`, with the shared library
 /// `library`.
-pub fn export(scene: &Path, out: &Path, library: &Path) -> Result<Exported, String> {
+pub fn export(scene: &Path, out: &Path, library: &Path) -> Result<Exported, ExportError> {
     export_version(scene, out, library, FmiVersion::Fmi2)
 }
 
@@ -52,34 +62,36 @@ pub fn export_version(
     out: &Path,
     library: &Path,
     version: FmiVersion,
-) -> Result<Exported, String> {
-    let problem = crate::scene::load(scene).map_err(|e| e.to_string())?;
+) -> Result<Exported, ExportError> {
+    use ExportError::{Output, Scene};
+    let problem = crate::scene::load(scene).map_err(|e| Scene(e.to_string()))?;
     let (xml, platform) = match version {
         FmiVersion::Fmi2 => (model_description(&problem), "linux64"),
         FmiVersion::Fmi3 => (super::fmi3::model_description3(&problem), "x86_64-linux"),
     };
-    let scene_text = std::fs::read(scene).map_err(|e| format!("{}: {e}", scene.display()))?;
+    let scene_text =
+        std::fs::read(scene).map_err(|e| Scene(format!("{}: {e}", scene.display())))?;
     let lib = std::fs::read(library).map_err(|e| {
-        format!(
+        Output(format!(
             "cannot read the shared library {}: {e} (build it with `cargo build --release`, or pass --library)",
             library.display()
-        )
+        ))
     })?;
     let dir = scene.parent().unwrap_or(Path::new(""));
     let mut files = vec![(format!("resources/{SCENE_FILE}"), scene_text)];
-    for rel in crate::scene::mesh_files(scene).map_err(|e| e.to_string())? {
+    for rel in crate::scene::mesh_files(scene).map_err(|e| Scene(e.to_string()))? {
         let inside = rel
             .components()
             .all(|c| matches!(c, Component::Normal(_) | Component::CurDir));
         if !inside {
-            return Err(format!(
+            return Err(Scene(format!(
                 "{}: the mesh file {} is not below the scene's folder; the FMU keeps the scene's relative paths, so move the mesh beside the scene",
                 scene.display(),
                 rel.display()
-            ));
+            )));
         }
         let bytes = std::fs::read(dir.join(&rel))
-            .map_err(|e| format!("{}: {e}", dir.join(&rel).display()))?;
+            .map_err(|e| Scene(format!("{}: {e}", dir.join(&rel).display())))?;
         let name = rel
             .components()
             .filter_map(|c| match c {
@@ -94,14 +106,15 @@ pub fn export_version(
     files.push((format!("binaries/{platform}/{MODEL_IDENTIFIER}.so"), lib));
 
     if let Some(parent) = out.parent().filter(|p| !p.as_os_str().is_empty()) {
-        std::fs::create_dir_all(parent).map_err(|e| format!("{}: {e}", parent.display()))?;
+        std::fs::create_dir_all(parent)
+            .map_err(|e| Output(format!("{}: {e}", parent.display())))?;
     }
-    let file = std::fs::File::create(out).map_err(|e| format!("{}: {e}", out.display()))?;
+    let file = std::fs::File::create(out).map_err(|e| Output(format!("{}: {e}", out.display())))?;
     let mut zip = zip::ZipWriter::new(file);
     let options = zip::write::SimpleFileOptions::default()
         .compression_method(zip::CompressionMethod::Deflated)
         .unix_permissions(0o644);
-    let fail = |e: &dyn std::fmt::Display| format!("{}: {e}", out.display());
+    let fail = |e: &dyn std::fmt::Display| Output(format!("{}: {e}", out.display()));
     for (name, bytes) in &files {
         zip.start_file(name.as_str(), options)
             .map_err(|e| fail(&e))?;

@@ -847,8 +847,10 @@ impl Instance {
             .collect();
         let file = dir.join(format!("{stem}_{:04}.vtu", self.steps));
         let stress = solver.element_stresses();
+        let plastic = solver.element_plastic_strains();
         let written = std::fs::create_dir_all(&dir).and_then(|()| {
-            crate::output::write_vtu(&file, &solver.problem().mesh, &solver.state().u, &stress)
+            let mesh = &solver.problem().mesh;
+            crate::output::write_vtu(&file, mesh, &solver.state().u, &stress, plastic.as_deref())
         });
         match written {
             Ok(()) => Status::Ok,

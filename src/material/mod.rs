@@ -37,6 +37,11 @@ pub trait MaterialLaw: Send + Sync + std::fmt::Debug {
     fn history_len(&self) -> usize {
         0
     }
+    /// The equivalent plastic strain in a Gauss point's `history`, for a law
+    /// that has one (None: the law is not plastic).
+    fn equivalent_plastic_strain(&self, _history: &[f64]) -> Option<f64> {
+        None
+    }
     /// Stress linear in strain, no history: the tangent never changes.
     fn is_linear(&self) -> bool {
         false

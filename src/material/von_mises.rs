@@ -106,6 +106,10 @@ impl MaterialLaw for VonMises {
         HISTORY
     }
 
+    fn equivalent_plastic_strain(&self, history: &[f64]) -> Option<f64> {
+        history.get(4).copied()
+    }
+
     fn evaluate(
         &self,
         strain: &Voigt,
