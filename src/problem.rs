@@ -327,6 +327,9 @@ pub struct Problem {
     /// The scene's `[parameters]` (FMU parameters; the scene already
     /// carries their values wherever its expressions use them).
     pub parameters: Vec<crate::scene::Parameter>,
+    /// The rigid targets' segments at their last poses (a cache; empty in
+    /// a new or cloned problem).
+    pub rigid_segments: crate::contact::pairs::RigidSegments,
     /// What the scene reader noticed and did not refuse (a contact pair
     /// that starts overlapped): the command line prints them, the FMU logs
     /// them as warnings.

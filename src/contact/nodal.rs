@@ -102,8 +102,8 @@ pub(super) fn update_pair(
 /// its nodes' out-of-balance forces, and the tolerances taken from them.
 struct PairIterate<'a> {
     pair: &'a ContactPair,
-    segments: Vec<TargetSegment>,
-    segments0: Vec<TargetSegment>,
+    segments: pairs::Segments,
+    segments0: pairs::Segments,
     x: Vec<Vector2<f64>>,
     x0: Vec<Vector2<f64>>,
     /// The longest contactor segment.
@@ -144,7 +144,7 @@ impl<'a> PairIterate<'a> {
             h = h.max((w[1] - w[0]).norm());
         }
         let mut target_motion: f64 = 0.0;
-        for (s, s0) in segments.iter().zip(&segments0) {
+        for (s, s0) in segments.iter().zip(segments0.iter()) {
             target_motion = target_motion
                 .max((s.seg.xa() - s0.seg.xa()).norm())
                 .max((s.seg.xb() - s0.seg.xb()).norm());

@@ -14,6 +14,8 @@ use crate::problem::{AnalysisKind, ContactPair, Decisions, Kinematics, Problem, 
 use crate::results::{NodeState, PairResult};
 use nalgebra::Vector2;
 use serde::{Deserialize, Serialize};
+use std::collections::HashMap;
+use std::sync::{Arc, Mutex};
 
 /// The hysteresis of the segments' return from sliding to sticking on force
 /// grounds (Section 3.4), as a fraction of the capacity: 1, i.e. never. After
@@ -216,6 +218,13 @@ pub fn scene_poses(problem: &Problem, t: f64) -> Vec<[f64; 3]> {
         .collect()
 }
 
+/// The reference point of rigid target `r` moved to pose [ux, uy, theta]
+/// (what `rigid_points` also returns, without building the points).
+pub fn rigid_reference(problem: &Problem, r: usize, pose: [f64; 3]) -> [f64; 2] {
+    let [cx, cy] = problem.rigids[r].reference;
+    [cx + pose[0], cy + pose[1]]
+}
+
 /// Points of rigid target `r` at pose [ux, uy, theta]: rotated by theta
 /// about the reference and translated by (ux, uy). Also returns the moved
 /// reference point.
@@ -235,12 +244,66 @@ pub fn rigid_points(problem: &Problem, r: usize, pose: [f64; 3]) -> (Vec<[f64; 2
     (points, [cx + ux, cy + uy])
 }
 
+/// A target's segments, shared: a rigid target's are kept per pose.
+pub(super) type Segments = Arc<Vec<TargetSegment>>;
+
+/// The segments of each rigid target at the last two poses asked for (a
+/// step's start and its end), so that a rigid arc of thousands of chords is
+/// built once per pose instead of at every search, output and check of a
+/// step: a held step asks for the same pose a few times, and building the
+/// capstan's 5120 chords was most of its cost. Keyed by the pose's bits and
+/// the target's point count and end points.
+#[derive(Default)]
+pub struct RigidSegments(Mutex<HashMap<usize, Vec<(RigidKey, Segments)>>>);
+
+type RigidKey = ([u64; 3], usize, [u64; 4]);
+
+/// A clone starts empty (the segments are rebuilt on demand).
+impl Clone for RigidSegments {
+    fn clone(&self) -> Self {
+        RigidSegments::default()
+    }
+}
+
+impl std::fmt::Debug for RigidSegments {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("RigidSegments")
+    }
+}
+
+impl RigidSegments {
+    fn get_or_build(
+        &self,
+        r: usize,
+        key: RigidKey,
+        build: impl FnOnce() -> Result<Vec<TargetSegment>, String>,
+    ) -> Result<Segments, String> {
+        let lock = || {
+            self.0
+                .lock()
+                .unwrap_or_else(|poisoned| poisoned.into_inner())
+        };
+        if let Some((_, s)) = lock()
+            .get(&r)
+            .and_then(|l| l.iter().find(|(k, _)| *k == key))
+        {
+            return Ok(s.clone());
+        }
+        let built = Arc::new(build()?);
+        let mut cache = lock();
+        let list = cache.entry(r).or_default();
+        list.insert(0, (key, built.clone()));
+        list.truncate(2);
+        Ok(built)
+    }
+}
+
 pub(super) fn target_segments(
     problem: &Problem,
     pair: &ContactPair,
     u: &[f64],
     poses: &[[f64; 3]],
-) -> Result<Vec<TargetSegment>, String> {
+) -> Result<Segments, String> {
     let make = |xa: Vector2<f64>, xb: Vector2<f64>, nodes| {
         let seg = Segment::new(xa, xb).map_err(|e| format!("pair '{}': {e}", pair.name))?;
         Ok(TargetSegment {
@@ -260,16 +323,26 @@ pub(super) fn target_segments(
                     Some([a, b]),
                 )
             })
-            .collect(),
+            .collect::<Result<Vec<_>, String>>()
+            .map(Arc::new),
         Target::Rigid(r) => {
-            let (points, _) = rigid_points(problem, *r, poses[*r]);
-            points
-                .windows(2)
-                .map(|w| {
-                    let v = |p: [f64; 2]| Vector2::new(p[0], p[1]);
-                    make(v(w[0]), v(w[1]), None)
-                })
-                .collect()
+            let points = &problem.rigids[*r].points;
+            let ends = [points.first(), points.last()].map(|p| p.copied().unwrap_or_default());
+            let key = (
+                poses[*r].map(f64::to_bits),
+                points.len(),
+                [ends[0][0], ends[0][1], ends[1][0], ends[1][1]].map(f64::to_bits),
+            );
+            problem.rigid_segments.get_or_build(*r, key, || {
+                let (points, _) = rigid_points(problem, *r, poses[*r]);
+                points
+                    .windows(2)
+                    .map(|w| {
+                        let v = |p: [f64; 2]| Vector2::new(p[0], p[1]);
+                        make(v(w[0]), v(w[1]), None)
+                    })
+                    .collect()
+            })
         }
     }
 }
@@ -744,7 +817,7 @@ impl Report {
         result.ft -= f.dot(&tangent);
         self.frames[k] = Some((-tangent, -normal));
         if let Target::Rigid(ri) = pair.target {
-            let (_, reference) = rigid_points(at.problem, ri, at.poses[ri]);
+            let reference = rigid_reference(at.problem, ri, at.poses[ri]);
             let xc = cp.point();
             let rr = &mut rigid[ri];
             rr[0] -= f.x;
@@ -822,7 +895,7 @@ fn paper_pair(
 struct PaperPair<'a> {
     at: &'a Iterate<'a>,
     pair: &'a ContactPair,
-    segments: Vec<TargetSegment>,
+    segments: Segments,
     x: Vec<Vector2<f64>>,
     reach: f64,
     frictionless: bool,

@@ -20,7 +20,7 @@
 //! A rigid target's pose `[ux, uy, theta]` moves its material point at `x`
 //! with `d x = (d ux, d uy) + d theta e_z x (x - reference)`.
 
-use super::pairs::{ContactSystem, rigid_points};
+use super::pairs::{ContactSystem, rigid_reference};
 use crate::assembly::PRESCRIBED;
 use crate::problem::{Decisions, Problem, Target};
 use crate::results::NodeState;
@@ -134,7 +134,7 @@ pub fn linearise(
                     (Some([a, b]), Turn::Segment { a, b, length }, [0.0; 2])
                 }
                 Target::Rigid(ri) => {
-                    let (_, reference) = rigid_points(problem, *ri, poses[*ri]);
+                    let reference = rigid_reference(problem, *ri, poses[*ri]);
                     (None, Turn::Rigid { rigid: *ri }, reference)
                 }
             };

@@ -232,6 +232,7 @@ impl<'a> Resolver<'a> {
                 .map_or_else(String::new, |s| s.to_string_lossy().into_owned()),
         };
         let problem = Problem {
+            rigid_segments: Default::default(),
             name,
             analysis: self.analysis,
             kinematics,
