@@ -11,7 +11,7 @@ import pytest
 from fmpy import simulate_fmu
 from fmpy.validation import validate_fmu
 
-from conftest import REPO, SCENES, assert_fmu_validates
+from conftest import REPO, SCENES, assert_fmu_validates, export_fmu
 
 # As in test_fmu.py: FMU and CLI agree to round-off (the inputs may differ in
 # the last bit, Newton stops at |r|/|r0| <= 1e-9), relative to the force.
@@ -133,7 +133,5 @@ SHIPPED = sorted((REPO / "scenes").glob("*.toml")) + sorted((REPO / "scenes" / "
 def test_every_shipped_fmu_validates(contact2d, tmp_path, scene):
     """fmpy's validation and fmutool's check find no problem in the FMU of
     any shipped scene (the machine example's capstan: test_winding_machine)."""
-    fmu = tmp_path / f"{scene.stem}.fmu"
-    done = subprocess.run([str(contact2d), "export", str(scene), "-o", str(fmu)], capture_output=True, text=True, timeout=300)
-    assert done.returncode == 0, done.stderr
+    fmu = export_fmu(contact2d, scene, tmp_path / f"{scene.stem}.fmu")
     assert_fmu_validates(fmu)
