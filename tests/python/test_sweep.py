@@ -8,7 +8,7 @@ import sys
 
 import pytest
 
-from conftest import REPO, export_fmu
+from conftest import REPO, assert_fmu_validates, export_fmu
 
 sys.path.insert(0, str(REPO / "examples" / "sweep"))
 
@@ -29,6 +29,10 @@ def capstan_fmu(contact2d, tmp_path_factory):
 @pytest.fixture(scope="module")
 def serial(capstan_fmu):
     return sweep(capstan_fmu, CASES, SCHEDULE, OUTPUTS, client=None, record="all")
+
+
+def test_the_sweep_fmu_validates(capstan_fmu):
+    assert_fmu_validates(capstan_fmu)
 
 
 def test_grid_is_the_cartesian_product_with_tied_names():
