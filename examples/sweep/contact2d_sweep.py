@@ -37,7 +37,7 @@ import threading
 import uuid
 from pathlib import Path
 
-__all__ = ["grid", "run_case", "sweep", "write_csv"]
+__all__ = ["fmpy_callbacks", "grid", "run_case", "sweep", "write_csv"]
 
 
 def grid(axes: dict) -> list[dict]:
@@ -80,8 +80,32 @@ def _unpacked(fmu: str):
     return md, folder.name
 
 
-# fmpy routes every FMU's log messages of a process through one proxy: the
-# messages are sorted to their run by the instance name.
+def fmpy_callbacks(logger):
+    """fmpy's fmi2CallbackFunctions with `logger(env, instance_name, status,
+    category, message)` as the FMU's logger, through fmpy's native proxy
+    (addLoggerProxy), which formats the printf-style message. The proxy
+    keeps one Python target per process: route the messages by instance
+    name, and keep the returned struct alive as long as an instance uses it."""
+    import ctypes
+
+    from fmpy import calloc, free
+    from fmpy.fmi2 import (
+        fmi2CallbackAllocateMemoryTYPE,
+        fmi2CallbackFreeMemoryTYPE,
+        fmi2CallbackFunctions,
+        fmi2CallbackLoggerTYPE,
+    )
+    from fmpy.logging import addLoggerProxy
+
+    cb = fmi2CallbackFunctions()
+    cb.logger = fmi2CallbackLoggerTYPE(logger)
+    cb.allocateMemory = fmi2CallbackAllocateMemoryTYPE(calloc)
+    cb.freeMemory = fmi2CallbackFreeMemoryTYPE(free)
+    addLoggerProxy(ctypes.byref(cb))
+    return cb
+
+
+# The warnings and errors of each run of this process, by instance name.
 _MESSAGES: dict = {}
 _CALLBACKS = None
 
@@ -96,23 +120,7 @@ def _callbacks():
     global _CALLBACKS
     with _UNPACK_LOCK:
         if _CALLBACKS is None:
-            import ctypes
-
-            from fmpy import calloc, free
-            from fmpy.fmi2 import (
-                fmi2CallbackAllocateMemoryTYPE,
-                fmi2CallbackFreeMemoryTYPE,
-                fmi2CallbackFunctions,
-                fmi2CallbackLoggerTYPE,
-            )
-            from fmpy.logging import addLoggerProxy
-
-            cb = fmi2CallbackFunctions()
-            cb.logger = fmi2CallbackLoggerTYPE(_log)
-            cb.allocateMemory = fmi2CallbackAllocateMemoryTYPE(calloc)
-            cb.freeMemory = fmi2CallbackFreeMemoryTYPE(free)
-            addLoggerProxy(ctypes.byref(cb))
-            _CALLBACKS = cb
+            _CALLBACKS = fmpy_callbacks(_log)
     return _CALLBACKS
 
 

@@ -2,11 +2,14 @@
 
 import os
 import subprocess
+import sys
 from pathlib import Path
 
 import pytest
 
 REPO = Path(__file__).resolve().parents[2]
+# examples/sweep/contact2d_sweep.py: fmpy's logger callbacks, and sweeps.
+sys.path.insert(0, str(REPO / "examples" / "sweep"))
 
 
 @pytest.fixture(scope="session")
@@ -36,7 +39,6 @@ def run_cli(contact2d, tmp_path):
 
 # --- The FMU (issue 4): exported once per session, opened through fmpy. ---
 
-import ctypes
 import json
 
 SCENES = {
@@ -127,23 +129,10 @@ _CALLBACKS = None
 def _callbacks():
     global _CALLBACKS
     if _CALLBACKS is None:
-        from fmpy import calloc, free
-        from fmpy.fmi2 import (
-            fmi2CallbackAllocateMemoryTYPE,
-            fmi2CallbackFreeMemoryTYPE,
-            fmi2CallbackFunctions,
-            fmi2CallbackLoggerTYPE,
-        )
-        from fmpy.logging import addLoggerProxy
+        from contact2d_sweep import fmpy_callbacks
 
-        cb = fmi2CallbackFunctions()
-        cb.logger = fmi2CallbackLoggerTYPE(_route_log)
-        cb.allocateMemory = fmi2CallbackAllocateMemoryTYPE(calloc)
-        cb.freeMemory = fmi2CallbackFreeMemoryTYPE(free)
-        addLoggerProxy(ctypes.byref(cb))
-        # Keep the Python callable alive with the struct.
-        _CALLBACKS = (cb, _route_log)
-    return _CALLBACKS[0]
+        _CALLBACKS = fmpy_callbacks(_route_log)
+    return _CALLBACKS
 
 
 class Slave:

@@ -8,12 +8,10 @@ import sys
 
 import pytest
 
-from conftest import REPO, assert_fmu_validates, export_fmu
-
-sys.path.insert(0, str(REPO / "examples" / "sweep"))
-
-import capstan_sweep  # noqa: E402
-from contact2d_sweep import grid, run_case, sweep, write_csv  # noqa: E402
+# conftest puts examples/sweep on sys.path.
+import capstan_sweep
+from conftest import assert_fmu_validates, export_fmu
+from contact2d_sweep import grid, run_case, sweep, write_csv
 
 CASES = capstan_sweep.cases(mus=[0.2, 0.4], wraps_deg=[90.0, 180.0])
 # Full slip at mu = 0.4 over 180 deg comes after 4 mm of pull.
