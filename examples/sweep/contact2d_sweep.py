@@ -59,7 +59,7 @@ def grid(axes: dict) -> list[dict]:
 # --- In each process that runs cases: the extracted FMUs and the logger. ---
 
 _UNPACKED: dict = {}
-_UNPACK_LOCK = threading.Lock()
+_LOCK = threading.Lock()
 
 
 def _unpacked(fmu: str):
@@ -69,7 +69,7 @@ def _unpacked(fmu: str):
 
     stat = os.stat(fmu)
     key = (os.path.realpath(fmu), stat.st_mtime_ns, stat.st_size)
-    with _UNPACK_LOCK:
+    with _LOCK:
         if key not in _UNPACKED:
             folder = tempfile.TemporaryDirectory(prefix="contact2d-sweep-")
             extract(fmu, folder.name)
@@ -118,7 +118,7 @@ def _log(env, instance_name, status, category, message):
 
 def _callbacks():
     global _CALLBACKS
-    with _UNPACK_LOCK:
+    with _LOCK:
         if _CALLBACKS is None:
             _CALLBACKS = fmpy_callbacks(_log)
     return _CALLBACKS
@@ -181,6 +181,7 @@ def run_case(fmu, case: dict, schedule, outputs, record: str = "last", index: in
     index), `time`, each output, and `error` (None, or why the run stopped:
     the step that failed and the FMU's messages; the row then holds the
     outputs at the last time reached)."""
+    from fmpy.fmi1 import FMICallException
     from fmpy.fmi2 import FMU2Slave
 
     if record not in ("last", "all"):
@@ -202,7 +203,12 @@ def run_case(fmu, case: dict, schedule, outputs, record: str = "last", index: in
         r["case"] = index
         r["time"] = t
         for out in outputs:
-            r[out] = _get(slave, variables[out])
+            try:
+                r[out] = _get(slave, variables[out])
+            except FMICallException:
+                if error is None:
+                    raise
+                r[out] = math.nan  # an instance that failed may refuse it
         r["error"] = error
         return r
 
@@ -226,9 +232,9 @@ def run_case(fmu, case: dict, schedule, outputs, record: str = "last", index: in
                 t = t_next
                 if record == "all":
                     rows.append(row(t))
-        except Exception as e:  # fmpy's FMICallException: a failed call
+        except FMICallException as e:  # a call that returned Discard or Error
             text = "; ".join(messages) or str(e)
-            failed = row(t, f"{type(e).__name__} after t = {t}: {text}")
+            failed = row(t, f"at t = {t}: {e} {text}")
             # The failed row replaces the one of the last time reached.
             return [r for r in rows if r["time"] != t] + [failed]
         if record == "last":
