@@ -124,6 +124,8 @@ def main(argv=None):
     ap.add_argument("--binary", default="target/release/contact2d", help="contact2d, to export the FMU")
     ap.add_argument("--fmu", help="an FMU of capstan_wrap.toml already exported (then --binary is not used)")
     ap.add_argument("--out", default="out/sweep")
+    ap.add_argument("--mu", type=float, nargs="+", default=MUS, help="friction coefficients (mu_s = mu_d)")
+    ap.add_argument("--wrap", type=float, nargs="+", default=WRAPS_DEG, help="wrap angles, degrees (up to 180)")
     where = ap.add_mutually_exclusive_group()
     where.add_argument("--workers", type=int, default=2, help="processes of the local Dask cluster (default 2)")
     where.add_argument("--scheduler", help="address of a running Dask scheduler (tcp://host:8786) instead")
@@ -136,7 +138,7 @@ def main(argv=None):
     if not args.fmu:
         subprocess.run([args.binary, "export", str(SCENE), "-o", str(fmu)], check=True, stdout=subprocess.DEVNULL)
 
-    runs = cases()
+    runs = cases(args.mu, args.wrap)
     start = time.perf_counter()
     if args.serial:
         where, rows = "serially", sweep(fmu, runs, schedule(), OUTPUTS, record="all")

@@ -3,6 +3,7 @@ on a local cluster of two worker processes gives the very rows of the same
 runs made one after the other here, and the capstan ratio at the onset of
 full slip is Euler-Eytelwein's exp(mu theta)."""
 
+import csv
 import math
 import sys
 
@@ -92,10 +93,24 @@ def test_wrong_names_are_refused_before_any_run(capstan_fmu):
 
 
 def test_csv_keeps_every_digit(serial, tmp_path):
-    import csv
-
     path = write_csv(serial, tmp_path / "rows.csv")
     with open(path) as f:
         back = list(csv.DictReader(f))
     assert len(back) == len(serial)
     assert [float(b["pull.Ry"]) for b in back] == [r["pull.Ry"] for r in serial]
+
+
+def test_the_example_writes_its_table_and_plot(capstan_fmu, tmp_path, capsys):
+    """capstan_sweep.py on a grid of two cases, serially: the table it
+    prints, its CSV files and its plot."""
+    code = capstan_sweep.main(["--serial", "--fmu", str(capstan_fmu), "--out", str(tmp_path), "--mu", "0.3", "--wrap", "60", "120"])
+    out = capsys.readouterr().out
+    assert code == 0, out
+    assert "2 runs of capstan_wrap.fmu" in out, out
+    with open(tmp_path / "capstan_ratio.csv") as f:
+        table = list(csv.DictReader(f))
+    assert [(float(r["mu"]), float(r["wrap_deg"])) for r in table] == [(0.3, 60.0), (0.3, 120.0)]
+    for r in table:
+        assert abs(float(r["rel_error"])) < 0.01, r
+    assert (tmp_path / "sweep_steps.csv").stat().st_size > 0
+    assert (tmp_path / "capstan_ratio.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
