@@ -3,7 +3,9 @@
 # root) with the Rust toolchain, or on one set up before: safe to run again.
 #   - Debian packages listed in DEB_PACKAGES (apt-get update only when one is
 #     missing);
-#   - .venv at the repo root with Python 3.11 and requirements.txt.
+#   - .venv at the repo root with Python 3.11 and requirements.txt (with
+#     ziglang, the zig toolchain that links the portable FMU library);
+#   - cargo-zigbuild (pinned below), from crates.io with `cargo install`.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -12,6 +14,10 @@ cd "$(dirname "$0")/.."
 # headers at build time. (pyvista's VTK wheels read files without libGL or
 # X11: the tests do not render, so no graphics package is needed.)
 DEB_PACKAGES="libclang-dev"
+# cargo-zigbuild builds the FMU's library against glibc 2.17
+# (scripts/build_fmu_library.sh); zig itself comes from PyPI (ziglang, in
+# requirements.txt).
+CARGO_ZIGBUILD_VERSION="0.24.1"
 # ---------------------------------------------------------------------------
 
 PYTHON="${PYTHON:-python3}"
@@ -50,6 +56,17 @@ for tool in cargo rustfmt cargo-clippy; do
         exit 1
     fi
 done
+
+# cargo-zigbuild, unless this version is installed. The portable library is
+# built for x86_64-unknown-linux-gnu.2.17: the standard library of the
+# ordinary x86_64-unknown-linux-gnu target, the host's own on this machine.
+if [ "$(cargo-zigbuild --version 2>/dev/null || true)" != "cargo-zigbuild $CARGO_ZIGBUILD_VERSION" ]; then
+    echo "setup: installing cargo-zigbuild $CARGO_ZIGBUILD_VERSION"
+    cargo install --quiet --locked cargo-zigbuild --version "=$CARGO_ZIGBUILD_VERSION"
+fi
+if command -v rustup >/dev/null 2>&1 && ! rustup target list --installed | grep -qx x86_64-unknown-linux-gnu; then
+    rustup target add x86_64-unknown-linux-gnu
+fi
 
 version="$("$PYTHON" -c 'import sys; print("%d.%d" % sys.version_info[:2])')"
 if [ "$version" != "3.11" ]; then

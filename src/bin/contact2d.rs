@@ -72,8 +72,10 @@ enum Command {
         /// pair's per-node outputs as arrays).
         #[arg(long, value_name = "VERSION", default_value = "2", value_parser = ["2", "3"])]
         fmi: String,
-        /// The shared library to ship (default: libcontact2d.so beside this
-        /// executable, as `cargo build --release` leaves it).
+        /// The shared library to ship (default: the portable build,
+        /// target/x86_64-unknown-linux-gnu/fmu/libcontact2d.so from
+        /// scripts/build_fmu_library.sh, unless libcontact2d.so beside this
+        /// executable is newer).
         #[arg(long, value_name = "FILE")]
         library: Option<PathBuf>,
     },
@@ -141,15 +143,26 @@ fn export(scene: &Path, output: &Path, fmi: &str, library: Option<PathBuf>) -> E
     } else {
         FmiVersion::Fmi2
     };
-    let library = library.or_else(|| {
-        std::env::current_exe()
+    let library = match library {
+        Some(named) => named,
+        None => match std::env::current_exe()
             .ok()
-            .and_then(|exe| contact2d::fmi::export::find_library(&exe))
-    });
-    let Some(library) = library else {
-        return failure(
-            "libcontact2d.so not found beside this executable: build it with `cargo build --release`, or pass --library",
-        );
+            .and_then(|exe| contact2d::fmi::export::default_library(&exe))
+        {
+            Some((found, true)) => found,
+            Some((found, false)) => {
+                eprintln!(
+                    "warning: shipping {}, linked against this machine's glibc: the FMU may not load on an older Linux; `bash scripts/build_fmu_library.sh` builds the portable library (glibc 2.17) that export then ships",
+                    found.display()
+                );
+                found
+            }
+            None => {
+                return failure(
+                    "libcontact2d.so not found: build the portable library with `bash scripts/build_fmu_library.sh` (or the native one with `cargo build --release`), or pass --library",
+                );
+            }
+        },
     };
     match contact2d::fmi::export::export_version(scene, output, &library, version) {
         Ok(done) => {

@@ -3,7 +3,8 @@
 //! (the scene as `scene.toml`, and the mesh files it reads, at the same
 //! relative paths); with `--fmi 3`, the FMI 3.0 FMU: its model description
 //! and `binaries/x86_64-linux/contact2d.so` (the same library, which has
-//! both interfaces).
+//! both interfaces). The library shipped by default is the portable build
+//! (glibc 2.17, `scripts/build_fmu_library.sh`) when it is up to date.
 
 use super::SCENE_FILE;
 use super::description::{MODEL_IDENTIFIER, model_description};
@@ -17,19 +18,58 @@ pub struct Exported {
     pub bytes: u64,
 }
 
+/// Where `scripts/build_fmu_library.sh` leaves the portable library, below
+/// cargo's target folder: `cargo zigbuild --profile fmu --target
+/// x86_64-unknown-linux-gnu.2.17` (the glibc version is not part of the
+/// folder's name).
+pub const PORTABLE_DIR: [&str; 2] = ["x86_64-unknown-linux-gnu", "fmu"];
+
+fn modified(p: &Path) -> Option<std::time::SystemTime> {
+    std::fs::metadata(p).and_then(|m| m.modified()).ok()
+}
+
+fn library_name() -> String {
+    format!("lib{MODEL_IDENTIFIER}.so")
+}
+
 /// The shared library next to a binary of this crate (`cargo build` puts it
 /// beside the executable, `cargo test` under `deps/`): the newer of the two.
+/// Linked against this machine's glibc.
 pub fn find_library(exe: &Path) -> Option<PathBuf> {
     let dir = exe.parent()?;
-    let name = format!("lib{MODEL_IDENTIFIER}.so");
-    [dir.join(&name), dir.join("deps").join(&name)]
-        .into_iter()
-        .filter_map(|p| {
-            let t = std::fs::metadata(&p).and_then(|m| m.modified()).ok()?;
-            Some((t, p))
-        })
-        .max()
-        .map(|(_, p)| p)
+    [
+        dir.join(library_name()),
+        dir.join("deps").join(library_name()),
+    ]
+    .into_iter()
+    .filter_map(|p| Some((modified(&p)?, p)))
+    .max()
+    .map(|(_, p)| p)
+}
+
+/// The portable library of the target folder a binary of this crate was
+/// built in (`target/release/contact2d` -> `target/x86_64-unknown-linux-gnu/fmu/`).
+pub fn portable_library(exe: &Path) -> PathBuf {
+    let target = exe.parent().and_then(Path::parent).unwrap_or(Path::new(""));
+    target
+        .join(PORTABLE_DIR[0])
+        .join(PORTABLE_DIR[1])
+        .join(library_name())
+}
+
+/// The library `export` ships when none is named, and whether it is the
+/// portable one: the portable library unless the native one beside `exe`
+/// is newer (both are builds of the same code, so the newer one has the
+/// current code: a portable library left from an older revision is not
+/// shipped).
+pub fn default_library(exe: &Path) -> Option<(PathBuf, bool)> {
+    let portable = portable_library(exe);
+    let native = find_library(exe);
+    match (modified(&portable), native) {
+        (Some(tp), Some(n)) if modified(&n).is_some_and(|tn| tn > tp) => Some((n, false)),
+        (Some(_), _) => Some((portable, true)),
+        (None, n) => n.map(|n| (n, false)),
+    }
 }
 
 /// Why an FMU was not written: the scene (or a mesh file it reads) is wrong
@@ -126,4 +166,57 @@ pub fn export_version(
         variables: super::variables::variables(&problem).len(),
         bytes,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::time::{Duration, SystemTime};
+
+    /// A cargo target folder with the native library (beside the binary) and
+    /// the portable one, each modified at the given second (None: absent).
+    fn target(name: &str, native: Option<u64>, portable: Option<u64>) -> (PathBuf, PathBuf) {
+        let root = std::env::temp_dir().join(format!("contact2d-{name}-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&root);
+        let exe = root.join("release").join("contact2d");
+        let files = [
+            (exe.parent().unwrap().join(library_name()), native),
+            (portable_library(&exe), portable),
+        ];
+        for (path, second) in files {
+            if let Some(s) = second {
+                std::fs::create_dir_all(path.parent().unwrap()).unwrap();
+                let file = std::fs::File::create(&path).unwrap();
+                file.set_modified(SystemTime::UNIX_EPOCH + Duration::from_secs(s))
+                    .unwrap();
+            }
+        }
+        (root, exe)
+    }
+
+    #[test]
+    fn export_ships_the_portable_library_unless_the_native_one_is_newer() {
+        let cases = [
+            ("both-portable-newer", Some(100), Some(200), Some(true)),
+            ("both-same-time", Some(100), Some(100), Some(true)),
+            ("both-native-newer", Some(200), Some(100), Some(false)),
+            ("native-only", Some(100), None, Some(false)),
+            ("portable-only", None, Some(100), Some(true)),
+            ("neither", None, None, None),
+        ];
+        for (name, native, portable, want) in cases {
+            let (root, exe) = target(name, native, portable);
+            let got = default_library(&exe);
+            assert_eq!(got.as_ref().map(|(_, p)| *p), want, "{name}");
+            if let Some((path, is_portable)) = got {
+                let expected = if is_portable {
+                    root.join("x86_64-unknown-linux-gnu/fmu/libcontact2d.so")
+                } else {
+                    root.join("release/libcontact2d.so")
+                };
+                assert_eq!(path, expected, "{name}");
+            }
+            let _ = std::fs::remove_dir_all(&root);
+        }
+    }
 }

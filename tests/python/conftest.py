@@ -2,11 +2,14 @@
 
 import os
 import subprocess
+import sys
 from pathlib import Path
 
 import pytest
 
 REPO = Path(__file__).resolve().parents[2]
+# examples/sweep/contact2d_sweep.py: fmpy's logger callbacks, and sweeps.
+sys.path.insert(0, str(REPO / "examples" / "sweep"))
 
 
 @pytest.fixture(scope="session")
@@ -36,7 +39,6 @@ def run_cli(contact2d, tmp_path):
 
 # --- The FMU (issue 4): exported once per session, opened through fmpy. ---
 
-import ctypes
 import json
 
 SCENES = {
@@ -46,23 +48,35 @@ SCENES = {
 }
 
 
+# Where scripts/build_fmu_library.sh leaves the portable library (glibc
+# 2.17), which `contact2d export` ships by default when it is up to date.
+PORTABLE_LIBRARY = REPO / "target" / "x86_64-unknown-linux-gnu" / "fmu" / "libcontact2d.so"
+
+
+def export_fmu(contact2d, scene, fmu, fmi=2) -> Path:
+    """`contact2d export SCENE -o FMU --fmi FMI`, checked to ship the
+    portable library: every FMU the tests load runs the binary that users
+    get."""
+    done = subprocess.run(
+        [str(contact2d), "export", str(scene), "-o", str(fmu), "--fmi", str(fmi)],
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
+    assert done.returncode == 0, done.stderr
+    assert "variables" in done.stdout, done.stdout
+    assert f"(library {PORTABLE_LIBRARY})" in done.stdout, (
+        f"{done.stdout}{done.stderr}export did not ship the portable library: "
+        "build it with `bash scripts/build_fmu_library.sh` (scripts/test.sh does)"
+    )
+    return Path(fmu)
+
+
 @pytest.fixture(scope="session")
 def fmus(contact2d, tmp_path_factory) -> dict:
     """`contact2d export` of each scene of SCENES, once: name -> .fmu path."""
     out = tmp_path_factory.mktemp("fmus")
-    paths = {}
-    for name, scene in SCENES.items():
-        path = out / f"{name}.fmu"
-        done = subprocess.run(
-            [str(contact2d), "export", str(scene), "-o", str(path)],
-            capture_output=True,
-            text=True,
-            timeout=300,
-        )
-        assert done.returncode == 0, done.stderr
-        assert "variables" in done.stdout, done.stdout
-        paths[name] = path
-    return paths
+    return {name: export_fmu(contact2d, scene, out / f"{name}.fmu") for name, scene in SCENES.items()}
 
 
 @pytest.fixture(scope="session")
@@ -119,23 +133,10 @@ _CALLBACKS = None
 def _callbacks():
     global _CALLBACKS
     if _CALLBACKS is None:
-        from fmpy import calloc, free
-        from fmpy.fmi2 import (
-            fmi2CallbackAllocateMemoryTYPE,
-            fmi2CallbackFreeMemoryTYPE,
-            fmi2CallbackFunctions,
-            fmi2CallbackLoggerTYPE,
-        )
-        from fmpy.logging import addLoggerProxy
+        from contact2d_sweep import fmpy_callbacks
 
-        cb = fmi2CallbackFunctions()
-        cb.logger = fmi2CallbackLoggerTYPE(_route_log)
-        cb.allocateMemory = fmi2CallbackAllocateMemoryTYPE(calloc)
-        cb.freeMemory = fmi2CallbackFreeMemoryTYPE(free)
-        addLoggerProxy(ctypes.byref(cb))
-        # Keep the Python callable alive with the struct.
-        _CALLBACKS = (cb, _route_log)
-    return _CALLBACKS[0]
+        _CALLBACKS = fmpy_callbacks(_route_log)
+    return _CALLBACKS
 
 
 class Slave:

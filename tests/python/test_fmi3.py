@@ -6,13 +6,11 @@ increment; FMU states restore bit for bit; directional derivatives equal
 the FMI 2.0 FMU's; calls outside what it declares are refused with a
 message."""
 
-import subprocess
-
 import pytest
 from fmpy import extract, read_model_description
 from fmpy.fmi3 import FMU3Slave
 
-from conftest import REPO, assert_fmu_validates
+from conftest import REPO, assert_fmu_validates, export_fmu
 from test_fmu import assert_matches_summary
 from test_paper_fmus import input_table
 
@@ -23,14 +21,7 @@ SCENES = {
 
 
 def export(contact2d, scene, out, fmi):
-    done = subprocess.run(
-        [str(contact2d), "export", str(scene), "-o", str(out), "--fmi", str(fmi)],
-        capture_output=True,
-        text=True,
-        timeout=300,
-    )
-    assert done.returncode == 0, done.stderr
-    return out
+    return export_fmu(contact2d, scene, out, fmi=fmi)
 
 
 class Slave3:

@@ -11,7 +11,7 @@ import pytest
 from fmpy import simulate_fmu
 from fmpy.validation import validate_fmu
 
-from conftest import REPO, SCENES, assert_fmu_validates
+from conftest import REPO, SCENES, assert_fmu_validates, export_fmu
 
 # As in test_fmu.py: FMU and CLI agree to round-off (the inputs may differ in
 # the last bit, Newton stops at |r|/|r0| <= 1e-9), relative to the force.
@@ -135,14 +135,7 @@ def test_every_shipped_fmu_validates(contact2d, tmp_path, scene, fmi):
     """fmpy's validation and fmutool's check find no problem in the FMI 2.0
     and the FMI 3.0 FMU of any shipped scene (the machine example's capstan:
     test_winding_machine, and below)."""
-    fmu = tmp_path / f"{scene.stem}.fmu"
-    done = subprocess.run(
-        [str(contact2d), "export", str(scene), "-o", str(fmu), "--fmi", str(fmi)],
-        capture_output=True,
-        text=True,
-        timeout=300,
-    )
-    assert done.returncode == 0, done.stderr
+    fmu = export_fmu(contact2d, scene, tmp_path / f"{scene.stem}.fmu", fmi=fmi)
     assert_fmu_validates(fmu, fmi=fmi)
 
 
@@ -150,9 +143,4 @@ def test_capstan_fmi3_validates(contact2d, tmp_path):
     """The machine example's capstan as FMI 3.0: scene parameters, force and
     displacement inputs, tunable friction, 65-node arrays."""
     scene = REPO / "examples" / "winding_machine" / "capstan.toml"
-    fmu = tmp_path / "capstan3.fmu"
-    done = subprocess.run(
-        [str(contact2d), "export", str(scene), "-o", str(fmu), "--fmi", "3"], capture_output=True, text=True, timeout=300
-    )
-    assert done.returncode == 0, done.stderr
-    assert_fmu_validates(fmu, fmi=3)
+    assert_fmu_validates(export_fmu(contact2d, scene, tmp_path / "capstan3.fmu", fmi=3), fmi=3)

@@ -16,7 +16,7 @@ import pytest
 from fmpy import extract
 from fmpy.fmi2 import fmi2LastSuccessfulTime
 
-from conftest import REPO, Slave
+from conftest import REPO, Slave, export_fmu
 from test_fmu import assert_matches_summary
 
 # The paper's problems as shipped, by section of the paper.
@@ -44,11 +44,7 @@ def input_table(contact2d, scene, tmp_path):
 @pytest.mark.parametrize("name", sorted(PAPER))
 def test_paper_problem_steps_in_fmpy_as_the_cli(name, contact2d, cli_summary, tmp_path):
     scene = PAPER[name]
-    fmu = tmp_path / f"{name}.fmu"
-    done = subprocess.run(
-        [str(contact2d), "export", str(scene), "-o", str(fmu)], capture_output=True, text=True, timeout=300
-    )
-    assert done.returncode == 0, done.stderr
+    fmu = export_fmu(contact2d, scene, tmp_path / f"{name}.fmu")
     summary = cli_summary(scene)
     steps = summary["steps"]
     assert steps and all(s["converged"] for s in steps), f"{name}: the CLI run must converge"
@@ -87,11 +83,7 @@ def test_input_derivatives_follow_the_scene_in_fmpy(contact2d, cli_summary, tmp_
     derivative slots per input type and raises ValueError for any other
     number of inputs (this scene has five)."""
     scene = REPO / "scenes" / "verification" / "sliding_block.toml"
-    fmu = tmp_path / "sliding_block.fmu"
-    done = subprocess.run(
-        [str(contact2d), "export", str(scene), "-o", str(fmu)], capture_output=True, text=True, timeout=300
-    )
-    assert done.returncode == 0, done.stderr
+    fmu = export_fmu(contact2d, scene, tmp_path / "sliding_block.fmu")
     steps = cli_summary(scene)["steps"]
     table = input_table(contact2d, scene, tmp_path)
     assert [t for t, _ in table] == [0.0] + [s["time"] for s in steps]
@@ -136,11 +128,7 @@ def test_fmpy_simulate_fmu_cannot_yet_drive_input_derivatives(contact2d, tmp_pat
     import fmpy
 
     scene = REPO / "scenes" / "verification" / "sliding_block.toml"
-    fmu = tmp_path / "sliding_block.fmu"
-    done = subprocess.run(
-        [str(contact2d), "export", str(scene), "-o", str(fmu)], capture_output=True, text=True, timeout=300
-    )
-    assert done.returncode == 0, done.stderr
+    fmu = export_fmu(contact2d, scene, tmp_path / "sliding_block.fmu")
     table = input_table(contact2d, scene, tmp_path)
     names = list(table[0][1])
     assert len(names) != 9

@@ -4,6 +4,7 @@ its system structure file."""
 
 import math
 import sys
+import zipfile
 from pathlib import Path
 
 import pytest
@@ -12,7 +13,7 @@ REPO = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(REPO / "examples" / "winding_machine"))
 
 import winding  # noqa: E402
-from conftest import assert_fmu_validates  # noqa: E402
+from conftest import PORTABLE_LIBRARY, assert_fmu_validates  # noqa: E402
 
 STEP = 0.025
 B = 2.0  # machine.py's strip width
@@ -36,6 +37,9 @@ STOP = 12.0
 def built(contact2d, tmp_path_factory):
     out = tmp_path_factory.mktemp("winding_machine")
     machine, capstan = winding.build(contact2d, out)
+    # The capstan FMU carries the portable library (glibc 2.17).
+    with zipfile.ZipFile(capstan) as z:
+        assert z.read("binaries/linux64/contact2d.so") == PORTABLE_LIBRARY.read_bytes()
     return out, machine, capstan
 
 
