@@ -1096,7 +1096,9 @@ fn guid_follows_the_interface() {
     }
 }
 
-/// `output_dir` set: one VTK file per step, named after the instance.
+/// `output_dir` set: per step the solid, the pair's contactor surface and
+/// the rigid target, named after the instance, and the `.pvd` of the
+/// steps so far (after a restored state, of the steps taken from there).
 #[test]
 fn output_dir_gets_one_vtk_file_per_step() {
     let u = hertz();
@@ -1123,16 +1125,42 @@ fn output_dir_gets_one_vtk_file_per_step() {
         );
         assert_eq!(CStr::from_ptr(back), value.as_c_str());
     }
-    step_hertz(&inst, 0, 2);
+    step_hertz(&inst, 0, 1);
+    let saved = inst.save();
+    step_hertz(&inst, 1, 2);
+    // Taken back and stepped again: the step's files and its .pvd entries
+    // are replaced, not added.
+    inst.restore(saved);
+    step_hertz(&inst, 1, 2);
+    inst.free_state(saved);
     let mut files: Vec<String> = std::fs::read_dir(&dir)
         .unwrap()
         .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
         .collect();
     files.sort();
-    assert_eq!(files, ["vtk_out_0001.vtu", "vtk_out_0002.vtu"]);
-    // Binary appended data after the XML: look for the array's name.
-    let vtu = std::fs::read(dir.join("vtk_out_0002.vtu")).unwrap();
-    assert!(vtu.windows(14).any(|w| w == b"\"displacement\""));
+    assert_eq!(
+        files,
+        [
+            "vtk_out.pvd",
+            "vtk_out_0001.vtu",
+            "vtk_out_0002.vtu",
+            "vtk_out_contact_contact_0001.vtu",
+            "vtk_out_contact_contact_0002.vtu",
+            "vtk_out_rigid_flat_0001.vtu",
+            "vtk_out_rigid_flat_0002.vtu",
+        ]
+    );
+    // Binary appended data after the XML: look for the arrays' names.
+    let has = |file: &str, name: &[u8]| {
+        let bytes = std::fs::read(dir.join(file)).unwrap();
+        bytes.windows(name.len()).any(|w| w == name)
+    };
+    assert!(has("vtk_out_0002.vtu", b"\"displacement\""));
+    for array in [&b"\"state\""[..], b"\"tn\"", b"\"slip\"", b"\"gap\""] {
+        assert!(has("vtk_out_contact_contact_0002.vtu", array));
+    }
+    let pvd = std::fs::read_to_string(dir.join("vtk_out.pvd")).unwrap();
+    assert_eq!(pvd.matches("<DataSet").count(), 6, "{pvd}");
     let _ = std::fs::remove_dir_all(&dir);
 }
 

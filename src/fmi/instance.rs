@@ -80,6 +80,8 @@ pub struct Instance {
     /// step.
     derivatives: Vec<f64>,
     output_dir: String,
+    /// The VTK series written into `output_dir` so far (its `.pvd`).
+    vtk: Option<crate::output::VtkSeries>,
     start_time: f64,
     solver: Option<Solver>,
     /// Outputs of the last converged step (at rest before the first).
@@ -127,6 +129,7 @@ impl Instance {
             stepped: vec![0.0; n],
             derivatives: vec![0.0; n],
             output_dir: String::new(),
+            vtk: None,
             start_time: 0.0,
             solver: None,
             last,
@@ -359,6 +362,7 @@ impl Instance {
     /// Back to the state right after instantiation: start values, no solver.
     pub fn reset(&mut self) -> Status {
         self.solver = None;
+        self.vtk = None;
         self.steps = 0;
         self.start_time = 0.0;
         self.load_starts();
@@ -825,7 +829,10 @@ impl Instance {
         }
     }
 
-    /// One VTK file per step into `output_dir`, when it is set.
+    /// The VTK series into `output_dir`, when it is set: per step the solid,
+    /// each pair's contactor surface with its contact values and each rigid
+    /// target (`output::VtkSeries`, as the command line's `--vtk`), named
+    /// after the instance, and the `.pvd` of the steps written so far.
     fn write_vtk(&mut self) -> Status {
         if self.output_dir.is_empty() {
             return Status::Ok;
@@ -845,19 +852,31 @@ impl Instance {
                 }
             })
             .collect();
-        let file = dir.join(format!("{stem}_{:04}.vtu", self.steps));
+        let series = self
+            .vtk
+            .get_or_insert_with(|| crate::output::VtkSeries::new(&dir, &stem));
         let stress = solver.element_stresses();
         let plastic = solver.element_plastic_strains();
-        let written = std::fs::create_dir_all(&dir).and_then(|()| {
-            let mesh = &solver.problem().mesh;
-            crate::output::write_vtu(&file, mesh, &solver.state().u, &stress, plastic.as_deref())
-        });
+        let frame = crate::output::Frame {
+            time: self.last.time,
+            u: &solver.state().u,
+            stress: &stress,
+            plastic_strain: plastic.as_deref(),
+            pairs: &self.last.pairs,
+            rigid_poses: &solver.state().rigid,
+        };
+        // After a restored state the steps from there on are written again.
+        series.forget_from(frame.time);
+        let written = std::fs::create_dir_all(&dir)
+            .and_then(|()| series.write_frame(self.steps, solver.problem(), &frame))
+            .and_then(|()| series.write_pvd().map(|_| ()));
         match written {
             Ok(()) => Status::Ok,
             Err(e) => {
                 let msg = format!(
-                    "output_dir: cannot write {}: {e} (the step itself converged)",
-                    file.display()
+                    "output_dir: cannot write step {} into {}: {e} (the step itself converged)",
+                    self.steps,
+                    dir.display()
                 );
                 self.log(LogCategory::Warning, &msg);
                 Status::Warning

@@ -48,6 +48,12 @@ impl VtkSeries {
         &self.entries
     }
 
+    /// Forgets the frames at `time` and later (a run taken back to an
+    /// earlier state writes them again).
+    pub fn forget_from(&mut self, time: f64) {
+        self.entries.retain(|e| e.time < time);
+    }
+
     /// The `.pvd` of the series: `<dir>/<stem>.pvd`.
     pub fn pvd_path(&self) -> PathBuf {
         self.dir.join(format!("{}.pvd", self.stem))
