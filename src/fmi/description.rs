@@ -125,23 +125,7 @@ pub fn model_description(problem: &Problem) -> String {
         provides_directional_derivative(problem)
     );
     unit_definitions(&mut x, &vars, problem);
-    let _ = writeln!(x, "  <LogCategories>");
-    for (name, what) in LOG_CATEGORIES {
-        let _ = writeln!(
-            x,
-            r#"    <Category name="{name}" description="{}"/>"#,
-            escape(what)
-        );
-    }
-    let _ = writeln!(x, "  </LogCategories>");
-    let t_end = problem.times.last().copied().unwrap_or(1.0);
-    let dt = problem.times.first().copied().unwrap_or(t_end);
-    let _ = writeln!(
-        x,
-        r#"  <DefaultExperiment startTime="0.0" stopTime="{}" stepSize="{}"/>"#,
-        real(t_end),
-        real(dt)
-    );
+    categories_and_experiment(&mut x, problem);
     let _ = writeln!(x, "  <ModelVariables>");
     let mut outputs = Vec::new();
     for (i, v) in vars.iter().enumerate() {
@@ -235,4 +219,26 @@ pub(super) fn unit_definitions(x: &mut String, vars: &[Variable], problem: &Prob
         );
     }
     let _ = writeln!(x, "  </UnitDefinitions>");
+}
+
+/// `<LogCategories>` and `<DefaultExperiment>` (the scene's own end time
+/// and first increment); the same elements in FMI 2.0 and 3.0.
+pub(super) fn categories_and_experiment(x: &mut String, problem: &Problem) {
+    let _ = writeln!(x, "  <LogCategories>");
+    for (name, what) in LOG_CATEGORIES {
+        let _ = writeln!(
+            x,
+            r#"    <Category name="{name}" description="{}"/>"#,
+            escape(what)
+        );
+    }
+    let _ = writeln!(x, "  </LogCategories>");
+    let t_end = problem.times.last().copied().unwrap_or(1.0);
+    let dt = problem.times.first().copied().unwrap_or(t_end);
+    let _ = writeln!(
+        x,
+        r#"  <DefaultExperiment startTime="0.0" stopTime="{}" stepSize="{}"/>"#,
+        real(t_end),
+        real(dt)
+    );
 }

@@ -570,90 +570,47 @@ fn no_variables(instance: fmi3Instance, call: &str, nvr: usize) -> fmi3Status {
     })
 }
 
-/// Getters and setters of the types this FMU has no variables of.
+/// Getters and setters of the types this FMU has no variables of (the
+/// arguments after the value references differ by type).
 macro_rules! no_variables_of_type {
-    ($($name:ident, $check:ident, $value:ty;)*) => {$(
+    ($($name:ident, $check:ident, ($($arg:ident: $ty:ty),*);)*) => {$(
         const _: $check = Some($name);
         #[unsafe(no_mangle)]
         pub extern "C" fn $name(
             instance: fmi3Instance,
             _valueReferences: *const fmi3ValueReference,
             nValueReferences: usize,
-            _values: $value,
-            _nValues: usize,
+            $($arg: $ty),*
         ) -> fmi3Status {
+            $(let _ = $arg;)*
             no_variables(instance, stringify!($name), nValueReferences)
         }
     )*};
 }
 
 no_variables_of_type! {
-    fmi3GetFloat32, fmi3GetFloat32TYPE, *mut fmi3Float32;
-    fmi3GetInt8, fmi3GetInt8TYPE, *mut fmi3Int8;
-    fmi3GetUInt8, fmi3GetUInt8TYPE, *mut fmi3UInt8;
-    fmi3GetInt16, fmi3GetInt16TYPE, *mut fmi3Int16;
-    fmi3GetUInt16, fmi3GetUInt16TYPE, *mut fmi3UInt16;
-    fmi3GetUInt32, fmi3GetUInt32TYPE, *mut fmi3UInt32;
-    fmi3GetInt64, fmi3GetInt64TYPE, *mut fmi3Int64;
-    fmi3GetUInt64, fmi3GetUInt64TYPE, *mut fmi3UInt64;
-    fmi3GetBoolean, fmi3GetBooleanTYPE, *mut fmi3Boolean;
-    fmi3SetFloat32, fmi3SetFloat32TYPE, *const fmi3Float32;
-    fmi3SetInt8, fmi3SetInt8TYPE, *const fmi3Int8;
-    fmi3SetUInt8, fmi3SetUInt8TYPE, *const fmi3UInt8;
-    fmi3SetInt16, fmi3SetInt16TYPE, *const fmi3Int16;
-    fmi3SetUInt16, fmi3SetUInt16TYPE, *const fmi3UInt16;
-    fmi3SetUInt32, fmi3SetUInt32TYPE, *const fmi3UInt32;
-    fmi3SetInt64, fmi3SetInt64TYPE, *const fmi3Int64;
-    fmi3SetUInt64, fmi3SetUInt64TYPE, *const fmi3UInt64;
-    fmi3SetBoolean, fmi3SetBooleanTYPE, *const fmi3Boolean;
-}
-
-const _: fmi3GetBinaryTYPE = Some(fmi3GetBinary);
-#[unsafe(no_mangle)]
-pub extern "C" fn fmi3GetBinary(
-    instance: fmi3Instance,
-    _valueReferences: *const fmi3ValueReference,
-    nValueReferences: usize,
-    _valueSizes: *mut usize,
-    _values: *mut fmi3Binary,
-    _nValues: usize,
-) -> fmi3Status {
-    no_variables(instance, "fmi3GetBinary", nValueReferences)
-}
-
-const _: fmi3SetBinaryTYPE = Some(fmi3SetBinary);
-#[unsafe(no_mangle)]
-pub extern "C" fn fmi3SetBinary(
-    instance: fmi3Instance,
-    _valueReferences: *const fmi3ValueReference,
-    nValueReferences: usize,
-    _valueSizes: *const usize,
-    _values: *const fmi3Binary,
-    _nValues: usize,
-) -> fmi3Status {
-    no_variables(instance, "fmi3SetBinary", nValueReferences)
-}
-
-const _: fmi3GetClockTYPE = Some(fmi3GetClock);
-#[unsafe(no_mangle)]
-pub extern "C" fn fmi3GetClock(
-    instance: fmi3Instance,
-    _valueReferences: *const fmi3ValueReference,
-    nValueReferences: usize,
-    _values: *mut fmi3Clock,
-) -> fmi3Status {
-    no_variables(instance, "fmi3GetClock", nValueReferences)
-}
-
-const _: fmi3SetClockTYPE = Some(fmi3SetClock);
-#[unsafe(no_mangle)]
-pub extern "C" fn fmi3SetClock(
-    instance: fmi3Instance,
-    _valueReferences: *const fmi3ValueReference,
-    nValueReferences: usize,
-    _values: *const fmi3Clock,
-) -> fmi3Status {
-    no_variables(instance, "fmi3SetClock", nValueReferences)
+    fmi3GetFloat32, fmi3GetFloat32TYPE, (values: *mut fmi3Float32, n_values: usize);
+    fmi3GetInt8, fmi3GetInt8TYPE, (values: *mut fmi3Int8, n_values: usize);
+    fmi3GetUInt8, fmi3GetUInt8TYPE, (values: *mut fmi3UInt8, n_values: usize);
+    fmi3GetInt16, fmi3GetInt16TYPE, (values: *mut fmi3Int16, n_values: usize);
+    fmi3GetUInt16, fmi3GetUInt16TYPE, (values: *mut fmi3UInt16, n_values: usize);
+    fmi3GetUInt32, fmi3GetUInt32TYPE, (values: *mut fmi3UInt32, n_values: usize);
+    fmi3GetInt64, fmi3GetInt64TYPE, (values: *mut fmi3Int64, n_values: usize);
+    fmi3GetUInt64, fmi3GetUInt64TYPE, (values: *mut fmi3UInt64, n_values: usize);
+    fmi3GetBoolean, fmi3GetBooleanTYPE, (values: *mut fmi3Boolean, n_values: usize);
+    fmi3SetFloat32, fmi3SetFloat32TYPE, (values: *const fmi3Float32, n_values: usize);
+    fmi3SetInt8, fmi3SetInt8TYPE, (values: *const fmi3Int8, n_values: usize);
+    fmi3SetUInt8, fmi3SetUInt8TYPE, (values: *const fmi3UInt8, n_values: usize);
+    fmi3SetInt16, fmi3SetInt16TYPE, (values: *const fmi3Int16, n_values: usize);
+    fmi3SetUInt16, fmi3SetUInt16TYPE, (values: *const fmi3UInt16, n_values: usize);
+    fmi3SetUInt32, fmi3SetUInt32TYPE, (values: *const fmi3UInt32, n_values: usize);
+    fmi3SetInt64, fmi3SetInt64TYPE, (values: *const fmi3Int64, n_values: usize);
+    fmi3SetUInt64, fmi3SetUInt64TYPE, (values: *const fmi3UInt64, n_values: usize);
+    fmi3SetBoolean, fmi3SetBooleanTYPE, (values: *const fmi3Boolean, n_values: usize);
+    fmi3GetBinary, fmi3GetBinaryTYPE, (value_sizes: *mut usize, values: *mut fmi3Binary, n_values: usize);
+    fmi3SetBinary, fmi3SetBinaryTYPE, (value_sizes: *const usize, values: *const fmi3Binary, n_values: usize);
+    fmi3GetClock, fmi3GetClockTYPE, (values: *mut fmi3Clock);
+    fmi3SetClock, fmi3SetClockTYPE, (values: *const fmi3Clock);
 }
 
 const _: fmi3GetNumberOfVariableDependenciesTYPE = Some(fmi3GetNumberOfVariableDependencies);

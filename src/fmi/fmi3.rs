@@ -8,8 +8,8 @@
 //! connections carry over.
 
 use super::description::{
-    LOG_CATEGORIES, MODEL_IDENTIFIER, escape, guid, provides_directional_derivative, real,
-    unit_definitions, unit_of,
+    MODEL_IDENTIFIER, categories_and_experiment, escape, guid, provides_directional_derivative,
+    real, unit_definitions, unit_of,
 };
 use super::variables::{Binding, Causality, Start, Type, Variable, variables};
 use crate::problem::Problem;
@@ -97,23 +97,7 @@ pub fn model_description3(problem: &Problem) -> String {
         provides_directional_derivative(problem)
     );
     unit_definitions(&mut x, &vars, problem);
-    let _ = writeln!(x, "  <LogCategories>");
-    for (name, what) in LOG_CATEGORIES {
-        let _ = writeln!(
-            x,
-            r#"    <Category name="{name}" description="{}"/>"#,
-            escape(what)
-        );
-    }
-    let _ = writeln!(x, "  </LogCategories>");
-    let t_end = problem.times.last().copied().unwrap_or(1.0);
-    let dt = problem.times.first().copied().unwrap_or(t_end);
-    let _ = writeln!(
-        x,
-        r#"  <DefaultExperiment startTime="0.0" stopTime="{}" stepSize="{}"/>"#,
-        real(t_end),
-        real(dt)
-    );
+    categories_and_experiment(&mut x, problem);
     let _ = writeln!(x, "  <ModelVariables>");
     let _ = writeln!(
         x,
