@@ -20,6 +20,10 @@ const OK: fmi2Status = fmi2Status_fmi2OK;
 const DISCARD: fmi2Status = fmi2Status_fmi2Discard;
 const ERROR: fmi2Status = fmi2Status_fmi2Error;
 
+/// The sliding block's `[steps]` line (scenes/verification/sliding_block.toml),
+/// which the force-input tests replace.
+const TIMES_LINE: &str = "times = [0.5, 1.0, 1.02, 1.04, 1.06, 1.08, 1.1, 1.12, 1.14, 1.16, 1.18, 1.2, 1.22, 1.24, 1.26, 1.28, 1.3, 1.5, 1.75, 2.0, 2.5, 3.0, 3.01, 3.02, 3.03, 3.04, 3.05, 3.06, 3.07, 3.08, 3.09, 3.1, 3.11, 3.12, 3.13, 3.14, 3.15, 3.16, 3.17, 3.18, 3.19, 3.2, 3.25, 3.5, 3.75, 4.0]";
+
 fn repo() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
 }
@@ -1532,80 +1536,80 @@ fn force_input_reaches_equilibrium_in_one_step() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-/// The winding example's tension input, checked against the
-/// displacement-driven run of the same scene: the capstan's slack end
-/// pulled by `back.Fy` on a set that moves as one, its tight end drawn by
-/// `pull.uy`, in one doStep each (a held tension, then a draw that puts
-/// the wrap in partial slip); then the scene with the slack end moved by
-/// the `back.uy` the FMU reported, stepped the same way, needs that force
-/// back as its reaction and delivers the same T2 (`pull.Ry`) and contact
-/// states. Tolerance: each run stops at the force tolerance, 1e-8 of the
-/// force scale; 1e-6 of T1 leaves room for both.
+/// A force input checked against the displacement-driven run of the same
+/// scene, through the FMU: the sliding block pressed onto its plane and
+/// pulled sideways by `drag.Fx` on its top (a set that moves as one), in
+/// one doStep each (a pull in partial slip, then a larger one); then the
+/// scene with the top moved by the `drag.ux` the FMU reported, stepped the
+/// same way, needs that force back as its reaction, with the same contact
+/// resultants and states. Tolerance: each run stops at the force tolerance,
+/// 1e-8 of the force scale; 1e-6 of the pull leaves room for both.
 #[test]
-fn tension_input_matches_the_displacement_driven_scene() {
-    let base =
-        std::fs::read_to_string(repo().join("examples/winding_machine/capstan.toml")).unwrap();
-    let slack = "set = \"band.end\"\nfy = -10.0";
-    assert!(base.contains(slack));
-    let dir = std::env::temp_dir().join(format!("contact2d-tension-{}", std::process::id()));
+fn force_input_matches_the_displacement_driven_scene() {
+    let dir = std::env::temp_dir().join(format!("contact2d-twin-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    let write = |name: &str, end: &str| {
+    let write = |name: &str, top: &str| {
+        let text = edited(
+            "verification/sliding_block.toml",
+            &[
+                (
+                    "ux = { function = \"drag\", scale = 0.2 }\nuy = { function = \"press\", scale = -0.01 }",
+                    &format!(
+                        "uy = -0.01\n\n[[driver]]\nname = \"drag\"\nset = \"block.top\"\n{top}"
+                    ),
+                ),
+                // Held sideways by a force alone: it starts in touch.
+                (
+                    "points = [[10.0, 0.0], [-10.0, 0.0]]",
+                    "points = [[10.0, 1e-8], [-10.0, 1e-8]]",
+                ),
+                (TIMES_LINE, "times = [1.0, 2.0]"),
+            ],
+        );
         let scene = dir.join(name);
-        std::fs::write(
-            &scene,
-            base.replace(slack, &format!("set = \"band.end\"\n{end}")),
-        )
-        .unwrap();
+        std::fs::write(&scene, text).unwrap();
         unpack(&scene, name)
     };
-    let names: Vec<String> = (1..=65).map(|k| format!("wrap.state[{k}]")).collect();
-    let forced = write("forced.toml", "fy = -10.0\ndistribution = \"rigid\"");
+    let names: Vec<String> = (1..=9).map(|k| format!("base.state[{k}]")).collect();
+    let forced = write("forced.toml", "fx = 0.0\ndistribution = \"rigid\"");
     let inst = Inst::new(&forced, "forced");
     inst.init();
-    let steps = [(-10.0, -0.02), (-10.0, -0.6)];
+    let pulls = [1.2, 2.3];
     let mut seen = Vec::new();
-    for (k, &(fy, draw)) in steps.iter().enumerate() {
-        assert_eq!(inst.set_real("back.Fy", fy), OK);
-        assert_eq!(inst.set_real("pull.uy", draw), OK);
-        assert_eq!(
-            inst.step(0.05 * k as f64, 0.05),
-            OK,
-            "{}",
-            inst.last_message()
-        );
-        let states = inst.contact_states(&names);
-        seen.push((inst.real("back.uy"), inst.real("pull.Ry"), states));
+    for (k, &fx) in pulls.iter().enumerate() {
+        assert_eq!(inst.set_real("drag.Fx", fx), OK);
+        assert_eq!(inst.step(k as f64, 1.0), OK, "{}", inst.last_message());
+        let out = ["drag.ux", "base.Fn", "base.Ft"].map(|n| inst.real(n));
+        seen.push((out, inst.contact_states(&names)));
     }
-    let stick = |s: &[i32]| s.iter().filter(|&&x| x == 1).count();
-    let slip = |s: &[i32]| s.iter().filter(|&&x| x == 2).count();
-    assert!(
-        stick(&seen[1].2) > 0 && slip(&seen[1].2) > 0,
-        "partial slip: {:?}",
-        seen[1].2
-    );
+    let slide = |s: &[i32]| s.iter().filter(|&&x| x == 2).count();
+    for (_, states) in &seen {
+        assert!(
+            slide(states) > 0 && slide(states) < 9,
+            "partial slip: {states:?}"
+        );
+    }
 
-    let moved = write("moved.toml", "uy = 0.0");
+    let moved = write("moved.toml", "ux = 0.0");
     let twin = Inst::new(&moved, "moved");
     twin.init();
-    for (k, (&(fy, draw), (back_uy, t2, states))) in steps.iter().zip(&seen).enumerate() {
-        assert_eq!(twin.set_real("back.uy", *back_uy), OK);
-        assert_eq!(twin.set_real("pull.uy", draw), OK);
-        assert_eq!(
-            twin.step(0.05 * k as f64, 0.05),
-            OK,
-            "{}",
-            twin.last_message()
-        );
-        let ry = twin.real("back.Ry");
-        assert!(
-            (ry - fy).abs() <= 1e-6 * fy.abs(),
-            "step {k}: Ry {ry} vs {fy}"
-        );
-        let twin_t2 = twin.real("pull.Ry");
-        assert!(
-            (twin_t2 - t2).abs() <= 1e-6 * fy.abs(),
-            "step {k}: T2 {twin_t2} vs {t2}"
-        );
+    for (k, (&fx, (out, states))) in pulls.iter().zip(&seen).enumerate() {
+        assert_eq!(twin.set_real("drag.ux", out[0]), OK);
+        assert_eq!(twin.step(k as f64, 1.0), OK, "{}", twin.last_message());
+        let rx = twin.real("drag.Rx");
+        assert!((rx - fx).abs() <= 1e-6 * fx, "step {k}: Rx {rx} vs {fx}");
+        for (i, n) in ["base.Fn", "base.Ft"]
+            .iter()
+            .enumerate()
+            .map(|(i, n)| (i + 1, n))
+        {
+            let v = twin.real(n);
+            assert!(
+                (v - out[i]).abs() <= 1e-6 * fx,
+                "step {k}: {n} {v} vs {}",
+                out[i]
+            );
+        }
         assert_eq!(&twin.contact_states(&names), states, "step {k}");
     }
     let _ = std::fs::remove_dir_all(&dir);
@@ -2422,7 +2426,6 @@ fn directional_derivatives_of_the_verification_scenes() {
 /// the contact resultants.
 #[test]
 fn directional_derivatives_of_a_rigid_force_input() {
-    const TIMES_LINE: &str = "times = [0.5, 1.0, 1.02, 1.04, 1.06, 1.08, 1.1, 1.12, 1.14, 1.16, 1.18, 1.2, 1.22, 1.24, 1.26, 1.28, 1.3, 1.5, 1.75, 2.0, 2.5, 3.0, 3.01, 3.02, 3.03, 3.04, 3.05, 3.06, 3.07, 3.08, 3.09, 3.1, 3.11, 3.12, 3.13, 3.14, 3.15, 3.16, 3.17, 3.18, 3.19, 3.2, 3.25, 3.5, 3.75, 4.0]";
     let pulled = TempScene::new(
         "pulled",
         &edited(
