@@ -129,13 +129,7 @@ pub fn model_description(problem: &Problem) -> String {
     let _ = writeln!(x, "  <ModelVariables>");
     let mut outputs = Vec::new();
     for (i, v) in vars.iter().enumerate() {
-        let (causality, variability) = match (v.causality, v.ty) {
-            (Causality::Parameter, _) if v.tunable() => ("parameter", "tunable"),
-            (Causality::Parameter, _) => ("parameter", "fixed"),
-            (Causality::Input, _) => ("input", "continuous"),
-            (Causality::Output, Type::Real) => ("output", "continuous"),
-            (Causality::Output, _) => ("output", "discrete"),
-        };
+        let (causality, variability) = causality_variability(v);
         if v.causality == Causality::Output {
             outputs.push(i + 1);
         }
@@ -241,4 +235,16 @@ pub(super) fn categories_and_experiment(x: &mut String, problem: &Problem) {
         real(t_end),
         real(dt)
     );
+}
+
+/// A variable's `causality` and `variability` attributes (the same in FMI
+/// 2.0 and 3.0).
+pub(super) fn causality_variability(v: &Variable) -> (&'static str, &'static str) {
+    match (v.causality, v.ty) {
+        (Causality::Parameter, _) if v.tunable() => ("parameter", "tunable"),
+        (Causality::Parameter, _) => ("parameter", "fixed"),
+        (Causality::Input, _) => ("input", "continuous"),
+        (Causality::Output, Type::Real) => ("output", "continuous"),
+        (Causality::Output, _) => ("output", "discrete"),
+    }
 }

@@ -8,8 +8,8 @@
 //! connections carry over.
 
 use super::description::{
-    MODEL_IDENTIFIER, categories_and_experiment, escape, guid, provides_directional_derivative,
-    real, unit_definitions, unit_of,
+    MODEL_IDENTIFIER, categories_and_experiment, causality_variability, escape, guid,
+    provides_directional_derivative, real, unit_definitions, unit_of,
 };
 use super::variables::{Binding, Causality, Start, Type, Variable, variables};
 use crate::problem::Problem;
@@ -106,13 +106,7 @@ pub fn model_description3(problem: &Problem) -> String {
     let mut outputs = Vec::new();
     for v3 in list.iter().skip(1) {
         let v = &vars[v3.members[0]];
-        let (causality, variability) = match (v.causality, v.ty) {
-            (Causality::Parameter, _) if v.tunable() => ("parameter", "tunable"),
-            (Causality::Parameter, _) => ("parameter", "fixed"),
-            (Causality::Input, _) => ("input", "continuous"),
-            (Causality::Output, Type::Real) => ("output", "continuous"),
-            (Causality::Output, _) => ("output", "discrete"),
-        };
+        let (causality, variability) = causality_variability(v);
         if v.causality == Causality::Output {
             outputs.push(v3.vr);
         }
