@@ -198,18 +198,7 @@ impl Inst {
     }
 
     fn init(&self) {
-        let l = lib();
-        unsafe {
-            assert_eq!(
-                (l.fmi2SetupExperiment.as_ref().unwrap())(self.c, 0, 0.0, 0.0, 0, 0.0),
-                OK
-            );
-            assert_eq!(
-                (l.fmi2EnterInitializationMode.as_ref().unwrap())(self.c),
-                OK
-            );
-            assert_eq!((l.fmi2ExitInitializationMode.as_ref().unwrap())(self.c), OK);
-        }
+        assert_eq!(self.init_status(), OK, "{:?}", self.messages());
     }
 
     fn set_real(&self, name: &str, v: f64) -> fmi2Status {
