@@ -1081,6 +1081,7 @@ impl Solver {
         let mut rhs_now = rhs.to_vec();
         let mut inner = 0usize;
         let mut seen: Vec<u64> = Vec::new();
+        let mut flipped: Vec<Vec<bool>> = Vec::new();
         type Kept = (Vec<f64>, Vec<PairMemory>, Option<ContactSystem>);
         let mut kept: Option<Kept> = None;
         let full = loop {
@@ -1113,9 +1114,13 @@ impl Solver {
             else {
                 break full;
             };
-            let Some(switched) = self.linearised_states(step, sys, &full, memory)? else {
+            let Some(mut switched) = self.linearised_states(step, sys, &full, memory)? else {
                 break full;
             };
+            switched.once(&mut flipped);
+            if switched.count() == 0 {
+                break full;
+            }
             // The linearised problem's decisions may cycle (a set of
             // states met before): the outer iteration decides then.
             let key = pairs::state_key(memory, &switched);
@@ -1124,13 +1129,13 @@ impl Solver {
             }
             seen.push(key);
             inner += 1;
-            log(
-                LogCategory::Contact,
-                &format!(
-                    "t = {t:.6e} it {it}: solve {inner}: the linearised problem changes {} stick/slip states",
-                    switched.count()
-                ),
-            );
+            log(LogCategory::Contact, &{
+                let [opened, closed, slips] = switched.counts();
+                format!(
+                    "t = {t:.6e} it {it}: solve {inner}: the linearised problem opens {opened}, \
+                         closes {closed} and changes {slips} between stick and slip"
+                )
+            });
             kept = Some((full.clone(), memory.clone(), system.clone()));
             let rebuilt = self.contact_update(step, Some((sys, &switched)), memory, flips, log)?;
             rhs_now.copy_from_slice(rhs_base);
@@ -1180,7 +1185,7 @@ impl Solver {
         pairs::predict(
             &self.problem,
             step.poses,
-            &u_new,
+            [step.u, &u_new],
             &force_new,
             memory,
             sys,
