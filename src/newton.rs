@@ -24,6 +24,11 @@ const NEGLIGIBLE_ROW: f64 = 1e-6;
 /// decisions change (see `increment`).
 const MAX_INNER: usize = 50;
 
+/// Rows and displacement entries by which an inner solve's system may
+/// differ from the iteration's factored one and still be solved with its
+/// factorization (`Augmented::solve_modified`); beyond, it is factored.
+const MAX_BORDERED: usize = 256;
+
 /// An iterate is still settling while the correction that reached it is
 /// above this fraction of the increment's first correction (and always
 /// right after the predictor): its nodes in contact are not released on
@@ -422,6 +427,7 @@ impl Solver {
         }
         let start = self.state.clone();
         let u0 = start.u.clone();
+        let factorizations = self.factorizations();
         let mut targets = vec![t_end];
         let mut bisections = 0;
         let mut iterations = 0;
@@ -482,6 +488,7 @@ impl Solver {
             converged: true,
             iterations,
             solves,
+            factorizations: self.factorizations() - factorizations,
             substeps: bisections,
             residual,
             neqc: self.contact.as_ref().map_or(0, |c| c.neqc()),
@@ -1088,10 +1095,24 @@ impl Solver {
             let mut full = self.constraint_system(step, system.as_ref(), &rhs_now, extra);
             let neqc = system.as_ref().map_or(0, |c| c.rows.len());
             *solves += 1;
-            let solved = self
-                .augmented
-                .solve(&self.model.pattern, &self.k, extra, &mut full)
-                .map_err(|e| format!("constraint system (NEQC {neqc}): {e}"));
+            // An inner solve borders the iteration's factorization with the
+            // rows that changed (`Augmented::solve_modified`); the first, or
+            // one that changes too much, factors the system.
+            let bordered = inner > 0
+                && self.augmented.solve_modified(
+                    &self.model.pattern,
+                    &self.k,
+                    extra,
+                    &mut full,
+                    MAX_BORDERED,
+                );
+            let solved = if bordered {
+                Ok(())
+            } else {
+                self.augmented
+                    .solve(&self.model.pattern, &self.k, extra, &mut full)
+                    .map_err(|e| format!("constraint system (NEQC {neqc}): {e}"))
+            };
             // The states the linearised problem chose leave no
             // equilibrium near (every node of a free body sliding
             // where the iterate's linearisation is poor): keep the

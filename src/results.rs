@@ -151,6 +151,11 @@ pub struct StepResult {
     /// stick/slip states within an iteration). Not written to the summary.
     #[serde(skip)]
     pub solves: usize,
+    /// Numeric factorizations summed over the sub-increments (an inner
+    /// solve done with its iteration's factorization adds none). Not
+    /// written to the summary.
+    #[serde(skip)]
+    pub factorizations: usize,
     /// Final relative force residual.
     pub residual: f64,
     /// Number of contact equations (0 until contact exists).
