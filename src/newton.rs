@@ -1211,6 +1211,7 @@ impl Solver {
             memory,
             sys,
             step.tolerance,
+            step.settling || step.it == 0,
         )
     }
 

@@ -606,8 +606,11 @@ fn sticking_mu(pair: &ContactPair, node: &NodeMemory) -> f64 {
 /// the solve predicts it (the contact forces it leaves at the nodes).
 ///
 /// - A node in contact whose predicted normal force pulls (beyond the force
-///   tolerance) is released; a sticking node pulled along the target as
-///   well slides first (as `decide`).
+///   tolerance) is released, unless it was in contact at the iterate and
+///   the iterate settles (`held`, as `decide` holds it). Sticking or
+///   sliding alike: with mu = 10 a sticking node pulled along the target
+///   and sent sliding first (as `decide` does) predicted ten times its pull
+///   along the target, and the Hertz cylinder bisected.
 /// - A free node whose predicted position has penetrated the target (beyond
 ///   the length tolerance) closes on the segment it has penetrated.
 /// - A sticking node whose predicted tangential force exceeds its capacity
@@ -624,6 +627,7 @@ pub(super) fn predict_pair(
     force_new: &dyn Fn(usize) -> Vector2<f64>,
     mem: &PairMemory,
     decisions: &[Decision],
+    held: Option<&[bool]>,
     tolerance: [f64; 2],
 ) -> Result<Vec<(usize, Forced)>, String> {
     let frictionless = pair.mu_s == 0.0 && pair.mu_d == 0.0;
@@ -656,14 +660,12 @@ pub(super) fn predict_pair(
         let (n_s, n_r) = (cp.segment().normal(), cp.segment().tangent());
         let (p_n, q) = (-n_s.dot(&f), n_r.dot(&f));
         if p_n < -force_tolerance {
-            let pulled_along =
-                !frictionless && d.state == NodeState::Stick && q.abs() > force_tolerance;
-            let forced = if pulled_along {
-                Forced::Slip(-q.signum())
-            } else {
-                Forced::Open
-            };
-            out.push((k, forced));
+            // While the iterate settles a node in contact at the iterate
+            // is not released on its force (`decide`): nor on the force its
+            // linearisation predicts.
+            if !held.is_some_and(|active| active[k]) {
+                out.push((k, Forced::Open));
+            }
             continue;
         }
         if frictionless || p_n <= 0.0 {

@@ -600,6 +600,7 @@ pub fn predict(
     memory: &[PairMemory],
     system: &ContactSystem,
     tolerance: [f64; 2],
+    settling: bool,
 ) -> Result<Option<Switched>, String> {
     if system.decisions.len() != problem.contacts.len() {
         return Ok(None);
@@ -618,6 +619,7 @@ pub fn predict(
             &force,
             &memory[p],
             &system.decisions[p],
+            settling.then_some(&system.active[p][..]),
             tolerance,
         )?);
     }
