@@ -24,6 +24,9 @@ const NEGLIGIBLE_ROW: f64 = 1e-6;
 /// decisions change (see `increment`).
 const MAX_INNER: usize = 50;
 
+/// Times a node may open or close in one iteration's inner solves.
+const INNER_FLIPS: usize = 1;
+
 /// Rows and displacement entries by which an inner solve's system may
 /// differ from the iteration's factored one and still be solved with its
 /// factorization (`Augmented::solve_modified`); beyond, it is factored.
@@ -1088,7 +1091,7 @@ impl Solver {
         let mut rhs_now = rhs.to_vec();
         let mut inner = 0usize;
         let mut seen: Vec<u64> = Vec::new();
-        let mut flipped: Vec<Vec<bool>> = Vec::new();
+        let mut flipped: Vec<Vec<usize>> = Vec::new();
         type Kept = (Vec<f64>, Vec<PairMemory>, Option<ContactSystem>);
         let mut kept: Option<Kept> = None;
         let full = loop {
@@ -1138,7 +1141,7 @@ impl Solver {
             let Some(mut switched) = self.linearised_states(step, sys, &full, memory)? else {
                 break full;
             };
-            switched.once(&mut flipped);
+            switched.limit_flips(&mut flipped, INNER_FLIPS);
             if switched.count() == 0 {
                 break full;
             }

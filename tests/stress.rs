@@ -264,7 +264,8 @@ mod hertz_high_friction {
 #[test]
 fn hertz_iterations_do_not_grow_with_refinement() {
     use common::stress::Element;
-    let cases: [(&str, fn(Variant) -> common::stress::Outcome); 2] = [
+    type Family = fn(Variant) -> common::stress::Outcome;
+    let cases: [(&str, Family); 2] = [
         ("frictionless", families::hertz_one_increment),
         ("mu = 10", families::hertz_high_friction),
     ];

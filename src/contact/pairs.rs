@@ -191,13 +191,12 @@ impl Switched {
         c
     }
 
-    /// Drops the opening or closing of a node that has opened or closed in
-    /// an earlier solve of the same iteration (`flipped`, per pair and
-    /// node, updated): within one iteration's solves a node changes between
-    /// open and contact once, so they cannot cycle.
-    pub fn once(&mut self, flipped: &mut Vec<Vec<bool>>) {
-        flipped.resize_with(self.0.len(), Vec::new);
-        for (changes, done) in self.0.iter_mut().zip(flipped.iter_mut()) {
+    /// Drops the opening or closing of a node that has opened or closed
+    /// `limit` times in the earlier solves of the same iteration (`flips`,
+    /// per pair and node, updated), so that they cannot cycle.
+    pub fn limit_flips(&mut self, flips: &mut Vec<Vec<usize>>, limit: usize) {
+        flips.resize_with(self.0.len(), Vec::new);
+        for (changes, done) in self.0.iter_mut().zip(flips.iter_mut()) {
             changes.retain(|&(k, f)| {
                 let flip = matches!(
                     f,
@@ -207,9 +206,10 @@ impl Switched {
                     return true;
                 }
                 if done.len() <= k {
-                    done.resize(k + 1, false);
+                    done.resize(k + 1, 0);
                 }
-                !std::mem::replace(&mut done[k], true)
+                done[k] += 1;
+                done[k] <= limit
             });
         }
     }

@@ -354,7 +354,8 @@ pub(super) fn solve(
     let res = a1.residual(&x, &b);
     let inf = |v: &[f64]| v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
     let backward = inf(&res) / (a1.norm_inf() * inf(&x) + inf(&b));
-    if !(backward <= super::LDLT_BACKWARD_ERROR) {
+    // (NaN fails too.)
+    if backward.is_nan() || backward > super::LDLT_BACKWARD_ERROR {
         return Err(NotBordered::Unsound);
     }
     rhs.copy_from_slice(&x);
