@@ -1092,6 +1092,15 @@ impl Solver {
         let mut inner = 0usize;
         let mut seen: Vec<u64> = Vec::new();
         let mut flipped: Vec<Vec<usize>> = Vec::new();
+        // Bordered inner solves against rigid targets only: on the buried
+        // pipe (a steel pipe in soft soil, flexible against flexible, held
+        // by contact alone) they left its first increment stuck at |r|/F =
+        // 4.8e-4 after the inner solves' states and it bisected six times,
+        // with a componentwise backward error of 1e-10 against the system
+        // solved; factored inner solves converge there in 5 iterations.
+        // Not understood yet (docs/contact.md section 8).
+        let bordering = (self.problem.contacts.iter())
+            .all(|p| matches!(p.target, crate::problem::Target::Rigid(_)));
         type Kept = (Vec<f64>, Vec<PairMemory>, Option<ContactSystem>);
         let mut kept: Option<Kept> = None;
         let full = loop {
@@ -1102,6 +1111,7 @@ impl Solver {
             // rows that changed (`Augmented::solve_modified`); the first, or
             // one that changes too much, factors the system.
             let bordered = inner > 0
+                && bordering
                 && self.augmented.solve_modified(
                     &self.model.pattern,
                     &self.k,

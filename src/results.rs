@@ -148,7 +148,7 @@ pub struct StepResult {
     pub substeps: usize,
     /// Linear solves summed over the sub-increments (one per Newton
     /// iteration, and one more per change of the linearised problem's
-    /// stick/slip states within an iteration). Not written to the summary.
+    /// contact states within an iteration). Not written to the summary.
     #[serde(skip)]
     pub solves: usize,
     /// Numeric factorizations summed over the sub-increments (an inner

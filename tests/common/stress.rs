@@ -676,7 +676,7 @@ pub struct Stats {
     pub max: usize,
     /// Linear solves over the run, and the most in one increment (Newton
     /// iterations plus the inner solves of the linearised problem's
-    /// stick/slip states).
+    /// contact states).
     pub solves: usize,
     pub max_solves: usize,
     /// Numeric factorizations over the run, and the most in one increment
