@@ -1095,9 +1095,8 @@ impl Solver {
         // Bordered inner solves against rigid targets only: on the buried
         // pipe (a steel pipe in soft soil, flexible against flexible, held
         // by contact alone) they left its first increment stuck at |r|/F =
-        // 4.8e-4 after the inner solves' states and it bisected six times,
-        // with a componentwise backward error of 1e-10 against the system
-        // solved; factored inner solves converge there in 5 iterations.
+        // 4.8e-4 after the inner solves' states and it bisected six times;
+        // factored inner solves converge there in 5 iterations.
         // Not understood yet (docs/contact.md section 8).
         let bordering = (self.problem.contacts.iter())
             .all(|p| matches!(p.target, crate::problem::Target::Rigid(_)));

@@ -47,21 +47,28 @@ impl Csc<'_> {
             .zip(self.values[range].iter().copied())
     }
 
-    /// The componentwise backward error of `x` (Oettli-Prager): the
-    /// largest `|b - A x|_i / (sum_j |a_ij x_j| + |b_i|)`, and the residual.
-    fn backward_error(&self, x: &[f64], b: &[f64]) -> (f64, Vec<f64>) {
+    /// `b - A x`.
+    fn residual(&self, x: &[f64], b: &[f64]) -> Vec<f64> {
         let mut r = b.to_vec();
-        let mut scale: Vec<f64> = b.iter().map(|v| v.abs()).collect();
         for (j, &xj) in x.iter().enumerate() {
             for (i, v) in self.column(j) {
                 r[i] -= v * xj;
-                scale[i] += (v * xj).abs();
             }
         }
-        let omega = (r.iter().zip(&scale))
-            .map(|(ri, si)| if *si > 0.0 { ri.abs() / si } else { ri.abs() })
-            .fold(0.0, f64::max);
-        (omega, r)
+        r
+    }
+
+    /// The normwise backward error of `x`: `|b - A x|_inf / (|A|_inf
+    /// |x|_inf + |b|_inf)`.
+    fn backward_error(&self, x: &[f64], b: &[f64]) -> f64 {
+        let inf = |v: &[f64]| v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+        let mut rows = vec![0.0f64; self.n()];
+        for j in 0..self.n() {
+            for (i, v) in self.column(j) {
+                rows[i] += v.abs();
+            }
+        }
+        inf(&self.residual(x, b)) / (inf(&rows) * inf(x) + inf(b))
     }
 }
 
@@ -115,18 +122,6 @@ fn multipliers(a: Csc, n_disp: usize) -> Vec<Multiplier> {
     }
     out
 }
-
-/// The componentwise backward error (Oettli-Prager: each row's residual
-/// against its own `sum_j |a_ij x_j| + |b_i|`) a bordered solve must reach,
-/// and the refinement steps it may take. Componentwise, because the
-/// constraint rows (coefficients near 1, overlaps of 1e-7) vanish in a
-/// normwise measure beside the stiffness rows: the buried pipe (a steel pipe
-/// in soft soil, held by contact alone), its bordered solves accepted at a
-/// normwise 1e-12, left overlaps of 3.5e-7 m, multipliers 3 % off the
-/// factored solves', inner states the iterates could not leave (|r|/F stuck
-/// at 4.8e-4) and six bisections.
-const BACKWARD_ERROR: f64 = 1e-10;
-const REFINEMENT_STEPS: usize = 3;
 
 /// What distinguishes a column of `E` (for the kept `A0^-1 E`).
 #[derive(Clone, PartialEq, Eq, Hash)]
@@ -351,24 +346,17 @@ pub(super) fn solve(
         }
         Some(x1)
     };
-    // Refined against A1 itself (up to `REFINEMENT_STEPS`), then accepted
-    // at a backward error below `BACKWARD_ERROR`.
+    // One step of refinement against A1 itself, then its normwise backward
+    // error, accepted below the factored solves' `LDLT_BACKWARD_ERROR`.
     let b = rhs.to_vec();
     let mut x = apply(&b).ok_or(NotBordered::Unsound)?;
-    let mut backward = f64::NAN;
-    for step in 0..=REFINEMENT_STEPS {
-        let (omega, res) = a1.backward_error(&x, &b);
-        backward = omega;
-        if backward <= BACKWARD_ERROR || step == REFINEMENT_STEPS {
-            break;
-        }
-        let dx = apply(&res).ok_or(NotBordered::Unsound)?;
-        for (xi, di) in x.iter_mut().zip(&dx) {
-            *xi += di;
-        }
+    let dx = apply(&a1.residual(&x, &b)).ok_or(NotBordered::Unsound)?;
+    for (xi, di) in x.iter_mut().zip(&dx) {
+        *xi += di;
     }
+    let backward = a1.backward_error(&x, &b);
     // (NaN fails too.)
-    if backward.is_nan() || backward > BACKWARD_ERROR {
+    if backward.is_nan() || backward > super::LDLT_BACKWARD_ERROR {
         return Err(NotBordered::Unsound);
     }
     rhs.copy_from_slice(&x);
