@@ -7,7 +7,8 @@
 //! Columns: case, mesh, unknowns, converged increments, Newton iterations
 //! per increment (median, largest), the most linear solves in one increment
 //! (its Newton iterations plus the inner solves while the linearised
-//! problem's stick/slip states change), bisections (summed), failed increments
+//! problem's contact states change), the most numeric factorizations in one
+//! increment (an inner solve borders its iteration's factorization), bisections (summed), failed increments
 //! (1@t: the run stopped at the increment to t), wall time of the solve,
 //! and each closed-form check: computed / reference (relative error, or
 //! absolute for angles and lengths, and the tolerance tests/stress.rs

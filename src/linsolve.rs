@@ -167,6 +167,19 @@ pub struct Augmented {
     pub ldlt: usize,
     /// Solves done by LU.
     pub lu: usize,
+    /// The last factorization, kept for `solve_modified`.
+    kept: Option<Kept>,
+    /// Solves done with the kept factorization of another system
+    /// (`solve_modified`).
+    pub bordered: usize,
+}
+
+/// The factorization of the last system `solve` factored (LDLT: the
+/// analysis and `l_values` of `Augmented`), with what `solve_modified`
+/// borders it with.
+enum Kept {
+    Ldlt(bordering::Base),
+    Lu(Box<Lu<usize, f64>>, bordering::Base),
 }
 
 /// Largest normwise backward error `|b - A x|_inf / (|A|_inf |x|_inf +
@@ -199,6 +212,7 @@ impl Augmented {
         extra: &mut [(usize, usize, f64)],
         rhs: &mut [f64],
     ) -> Result<(), LinearError> {
+        self.kept = None;
         let n = rhs.len();
         let old_ptr = std::mem::take(&mut self.col_ptr);
         let old_idx = std::mem::take(&mut self.row_idx);
@@ -254,6 +268,7 @@ impl Augmented {
                     rhs.copy_from_slice(&self.x);
                     self.ldlt += 1;
                     self.last = Some(Method::Ldlt);
+                    self.kept = Some(Kept::Ldlt(bordering::Base::new(self.csc(), n_disp)));
                     return Ok(());
                 }
                 analysis.ldlt_failed = true;
@@ -277,7 +292,97 @@ impl Augmented {
         }
         self.lu += 1;
         self.last = Some(Method::Lu);
+        let base = bordering::Base::new(self.csc(), n_disp);
+        self.kept = Some(Kept::Lu(Box::new(f), base));
         Ok(())
+    }
+
+    fn csc(&self) -> bordering::Csc<'_> {
+        bordering::Csc {
+            col_ptr: &self.col_ptr,
+            row_idx: &self.row_idx,
+            values: &self.values,
+        }
+    }
+
+    /// Solves `A x = rhs` in place, A given as in `solve`, without
+    /// factoring it: by bordering the factorization of the last system
+    /// `solve` factored, when A differs from it in at most `max_rank`
+    /// multipliers and displacement rows (the inner solves of a Newton
+    /// iteration: the tangent is the same, some contact rows differ;
+    /// `bordering`). False when it cannot (nothing kept, too many changes,
+    /// a singular or inaccurate bordered solve): then `solve` it.
+    pub fn solve_modified(
+        &mut self,
+        pattern: &Pattern,
+        k: &[f64],
+        extra: &mut [(usize, usize, f64)],
+        rhs: &mut [f64],
+        max_rank: usize,
+    ) -> bool {
+        let Some(kept) = self.kept.as_mut() else {
+            return false;
+        };
+        let n = rhs.len();
+        let (mut col_ptr, mut row_idx, mut values) = (Vec::new(), Vec::new(), Vec::new());
+        bordered(
+            pattern,
+            k,
+            extra,
+            n,
+            [&mut col_ptr, &mut row_idx],
+            &mut values,
+        );
+        let a1 = bordering::Csc {
+            col_ptr: &col_ptr,
+            row_idx: &row_idx,
+            values: &values,
+        };
+        let a0 = bordering::Csc {
+            col_ptr: &self.col_ptr,
+            row_idx: &self.row_idx,
+            values: &self.values,
+        };
+        let l_values = &self.l_values;
+        let analysis = self.analysis.as_ref();
+        let outcome = match kept {
+            Kept::Ldlt(base) => {
+                let Some((symbolic, _)) = analysis.and_then(|a| a.ldlt.as_ref()) else {
+                    return false;
+                };
+                let mut solve0 = |block: &mut [f64], cols: usize| {
+                    let rows = symbolic.nrows();
+                    let req = symbolic.solve_in_place_scratch::<f64>(cols, Par::Seq);
+                    let Ok(mut mem) = MemBuffer::try_new(req) else {
+                        return false;
+                    };
+                    let ldlt = faer::sparse::linalg::cholesky::LdltRef::new(symbolic, l_values);
+                    ldlt.solve_in_place_with_conj(
+                        Conj::No,
+                        MatMut::from_column_major_slice_mut(block, rows, cols),
+                        Par::Seq,
+                        MemStack::new(&mut mem),
+                    );
+                    true
+                };
+                bordering::solve(base, a0, a1, rhs, max_rank, &mut solve0)
+            }
+            Kept::Lu(lu, base) => {
+                let rows = a0.col_ptr.len() - 1;
+                let mut solve0 = |block: &mut [f64], cols: usize| {
+                    lu.solve_in_place(MatMut::from_column_major_slice_mut(block, rows, cols));
+                    true
+                };
+                bordering::solve(base, a0, a1, rhs, max_rank, &mut solve0)
+            }
+        };
+        match outcome {
+            Ok(_) => {
+                self.bordered += 1;
+                true
+            }
+            Err(_) => false,
+        }
     }
 }
 
@@ -560,5 +665,6 @@ fn solve_ldlt(
     true
 }
 
+mod bordering;
 #[cfg(test)]
 mod tests;

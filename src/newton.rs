@@ -24,6 +24,14 @@ const NEGLIGIBLE_ROW: f64 = 1e-6;
 /// decisions change (see `increment`).
 const MAX_INNER: usize = 50;
 
+/// Times a node may open or close in one iteration's inner solves.
+const INNER_FLIPS: usize = 1;
+
+/// Rows and displacement entries by which an inner solve's system may
+/// differ from the iteration's factored one and still be solved with its
+/// factorization (`Augmented::solve_modified`); beyond, it is factored.
+const MAX_BORDERED: usize = 256;
+
 /// An iterate is still settling while the correction that reached it is
 /// above this fraction of the increment's first correction (and always
 /// right after the predictor): its nodes in contact are not released on
@@ -422,6 +430,7 @@ impl Solver {
         }
         let start = self.state.clone();
         let u0 = start.u.clone();
+        let factorizations = self.factorizations();
         let mut targets = vec![t_end];
         let mut bisections = 0;
         let mut iterations = 0;
@@ -482,6 +491,7 @@ impl Solver {
             converged: true,
             iterations,
             solves,
+            factorizations: self.factorizations() - factorizations,
             substeps: bisections,
             residual,
             neqc: self.contact.as_ref().map_or(0, |c| c.neqc()),
@@ -1083,16 +1093,40 @@ impl Solver {
         let mut rhs_now = rhs.to_vec();
         let mut inner = 0usize;
         let mut seen: Vec<u64> = Vec::new();
+        let mut flipped: Vec<Vec<usize>> = Vec::new();
+        // Bordered inner solves against rigid targets only: on the buried
+        // pipe (a steel pipe in soft soil, flexible against flexible, held
+        // by contact alone) they left its first increment stuck at |r|/F =
+        // 4.8e-4 after the inner solves' states and it bisected six times;
+        // factored inner solves converge there in 5 iterations.
+        // Not understood yet (docs/contact.md section 8).
+        let bordering = (self.problem.contacts.iter())
+            .all(|p| matches!(p.target, crate::problem::Target::Rigid(_)));
         type Kept = (Vec<f64>, Vec<PairMemory>, Option<ContactSystem>);
         let mut kept: Option<Kept> = None;
         let full = loop {
             let mut full = self.constraint_system(step, system.as_ref(), &rhs_now, extra);
             let neqc = system.as_ref().map_or(0, |c| c.rows.len());
             *solves += 1;
-            let solved = self
-                .augmented
-                .solve(&self.model.pattern, &self.k, extra, &mut full)
-                .map_err(|e| format!("constraint system (NEQC {neqc}): {e}"));
+            // An inner solve borders the iteration's factorization with the
+            // rows that changed (`Augmented::solve_modified`); the first, or
+            // one that changes too much, factors the system.
+            let bordered = inner > 0
+                && bordering
+                && self.augmented.solve_modified(
+                    &self.model.pattern,
+                    &self.k,
+                    extra,
+                    &mut full,
+                    MAX_BORDERED,
+                );
+            let solved = if bordered {
+                Ok(())
+            } else {
+                self.augmented
+                    .solve(&self.model.pattern, &self.k, extra, &mut full)
+                    .map_err(|e| format!("constraint system (NEQC {neqc}): {e}"))
+            };
             // The states the linearised problem chose leave no
             // equilibrium near (every node of a free body sliding
             // where the iterate's linearisation is poor): keep the
@@ -1115,9 +1149,13 @@ impl Solver {
             else {
                 break full;
             };
-            let Some(switched) = self.linearised_states(step, sys, &full, memory)? else {
+            let Some(mut switched) = self.linearised_states(step, sys, &full, memory)? else {
                 break full;
             };
+            switched.limit_flips(&mut flipped, INNER_FLIPS);
+            if switched.count() == 0 {
+                break full;
+            }
             // The linearised problem's decisions may cycle (a set of
             // states met before): the outer iteration decides then.
             let key = pairs::state_key(memory, &switched);
@@ -1126,13 +1164,13 @@ impl Solver {
             }
             seen.push(key);
             inner += 1;
-            log(
-                LogCategory::Contact,
-                &format!(
-                    "t = {t:.6e} it {it}: solve {inner}: the linearised problem changes {} stick/slip states",
-                    switched.count()
-                ),
-            );
+            log(LogCategory::Contact, &{
+                let [opened, closed, slips] = switched.counts();
+                format!(
+                    "t = {t:.6e} it {it}: solve {inner}: the linearised problem opens {opened}, \
+                         closes {closed} and changes {slips} between stick and slip"
+                )
+            });
             kept = Some((full.clone(), memory.clone(), system.clone()));
             let rebuilt = self.contact_update(step, Some((sys, &switched)), memory, flips, log)?;
             rhs_now.copy_from_slice(rhs_base);
@@ -1182,11 +1220,12 @@ impl Solver {
         pairs::predict(
             &self.problem,
             step.poses,
-            &u_new,
+            [step.u, &u_new],
             &force_new,
             memory,
             sys,
             step.tolerance,
+            step.settling || step.it == 0,
         )
     }
 

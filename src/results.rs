@@ -148,9 +148,14 @@ pub struct StepResult {
     pub substeps: usize,
     /// Linear solves summed over the sub-increments (one per Newton
     /// iteration, and one more per change of the linearised problem's
-    /// stick/slip states within an iteration). Not written to the summary.
+    /// contact states within an iteration). Not written to the summary.
     #[serde(skip)]
     pub solves: usize,
+    /// Numeric factorizations summed over the sub-increments (an inner
+    /// solve done with its iteration's factorization adds none). Not
+    /// written to the summary.
+    #[serde(skip)]
+    pub factorizations: usize,
     /// Final relative force residual.
     pub residual: f64,
     /// Number of contact equations (0 until contact exists).

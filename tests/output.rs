@@ -291,6 +291,7 @@ fn converged_step() -> StepResult {
         iterations: 3,
         substeps: 1,
         solves: 3,
+        factorizations: 3,
         residual: 1.5e-11,
         neqc: 0,
         // Not in alphabetical order: the file keeps this order.
@@ -451,6 +452,7 @@ fn summary_of_a_step_with_a_pair_and_a_rigid_target() {
         iterations: 4,
         substeps: 0,
         solves: 4,
+        factorizations: 4,
         residual: 2.5e-10,
         neqc: 3,
         drivers: vec![

@@ -481,14 +481,14 @@ fn write_frame(
 }
 
 /// One line per increment: time, work (Newton iterations, linear solves,
-/// bisections), residual, NEQC, driver reactions
+/// factorizations, bisections), residual, NEQC, driver reactions
 /// (and a rigid target's moment), then per contact pair its resultants and
 /// node counts by state.
 fn step_line(i: usize, n: usize, s: &StepResult) -> String {
     use std::fmt::Write;
     let mut line = format!(
-        "step {i}/{n}  t = {}  iterations {}  solves {}  substeps {}  |r|/F = {:.3e}  NEQC {}",
-        s.time, s.iterations, s.solves, s.substeps, s.residual, s.neqc
+        "step {i}/{n}  t = {}  iterations {}  solves {}  factorizations {}  substeps {}  |r|/F = {:.3e}  NEQC {}",
+        s.time, s.iterations, s.solves, s.factorizations, s.substeps, s.residual, s.neqc
     );
     for (name, r) in &s.drivers {
         let _ = write!(line, "  {name}: Rx = {:.6e} Ry = {:.6e}", r.rx, r.ry);
@@ -838,6 +838,7 @@ mod tests {
             iterations: 3,
             substeps: 0,
             solves: 3,
+            factorizations: 2,
             residual: 1e-9,
             neqc: 4,
             drivers: vec![
@@ -867,7 +868,7 @@ mod tests {
         };
         assert_eq!(
             step_line(1, 2, &step),
-            "step 1/2  t = 0.5  iterations 3  solves 3  substeps 0  |r|/F = 1.000e-9  NEQC 4  \
+            "step 1/2  t = 0.5  iterations 3  solves 3  factorizations 2  substeps 0  |r|/F = 1.000e-9  NEQC 4  \
              base: Rx = 0.000000e0 Ry = 0.000000e0  \
              die: Rx = 1.000000e0 Ry = -2.000000e0 Mz = 2.500000e-1  \
              die_on_block: Fn = 2.000000e0 Ft = -5.000000e-1 stick/slip/open = 1/2/3"

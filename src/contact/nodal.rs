@@ -43,6 +43,14 @@ pub(crate) struct Decision {
 pub(crate) enum Forced {
     Stick,
     Slip(f64),
+    /// Released: the linearised problem pulls it off the target.
+    Open,
+    /// Closed on target segment `j`: the linearised problem moves it into
+    /// the target by `overlap`.
+    Close {
+        j: usize,
+        overlap: f64,
+    },
 }
 
 /// What `update_pair` does: decide every node from the iterate, or keep
@@ -52,6 +60,10 @@ pub(super) enum Plan<'a> {
     Keep {
         decisions: &'a [Decision],
         forced: &'a [(usize, Forced)],
+        /// Which nodes were in contact when the iterate's decisions were
+        /// made: their out-of-balance forces are contact forces (a node the
+        /// linearised problem closes carries none yet).
+        active: &'a [bool],
     },
 }
 
@@ -86,7 +98,11 @@ pub(super) fn update_pair(
     out: &mut ContactSystem,
     plan: Plan,
 ) -> Result<PairResult, String> {
-    let view = PairIterate::new(at, pair, mem)?;
+    let active = match &plan {
+        Plan::Keep { active, .. } => Some(*active),
+        Plan::Decide => None,
+    };
+    let view = PairIterate::new(at, pair, mem, active)?;
     let decisions = decisions(&view, mem, &plan);
     out.pending += decisions.iter().filter(|d| d.held_back).count();
     if matches!(plan, Plan::Decide) {
@@ -94,6 +110,7 @@ pub(super) fn update_pair(
     }
     let result = rows_and_results(at, &view, mem, &decisions, out)?;
     out.decisions.push(decisions);
+    out.active.push(view.active);
     Ok(result)
 }
 
@@ -125,7 +142,12 @@ impl<'a> PairIterate<'a> {
     /// Target search geometry and force recovery: the target's segments
     /// and the contactor's positions, now and at the start of the
     /// increment, and each node's force.
-    fn new(at: &Iterate, pair: &'a ContactPair, mem: &PairMemory) -> Result<Self, String> {
+    fn new(
+        at: &Iterate,
+        pair: &'a ContactPair,
+        mem: &PairMemory,
+        active: Option<&[bool]>,
+    ) -> Result<Self, String> {
         let (problem, start) = (at.problem, at.start);
         let segments = pairs::target_segments(problem, pair, at.u, at.poses)?;
         let segments0 = pairs::target_segments(problem, pair, start.u, start.poses)?;
@@ -153,9 +175,12 @@ impl<'a> PairIterate<'a> {
         // contact; at a prescribed dof it is the driver's reaction (a
         // symmetry plane).
         let force = at.contactor_forces(pair);
-        let active: Vec<bool> = (mem.nodes.iter())
-            .map(|n| n.state != NodeState::Open)
-            .collect();
+        let active: Vec<bool> = match active {
+            Some(a) => a.to_vec(),
+            None => (mem.nodes.iter())
+                .map(|n| n.state != NodeState::Open)
+                .collect(),
+        };
         let force_scale = (0..m)
             .filter(|&k| active[k])
             .map(|k| force[k].norm())
@@ -203,7 +228,9 @@ impl<'a> PairIterate<'a> {
 fn decisions(view: &PairIterate, mem: &PairMemory, plan: &Plan) -> Vec<Decision> {
     let decide_node = |k: usize, forced: Option<Forced>| decide(view, k, &mem.nodes[k], forced);
     match plan {
-        Plan::Keep { decisions, forced } => {
+        Plan::Keep {
+            decisions, forced, ..
+        } => {
             let mut kept = decisions.to_vec();
             for &(k, f) in forced.iter() {
                 kept[k] = decide_node(k, Some(f));
@@ -379,12 +406,21 @@ impl Decision {
 fn decide(view: &PairIterate, k: usize, old: &NodeMemory, forced: Option<Forced>) -> Decision {
     let (segments, x, reach) = (&view.segments, view.x[k], view.reach(k));
     // Where the node meets the target, if it does.
-    let found = match old.state {
-        NodeState::Open => pairs::search(segments, x, reach),
-        NodeState::Stick => segments
+    let found = match (forced, old.state) {
+        (Some(Forced::Open), _) => return Decision::open(0.0),
+        // Closed by the linearised problem: its row at this iterate closes
+        // the gap it still shows here.
+        (Some(Forced::Close { j, .. }), _) => segments.get(j).map(|s| {
+            (
+                j,
+                s.seg.contact_at(x, s.seg.project(x).beta().clamp(0.0, 1.0)),
+            )
+        }),
+        (_, NodeState::Open) => pairs::search(segments, x, reach),
+        (_, NodeState::Stick) => segments
             .get(old.segment)
             .map(|s| (old.segment, s.seg.contact_at(x, old.beta))),
-        NodeState::Slip => pairs::follow(segments, old.segment, x, reach),
+        (_, NodeState::Slip) => pairs::follow(segments, old.segment, x, reach),
     };
     let Some((j, cp)) = found else {
         return Decision::open(0.0);
@@ -400,7 +436,8 @@ fn decide(view: &PairIterate, k: usize, old: &NodeMemory, forced: Option<Forced>
     // A free node that has penetrated closes; a node in contact opens when
     // its force pulls (a gap it shows after a step along a curved target
     // is the linearisation's, and its row closes it).
-    if old.state == NodeState::Open {
+    if matches!(forced, Some(Forced::Close { .. })) {
+    } else if old.state == NodeState::Open {
         if overlap <= 0.0 {
             return Decision::open(0.0);
         }
@@ -497,6 +534,11 @@ fn frictional_decision(
     let s = match (forced, old.state) {
         (Some(Forced::Slip(s)), _) => Some(s),
         (Some(Forced::Stick), _) => None,
+        // Closed by the linearised problem, as a free node that has
+        // penetrated (below) by the overlap it predicts.
+        (Some(Forced::Close { overlap, .. }), _) => {
+            (slip.abs() > mu_stick * overlap).then(|| slip.signum())
+        }
         (None, NodeState::Slip) if old.slip_sign != 0.0 => {
             (old.slip_sign * slip >= -slip_tolerance).then_some(old.slip_sign)
         }
@@ -558,41 +600,75 @@ fn sticking_mu(pair: &ContactPair, node: &NodeMemory) -> f64 {
     }
 }
 
-/// The linearised problem's stick/slip decisions for one pair, after a
-/// solve with this iterate's decisions: `u_new` the displacements the
-/// solve reaches and `force_new` each dof's out-of-balance force there as
-/// the solve predicts it (the contact forces it leaves at the nodes). A
-/// sticking node whose predicted tangential force exceeds its capacity
-/// slides against it; a sliding node whose predicted slip from its anchor
-/// has turned back sticks. Open and frictionless nodes, corner holds and
-/// nodes the solve would pull off the target are left to the next
-/// iterate's decisions.
+/// The linearised problem's own decisions for one pair, after a solve with
+/// this iterate's decisions: `u_new` the displacements the solve reaches
+/// (from `u_now`) and `force_new` each dof's out-of-balance force there as
+/// the solve predicts it (the contact forces it leaves at the nodes).
+///
+/// - A node in contact whose predicted normal force pulls (beyond the force
+///   tolerance) is released, unless it was in contact at the iterate and
+///   the iterate settles (`held`, as `decide` holds it). Sticking or
+///   sliding alike: with mu = 10 a sticking node pulled along the target
+///   and sent sliding first (as `decide` does) predicted ten times its pull
+///   along the target, and the Hertz cylinder bisected.
+/// - A free node whose predicted position has penetrated the target (beyond
+///   the length tolerance) closes on the segment it has penetrated.
+/// - A sticking node whose predicted tangential force exceeds its capacity
+///   slides against it; a sliding node whose predicted slip from its anchor
+///   has turned back sticks.
+///
+/// Corner holds are left to the next iterate's decisions.
 #[allow(clippy::too_many_arguments)]
 pub(super) fn predict_pair(
     problem: &Problem,
     pair: &ContactPair,
     poses: &[[f64; 3]],
-    u_new: &[f64],
+    [u_now, u_new]: [&[f64]; 2],
     force_new: &dyn Fn(usize) -> Vector2<f64>,
     mem: &PairMemory,
     decisions: &[Decision],
+    held: Option<&[bool]>,
     tolerance: [f64; 2],
 ) -> Result<Vec<(usize, Forced)>, String> {
-    if pair.mu_s == 0.0 && pair.mu_d == 0.0 {
-        return Ok(Vec::new());
-    }
+    let frictionless = pair.mu_s == 0.0 && pair.mu_d == 0.0;
     let [force_tolerance, length_tolerance] = tolerance;
     let segments = pairs::target_segments(problem, pair, u_new, poses)?;
+    let x_new = pairs::contactor_positions(problem, pair, u_new);
+    let mut h: f64 = 0.0;
+    for w in x_new.windows(2) {
+        h = h.max((w[1] - w[0]).norm());
+    }
     let mut out = Vec::new();
     for (k, d) in decisions.iter().enumerate() {
         let Some((j, cp)) = d.point.as_ref() else {
+            // A free node the solve moves into the target closes.
+            let x = pairs::position(problem, u_now, pair.contactor[k]);
+            let reach = 2.0 * h + (x_new[k] - x).norm();
+            if let Some((j, cp)) = pairs::search(&segments, x_new[k], reach)
+                && cp.normal_overlap() > length_tolerance
+            {
+                let overlap = cp.normal_overlap();
+                out.push((k, Forced::Close { j, overlap }));
+            }
             continue;
         };
+        if d.corner {
+            continue;
+        }
         let node = &mem.nodes[k];
         let f = force_new(pair.contactor[k]);
         let (n_s, n_r) = (cp.segment().normal(), cp.segment().tangent());
         let (p_n, q) = (-n_s.dot(&f), n_r.dot(&f));
-        if p_n <= 0.0 || d.corner {
+        if p_n < -force_tolerance {
+            // While the iterate settles a node in contact at the iterate
+            // is not released on its force (`decide`): nor on the force its
+            // linearisation predicts.
+            if !held.is_some_and(|active| active[k]) {
+                out.push((k, Forced::Open));
+            }
+            continue;
+        }
+        if frictionless || p_n <= 0.0 {
             continue;
         }
         match d.state {
@@ -606,9 +682,9 @@ pub(super) fn predict_pair(
                 let (Some(seg), Some(anchor)) = (segments.get(*j), segments.get(ja)) else {
                     continue;
                 };
-                let x = pairs::position(problem, u_new, pair.contactor[k]);
                 let t = seg.seg.tangent();
-                let slip = t.dot(&(seg.seg.project(x).point() - anchor.seg.point_at(beta_a)));
+                let slip =
+                    t.dot(&(seg.seg.project(x_new[k]).point() - anchor.seg.point_at(beta_a)));
                 if d.slip_sign * slip < -length_tolerance {
                     out.push((k, Forced::Stick));
                 }

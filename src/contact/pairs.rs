@@ -164,6 +164,9 @@ pub struct ContactSystem {
     /// Per pair, the nodal decisions the rows were built from (empty for
     /// the paper's decisions): `predict` and `update` with `keep` start from them.
     pub(crate) decisions: Vec<Vec<super::nodal::Decision>>,
+    /// Per pair (nodal decisions), which nodes were in contact when the
+    /// iterate's decisions were made (`nodal::Plan::Keep`).
+    pub(crate) active: Vec<Vec<bool>>,
 }
 
 /// Per pair, the nodes the linearised problem decides otherwise than the
@@ -175,6 +178,42 @@ impl Switched {
     /// How many nodes change.
     pub fn count(&self) -> usize {
         self.0.iter().map(Vec::len).sum()
+    }
+
+    /// How many nodes open, close, and change between stick and slip.
+    pub fn counts(&self) -> [usize; 3] {
+        let mut c = [0; 3];
+        for &(_, f) in self.0.iter().flatten() {
+            c[match f {
+                super::nodal::Forced::Open => 0,
+                super::nodal::Forced::Close { .. } => 1,
+                _ => 2,
+            }] += 1;
+        }
+        c
+    }
+
+    /// Drops the opening or closing of a node that has opened or closed
+    /// `limit` times in the earlier solves of the same iteration (`flips`,
+    /// per pair and node, updated), so that they cannot cycle.
+    pub fn limit_flips(&mut self, flips: &mut Vec<Vec<usize>>, limit: usize) {
+        flips.resize_with(self.0.len(), Vec::new);
+        for (changes, done) in self.0.iter_mut().zip(flips.iter_mut()) {
+            changes.retain(|&(k, f)| {
+                let flip = matches!(
+                    f,
+                    super::nodal::Forced::Open | super::nodal::Forced::Close { .. }
+                );
+                if !flip {
+                    return true;
+                }
+                if done.len() <= k {
+                    done.resize(k + 1, 0);
+                }
+                done[k] += 1;
+                done[k] <= limit
+            });
+        }
     }
 }
 
@@ -586,17 +625,13 @@ pub(super) fn count_flip(pair: &ContactPair, k: usize, flips: &mut [usize]) -> R
     count_change(pair, k, flips, MAX_FLIPS, "open and contact")
 }
 
-/// Whether the inner solves can change anything: every pair decides
-/// nodally (`update` with `keep` keeps the nodal decisions only) and one has friction.
+/// Whether the inner solves apply: every pair decides nodally (`update`
+/// with `keep` keeps the nodal decisions only).
 pub fn inner_solves(problem: &Problem) -> bool {
     problem
         .contacts
         .iter()
         .all(|p| p.decisions == Decisions::Nodal)
-        && problem
-            .contacts
-            .iter()
-            .any(|p| p.mu_s != 0.0 || p.mu_d != 0.0)
 }
 
 /// A hash of every node's state as it would be after `switched`: the
@@ -611,9 +646,11 @@ pub fn state_key(memory: &[PairMemory], switched: &Switched) -> u64 {
                 .get(p)
                 .and_then(|s| s.iter().find(|(j, _)| *j == k));
             let (state, sign) = match forced {
-                Some((_, super::nodal::Forced::Stick)) => (NodeState::Stick as u8, 0.0),
-                Some((_, super::nodal::Forced::Slip(s))) => (NodeState::Slip as u8, *s),
-                None => (node.state as u8, node.slip_sign),
+                Some((_, super::nodal::Forced::Stick)) => (NodeState::Stick as u64, 0.0),
+                Some((_, super::nodal::Forced::Slip(s))) => (NodeState::Slip as u64, *s),
+                Some((_, super::nodal::Forced::Open)) => (NodeState::Open as u64, 0.0),
+                Some((_, super::nodal::Forced::Close { j, .. })) => (3 + *j as u64, 0.0),
+                None => (node.state as u64, node.slip_sign),
             };
             (state, sign.to_bits()).hash(&mut h);
         }
@@ -631,11 +668,12 @@ pub fn state_key(memory: &[PairMemory], switched: &Switched) -> u64 {
 pub fn predict(
     problem: &Problem,
     poses: &[[f64; 3]],
-    u_new: &[f64],
+    [u_now, u_new]: [&[f64]; 2],
     force_new: &[f64],
     memory: &[PairMemory],
     system: &ContactSystem,
     tolerance: [f64; 2],
+    settling: bool,
 ) -> Result<Option<Switched>, String> {
     if system.decisions.len() != problem.contacts.len() {
         return Ok(None);
@@ -650,10 +688,11 @@ pub fn predict(
             problem,
             pair,
             poses,
-            u_new,
+            [u_now, u_new],
             &force,
             &memory[p],
             &system.decisions[p],
+            settling.then_some(&system.active[p][..]),
             tolerance,
         )?);
     }
@@ -712,6 +751,7 @@ pub fn update(
                     &mut out,
                 )?;
                 out.decisions.push(Vec::new());
+                out.active.push(Vec::new());
                 result
             }
             Decisions::Nodal => super::nodal::update_pair(
@@ -725,6 +765,7 @@ pub fn update(
                     Some((previous, switched)) => super::nodal::Plan::Keep {
                         decisions: &previous.decisions[p],
                         forced: &switched.0[p],
+                        active: &previous.active[p],
                     },
                     None => super::nodal::Plan::Decide,
                 },

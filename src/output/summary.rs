@@ -89,6 +89,7 @@ impl Summary {
             substeps,
             residual: f64::NAN,
             solves: 0,
+            factorizations: 0,
             neqc: 0,
             drivers,
             pairs,

@@ -676,9 +676,13 @@ pub struct Stats {
     pub max: usize,
     /// Linear solves over the run, and the most in one increment (Newton
     /// iterations plus the inner solves of the linearised problem's
-    /// stick/slip states).
+    /// contact states).
     pub solves: usize,
     pub max_solves: usize,
+    /// Numeric factorizations over the run, and the most in one increment
+    /// (an inner solve done with its iteration's factorization adds none).
+    pub factorizations: usize,
+    pub max_factorizations: usize,
     pub bisections: usize,
     pub failures: usize,
 }
@@ -704,6 +708,11 @@ impl Outcome {
             max: iterations.iter().copied().max().unwrap_or(0),
             solves: self.run.steps().map(|s| s.solves).sum(),
             max_solves: self.run.steps().map(|s| s.solves).max().unwrap_or(0),
+            factorizations: self.run.steps().map(|s| s.factorizations).sum(),
+            max_factorizations: (self.run.steps())
+                .map(|s| s.factorizations)
+                .max()
+                .unwrap_or(0),
             bisections: self.run.steps().map(|s| s.substeps).sum(),
             failures: usize::from(self.run.failure.is_some()),
         }
@@ -791,15 +800,15 @@ impl Outcome {
 
     pub fn header() -> String {
         format!(
-            "{:<34} {:<12} {:>6} {:>5} {:>7} {:>4} {:>4} {:>4} {:>5} {:>8}  check: computed / reference (rel. error, tolerance)",
-            "case", "mesh", "dofs", "incr", "it med", "max", "slv", "bis", "fail", "wall s"
+            "{:<34} {:<12} {:>6} {:>5} {:>7} {:>4} {:>4} {:>4} {:>4} {:>5} {:>8}  check: computed / reference (rel. error, tolerance)",
+            "case", "mesh", "dofs", "incr", "it med", "max", "slv", "fac", "bis", "fail", "wall s"
         )
     }
 
     pub fn row(&self) -> String {
         let st = self.stats();
         let mut row = format!(
-            "{:<34} {:<12} {:>6} {:>5} {:>7.1} {:>4} {:>4} {:>4} {:>5} {:>8.3}",
+            "{:<34} {:<12} {:>6} {:>5} {:>7.1} {:>4} {:>4} {:>4} {:>4} {:>5} {:>8.3}",
             self.case,
             self.mesh,
             self.run.dofs,
@@ -807,6 +816,7 @@ impl Outcome {
             st.median,
             st.max,
             st.max_solves,
+            st.max_factorizations,
             st.bisections,
             match &self.run.failure {
                 None => "0".to_string(),

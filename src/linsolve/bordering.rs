@@ -1,0 +1,364 @@
+//! A bordered system solved with the factorization of another one that
+//! differs from it in a few rows: the inner solves of a Newton iteration
+//! (docs/contact.md section 8) change the contact rows of Eq. (18) while the
+//! tangent stays, so each is the factored system `A0` of the iteration with
+//! some multipliers released, some rows added and a few displacement entries
+//! changed (a sliding gradient matrix, Eq. 24). With `E`, `F`, `D` describing
+//! those changes, the system solved is
+//!
+//! ```text
+//! [A0   E] [x0]   [b0]
+//! [F^T  D] [y ] = [h ]
+//! ```
+//!
+//! - a multiplier of `A0` that the new system lacks keeps its row with a
+//!   slack `s` (`E = e_m`) and is held at zero (`F = e_m`, `D = 0`);
+//! - a row the new system adds is a new multiplier `mu` with its column
+//!   (`E`), its row (`F`), its diagonal (`D`: 1 for a row on prescribed dofs
+//!   alone) and its right-hand side (`h`);
+//! - a changed displacement row `i` of the tangent, `Delta_i`, is `z_i =
+//!   Delta_i x` (`E = e_i`, `F = Delta_i^T`, `D = -1`).
+//!
+//! By the Schur complement `S = D - F^T A0^-1 E` (dense, one column of
+//! `A0^-1 E` per change: the solves with the factor are the cost, and
+//! they are kept for the next inner solve of the same iteration).
+
+use nalgebra::{DMatrix, DVector};
+use std::collections::HashMap;
+
+/// A square sparse matrix in CSC form (both triangles, rows sorted).
+#[derive(Clone, Copy)]
+pub(super) struct Csc<'a> {
+    pub col_ptr: &'a [usize],
+    pub row_idx: &'a [usize],
+    pub values: &'a [f64],
+}
+
+impl Csc<'_> {
+    fn n(&self) -> usize {
+        self.col_ptr.len() - 1
+    }
+
+    fn column(&self, j: usize) -> impl Iterator<Item = (usize, f64)> + '_ {
+        let range = self.col_ptr[j]..self.col_ptr[j + 1];
+        self.row_idx[range.clone()]
+            .iter()
+            .copied()
+            .zip(self.values[range].iter().copied())
+    }
+
+    /// `b - A x`.
+    fn residual(&self, x: &[f64], b: &[f64]) -> Vec<f64> {
+        let mut r = b.to_vec();
+        for (j, &xj) in x.iter().enumerate() {
+            for (i, v) in self.column(j) {
+                r[i] -= v * xj;
+            }
+        }
+        r
+    }
+
+    /// The normwise backward error of `x`: `|b - A x|_inf / (|A|_inf
+    /// |x|_inf + |b|_inf)`.
+    fn backward_error(&self, x: &[f64], b: &[f64]) -> f64 {
+        let inf = |v: &[f64]| v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+        let mut rows = vec![0.0f64; self.n()];
+        for j in 0..self.n() {
+            for (i, v) in self.column(j) {
+                rows[i] += v.abs();
+            }
+        }
+        inf(&self.residual(x, b)) / (inf(&rows) * inf(x) + inf(b))
+    }
+}
+
+/// One multiplier of a bordered system: its row and its column over the
+/// displacement unknowns, and its diagonal entry.
+struct Multiplier {
+    row: Vec<(usize, f64)>,
+    column: Vec<(usize, f64)>,
+    diagonal: f64,
+}
+
+impl Multiplier {
+    /// Bit-exact identity: a row the inner solves keep is rebuilt from the
+    /// same decision at the same iterate, entry for entry.
+    fn key(&self) -> Vec<u64> {
+        let mut key = Vec::with_capacity(2 * (self.row.len() + self.column.len()) + 3);
+        for &(i, v) in &self.row {
+            key.extend([i as u64, v.to_bits()]);
+        }
+        key.push(u64::MAX);
+        for &(i, v) in &self.column {
+            key.extend([i as u64, v.to_bits()]);
+        }
+        key.push(u64::MAX);
+        key.push(self.diagonal.to_bits());
+        key
+    }
+}
+
+/// The multipliers (unknowns `n_disp..`) of a bordered matrix.
+fn multipliers(a: Csc, n_disp: usize) -> Vec<Multiplier> {
+    let n = a.n();
+    let mut out: Vec<Multiplier> = (n_disp..n)
+        .map(|_| Multiplier {
+            row: Vec::new(),
+            column: Vec::new(),
+            diagonal: 0.0,
+        })
+        .collect();
+    for j in 0..n {
+        for (i, v) in a.column(j) {
+            match (i >= n_disp, j >= n_disp) {
+                (true, false) => out[i - n_disp].row.push((j, v)),
+                (false, true) => out[j - n_disp].column.push((i, v)),
+                (true, true) if i == j => out[i - n_disp].diagonal = v,
+                // Multipliers are coupled only through the displacements.
+                (true, true) => out[i - n_disp].diagonal = f64::NAN,
+                (false, false) => {}
+            }
+        }
+    }
+    out
+}
+
+/// What distinguishes a column of `E` (for the kept `A0^-1 E`).
+#[derive(Clone, PartialEq, Eq, Hash)]
+enum Change {
+    Released(usize),
+    Added(Vec<u64>),
+    Displacement(usize),
+}
+
+/// The factored system `A0` the inner solves border: its multipliers by
+/// key, and the columns of `A0^-1 E` solved so far.
+pub(super) struct Base {
+    n: usize,
+    n_disp: usize,
+    keys: HashMap<Vec<u64>, Vec<usize>>,
+    solved: HashMap<Change, Vec<f64>>,
+}
+
+impl Base {
+    pub(super) fn new(a0: Csc, n_disp: usize) -> Self {
+        let mut keys: HashMap<Vec<u64>, Vec<usize>> = HashMap::new();
+        for (m, mult) in multipliers(a0, n_disp).iter().enumerate().rev() {
+            keys.entry(mult.key()).or_default().push(m);
+        }
+        Base {
+            n: a0.n(),
+            n_disp,
+            keys,
+            solved: HashMap::new(),
+        }
+    }
+}
+
+/// Why a bordered solve was not done: the caller factors the system itself.
+#[derive(Debug)]
+pub(super) enum NotBordered {
+    /// More changes than `max_rank`.
+    TooMany,
+    /// The Schur complement is singular or the refined solution is off.
+    Unsound,
+}
+
+/// Solves `A1 x = rhs` (in place) with `A0`'s factorization, `solve0`
+/// solving `A0 X = B` in place for `k` columns (column-major, `A0`'s order
+/// each). Returns the number of changes bordered.
+pub(super) fn solve(
+    base: &mut Base,
+    a0: Csc,
+    a1: Csc,
+    rhs: &mut [f64],
+    max_rank: usize,
+    solve0: &mut dyn FnMut(&mut [f64], usize) -> bool,
+) -> Result<usize, NotBordered> {
+    let (n0, nd) = (base.n, base.n_disp);
+    let n1 = a1.n();
+    if nd > n1 {
+        return Err(NotBordered::Unsound);
+    }
+    // The changed displacement rows: Delta = A1 - A0 on the displacements.
+    let mut delta_rows: HashMap<usize, Vec<(usize, f64)>> = HashMap::new();
+    for j in 0..nd {
+        let mut c0 = a0.column(j).filter(|e| e.0 < nd).peekable();
+        let mut c1 = a1.column(j).filter(|e| e.0 < nd).peekable();
+        loop {
+            let (i, d) = match (c0.peek().copied(), c1.peek().copied()) {
+                (None, None) => break,
+                (Some((i, v)), None) => {
+                    c0.next();
+                    (i, -v)
+                }
+                (None, Some((i, v))) => {
+                    c1.next();
+                    (i, v)
+                }
+                (Some((i0, v0)), Some((i1, v1))) => {
+                    if i0 < i1 {
+                        c0.next();
+                        (i0, -v0)
+                    } else if i1 < i0 {
+                        c1.next();
+                        (i1, v1)
+                    } else {
+                        c0.next();
+                        c1.next();
+                        (i0, v1 - v0)
+                    }
+                }
+            };
+            if d != 0.0 {
+                delta_rows.entry(i).or_default().push((j, d));
+            }
+        }
+    }
+    // Multipliers: matched by key, released, added.
+    let new = multipliers(a1, nd);
+    let mut keys = base.keys.clone();
+    let mut matched: Vec<Option<usize>> = Vec::with_capacity(new.len());
+    let mut used = vec![false; n0 - nd];
+    for mult in &new {
+        let m0 = keys.get_mut(&mult.key()).and_then(Vec::pop);
+        if let Some(m) = m0 {
+            used[m] = true;
+        }
+        matched.push(m0);
+    }
+    let mut changes: Vec<Change> = Vec::new();
+    changes.extend((0..n0 - nd).filter(|&m| !used[m]).map(Change::Released));
+    let added: Vec<usize> = (0..new.len()).filter(|&m| matched[m].is_none()).collect();
+    changes.extend(added.iter().map(|&m| Change::Added(new[m].key())));
+    let mut delta: Vec<usize> = delta_rows.keys().copied().collect();
+    delta.sort_unstable();
+    changes.extend(delta.iter().map(|&i| Change::Displacement(i)));
+    let released = n0 - nd - used.iter().filter(|u| **u).count();
+    let r = changes.len();
+    if r > max_rank {
+        return Err(NotBordered::TooMany);
+    }
+    if new.iter().any(|m| m.diagonal.is_nan()) {
+        return Err(NotBordered::Unsound);
+    }
+    // The columns of E, and A0^-1 E for those not solved yet.
+    let column_of = |c: &Change| -> Vec<f64> {
+        let mut e = vec![0.0; n0];
+        match c {
+            Change::Released(m) => e[nd + m] = 1.0,
+            Change::Added(_) => {}
+            Change::Displacement(i) => e[*i] = 1.0,
+        }
+        e
+    };
+    let mut added_iter = added.iter();
+    let mut pending: Vec<(Change, Vec<f64>)> = Vec::new();
+    for c in &changes {
+        let mut e = column_of(c);
+        if let Change::Added(_) = c {
+            let m = *added_iter.next().expect("one per added row");
+            for &(i, v) in &new[m].column {
+                e[i] = v;
+            }
+        }
+        if !base.solved.contains_key(c) {
+            pending.push((c.clone(), e));
+        }
+    }
+    if !pending.is_empty() {
+        let k = pending.len();
+        let mut block = Vec::with_capacity(n0 * k);
+        for (_, e) in &pending {
+            block.extend_from_slice(e);
+        }
+        if !solve0(&mut block, k) || block.iter().any(|v| !v.is_finite()) {
+            return Err(NotBordered::Unsound);
+        }
+        for ((c, _), z) in pending.into_iter().zip(block.chunks(n0)) {
+            base.solved.insert(c, z.to_vec());
+        }
+    }
+    let z: Vec<&Vec<f64>> = changes.iter().map(|c| &base.solved[c]).collect();
+    // F^T v for each change, and D.
+    let f_dot = |q: usize, v: &[f64]| -> f64 {
+        match &changes[q] {
+            Change::Released(m) => v[nd + m],
+            Change::Added(_) => new[added[q - released]]
+                .row
+                .iter()
+                .map(|&(j, c)| c * v[j])
+                .sum(),
+            Change::Displacement(i) => delta_rows[i].iter().map(|&(j, d)| d * v[j]).sum(),
+        }
+    };
+    let d_of = |q: usize| -> f64 {
+        match &changes[q] {
+            Change::Released(_) => 0.0,
+            Change::Added(_) => new[added[q - released]].diagonal,
+            Change::Displacement(_) => -1.0,
+        }
+    };
+    let mut s = DMatrix::<f64>::zeros(r, r);
+    for q in 0..r {
+        for (p, zp) in z.iter().enumerate() {
+            s[(q, p)] = -f_dot(q, zp);
+        }
+        s[(q, q)] += d_of(q);
+    }
+    let lu = s.lu();
+    // One application: b1 (A1's layout) -> x1.
+    let mut apply = |b1: &[f64]| -> Option<Vec<f64>> {
+        let mut w = vec![0.0; n0];
+        w[..nd].copy_from_slice(&b1[..nd]);
+        for (m1, m0) in matched.iter().enumerate() {
+            if let Some(m0) = m0 {
+                w[nd + m0] = b1[nd + m1];
+            }
+        }
+        if !solve0(&mut w, 1) {
+            return None;
+        }
+        let mut h = DVector::<f64>::zeros(r);
+        for q in 0..r {
+            let hq = match &changes[q] {
+                Change::Added(_) => b1[nd + added[q - released]],
+                _ => 0.0,
+            };
+            h[q] = hq - f_dot(q, &w);
+        }
+        let y = lu.solve(&h)?;
+        for (p, zp) in z.iter().enumerate() {
+            let yp = y[p];
+            for (wi, zi) in w.iter_mut().zip(zp.iter()) {
+                *wi -= zi * yp;
+            }
+        }
+        let mut x1 = vec![0.0; n1];
+        x1[..nd].copy_from_slice(&w[..nd]);
+        for (m1, m0) in matched.iter().enumerate() {
+            if let Some(m0) = m0 {
+                x1[nd + m1] = w[nd + m0];
+            }
+        }
+        for (q, &m1) in added.iter().enumerate() {
+            x1[nd + m1] = y[released + q];
+        }
+        Some(x1)
+    };
+    // One step of refinement against A1 itself, then its normwise backward
+    // error, accepted below the factored solves' `LDLT_BACKWARD_ERROR`.
+    let b = rhs.to_vec();
+    let mut x = apply(&b).ok_or(NotBordered::Unsound)?;
+    let dx = apply(&a1.residual(&x, &b)).ok_or(NotBordered::Unsound)?;
+    for (xi, di) in x.iter_mut().zip(&dx) {
+        *xi += di;
+    }
+    let backward = a1.backward_error(&x, &b);
+    // (NaN fails too.)
+    if backward.is_nan() || backward > super::LDLT_BACKWARD_ERROR {
+        return Err(NotBordered::Unsound);
+    }
+    rhs.copy_from_slice(&x);
+    Ok(r)
+}
