@@ -185,6 +185,10 @@ pub struct Solver {
     linearization: Option<sensitivity::Linearization>,
     /// Factorizations of converged tangents for the sensitivities.
     sensitivity_factorizations: usize,
+    /// The increment being solved leaves opening and closing to the
+    /// iterate's decisions: its inner solves change stick and slip only
+    /// (the fallback of `advance`).
+    iterate_opens: bool,
 }
 
 impl Solver {
@@ -287,6 +291,7 @@ impl Solver {
             k_max: 0.0,
             linearization: None,
             sensitivity_factorizations: 0,
+            iterate_opens: false,
         })
     }
 
@@ -435,6 +440,7 @@ impl Solver {
         let mut bisections = 0;
         let mut iterations = 0;
         let mut solves = 0;
+        let mut fallbacks = 0;
         let mut residual = 0.0;
         while let Some(&t) = targets.last() {
             let from = Ramp {
@@ -445,7 +451,30 @@ impl Solver {
                 forces0: &start.driver_forces,
                 pressures0: &start.pressures,
             };
-            match self.increment(t, &from, log) {
+            let mut attempt = self.increment(t, &from, log);
+            // The inner solves open and close nodes on the linearised
+            // problem, which can be far from the body's (a strip held on a
+            // drum by its own tension has no stiffness across the drum
+            // until it is stretched: the first solve pulls it off at many
+            // nodes and the next turns its elements inside out). An
+            // increment they fail is tried again, before it is halved,
+            // with opening and closing decided on the iterate only.
+            if let Err(reason) = &attempt
+                && pairs::inner_solves(&self.problem)
+            {
+                log(
+                    LogCategory::Warning,
+                    &format!(
+                        "increment to t = {t} failed ({reason}); trying it again with \
+                             opening and closing decided on the iterate only"
+                    ),
+                );
+                self.iterate_opens = true;
+                attempt = self.increment(t, &from, log);
+                self.iterate_opens = false;
+                fallbacks += 1;
+            }
+            match attempt {
                 Ok(c) => {
                     iterations += c.iterations;
                     solves += c.solves;
@@ -492,6 +521,7 @@ impl Solver {
             iterations,
             solves,
             factorizations: self.factorizations() - factorizations,
+            fallbacks,
             substeps: bisections,
             residual,
             neqc: self.contact.as_ref().map_or(0, |c| c.neqc()),
@@ -1152,7 +1182,8 @@ impl Solver {
             let Some(mut switched) = self.linearised_states(step, sys, &full, memory)? else {
                 break full;
             };
-            switched.limit_flips(&mut flipped, INNER_FLIPS);
+            let flips_allowed = if self.iterate_opens { 0 } else { INNER_FLIPS };
+            switched.limit_flips(&mut flipped, flips_allowed);
             if switched.count() == 0 {
                 break full;
             }

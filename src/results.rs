@@ -156,6 +156,11 @@ pub struct StepResult {
     /// written to the summary.
     #[serde(skip)]
     pub factorizations: usize,
+    /// Increments the inner solves failed and the iterate's decisions
+    /// alone then solved or failed too (`Solver::advance`). Not written to
+    /// the summary.
+    #[serde(skip)]
+    pub fallbacks: usize,
     /// Final relative force residual.
     pub residual: f64,
     /// Number of contact equations (0 until contact exists).

@@ -292,6 +292,7 @@ fn converged_step() -> StepResult {
         substeps: 1,
         solves: 3,
         factorizations: 3,
+        fallbacks: 0,
         residual: 1.5e-11,
         neqc: 0,
         // Not in alphabetical order: the file keeps this order.
@@ -453,6 +454,7 @@ fn summary_of_a_step_with_a_pair_and_a_rigid_target() {
         substeps: 0,
         solves: 4,
         factorizations: 4,
+        fallbacks: 0,
         residual: 2.5e-10,
         neqc: 3,
         drivers: vec![

@@ -839,6 +839,7 @@ mod tests {
             substeps: 0,
             solves: 3,
             factorizations: 2,
+            fallbacks: 0,
             residual: 1e-9,
             neqc: 4,
             drivers: vec![

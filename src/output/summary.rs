@@ -90,6 +90,7 @@ impl Summary {
             residual: f64::NAN,
             solves: 0,
             factorizations: 0,
+            fallbacks: 0,
             neqc: 0,
             drivers,
             pairs,

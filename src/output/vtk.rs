@@ -200,9 +200,37 @@ impl<'a> Piece<'a> {
     }
 
     fn write_to<W: Write>(&self, w: &mut W) -> io::Result<()> {
-        // The XML names each array's offset into the appended data, which
-        // follows it.
-        let mut appended = Vec::new();
+        let xyz: Vec<f64> = self.points.iter().flat_map(|p| [p[0], p[1], 0.0]).collect();
+        let points = [DataArray::vector("Points", &xyz)];
+        let cells = [
+            DataArray::scalar("connectivity", Values::I64(&self.connectivity)),
+            DataArray::scalar("offsets", Values::I64(&self.offsets)),
+            DataArray::scalar("types", Values::U8(&self.types)),
+        ];
+        let data = [
+            ("PointData", &self.point_data[..]),
+            ("CellData", &self.cell_data[..]),
+        ];
+        // The appended data holds the arrays in the reverse of their order
+        // in the XML. Any order is valid VTK; this one is read right by
+        // meshio 5.3, which maps each array's offset to its new place one
+        // array at a time and looks the next one up by its offset: an
+        // earlier array's new offset can equal a later one's, and in XML
+        // order the earlier array is found first (a contact surface's `tn`
+        // was read as its `slip`).
+        let in_order = (points.iter().chain(&cells)).chain(data.iter().flat_map(|(_, d)| d.iter()));
+        let encoded: Vec<Vec<u8>> = in_order
+            .map(|a| encode(&a.values))
+            .collect::<io::Result<_>>()?;
+        let mut offsets = vec![0; encoded.len()];
+        let mut at = 0;
+        for (k, e) in encoded.iter().enumerate().rev() {
+            offsets[k] = at;
+            at += e.len();
+        }
+        let mut offsets = offsets.into_iter();
+        let mut next = || offsets.next().unwrap_or_default();
+
         writeln!(w, r#"<?xml version="1.0"?>"#)?;
         writeln!(
             w,
@@ -216,22 +244,14 @@ impl<'a> Piece<'a> {
             self.types.len()
         )?;
         writeln!(w, "<Points>")?;
-        let xyz: Vec<f64> = self.points.iter().flat_map(|p| [p[0], p[1], 0.0]).collect();
-        write_array(w, &DataArray::vector("Points", &xyz), &mut appended)?;
+        write_array(w, &points[0], next())?;
         writeln!(w, "</Points>")?;
         writeln!(w, "<Cells>")?;
-        for (name, values) in [
-            ("connectivity", Values::I64(&self.connectivity)),
-            ("offsets", Values::I64(&self.offsets)),
-            ("types", Values::U8(&self.types)),
-        ] {
-            write_array(w, &DataArray::scalar(name, values), &mut appended)?;
+        for a in &cells {
+            write_array(w, a, next())?;
         }
         writeln!(w, "</Cells>")?;
-        for (tag, data) in [
-            ("PointData", &self.point_data),
-            ("CellData", &self.cell_data),
-        ] {
+        for (tag, data) in data {
             if data.is_empty() {
                 continue;
             }
@@ -246,7 +266,7 @@ impl<'a> Piece<'a> {
             }
             writeln!(w, ">")?;
             for a in data {
-                write_array(w, a, &mut appended)?;
+                write_array(w, a, next())?;
             }
             writeln!(w, "</{tag}>")?;
         }
@@ -255,18 +275,18 @@ impl<'a> Piece<'a> {
         // Raw bytes after the underscore, up to the newline before the
         // closing tag.
         w.write_all(b"<AppendedData encoding=\"raw\">\n_")?;
-        w.write_all(&appended)?;
+        for e in encoded.iter().rev() {
+            w.write_all(e)?;
+        }
         writeln!(w, "\n</AppendedData>")?;
         writeln!(w, "</VTKFile>")?;
         Ok(())
     }
 }
 
-/// The XML of one DataArray, `format="appended"`, and its data added to
-/// `appended`: the compression header (block count, block size, size of a
-/// partial last block, each block's compressed size; UInt64), then the
-/// zlib-compressed blocks.
-fn write_array<W: Write>(w: &mut W, a: &DataArray, appended: &mut Vec<u8>) -> io::Result<()> {
+/// The XML of one DataArray, `format="appended"` at `offset` into the
+/// appended data.
+fn write_array<W: Write>(w: &mut W, a: &DataArray, offset: usize) -> io::Result<()> {
     write!(w, r#"<DataArray type="{}" Name=""#, a.values.vtk_type())?;
     write_escaped(w, a.name)?;
     w.write_all(b"\"")?;
@@ -279,8 +299,14 @@ fn write_array<W: Write>(w: &mut W, a: &DataArray, appended: &mut Vec<u8>) -> io
             w.write_all(b"\"")?;
         }
     }
-    writeln!(w, r#" format="appended" offset="{}"/>"#, appended.len())?;
-    let raw = a.values.bytes();
+    writeln!(w, r#" format="appended" offset="{offset}"/>"#)
+}
+
+/// An array's appended data: the compression header (block count, block
+/// size, size of a partial last block, each block's compressed size;
+/// UInt64), then the zlib-compressed blocks.
+fn encode(values: &Values) -> io::Result<Vec<u8>> {
+    let raw = values.bytes();
     let mut header = vec![
         raw.len().div_ceil(BLOCK) as u64,
         BLOCK as u64,
@@ -294,9 +320,9 @@ fn write_array<W: Write>(w: &mut W, a: &DataArray, appended: &mut Vec<u8>) -> io
         header.push(compressed.len() as u64);
         blocks.extend_from_slice(&compressed);
     }
-    appended.extend(header.iter().flat_map(|x| x.to_le_bytes()));
-    appended.extend_from_slice(&blocks);
-    Ok(())
+    let mut out: Vec<u8> = header.iter().flat_map(|x| x.to_le_bytes()).collect();
+    out.extend_from_slice(&blocks);
+    Ok(out)
 }
 
 /// Writes `mesh` in its reference configuration with the nodal displacements
