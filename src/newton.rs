@@ -189,6 +189,9 @@ pub struct Solver {
     /// iterate's decisions: its inner solves change stick and slip only
     /// (the fallback of `advance`).
     iterate_opens: bool,
+    /// Nodes the inner solves opened or closed since `advance` last reset
+    /// it (an increment they did not touch gains nothing from the fallback).
+    inner_flips: usize,
 }
 
 impl Solver {
@@ -292,6 +295,7 @@ impl Solver {
             linearization: None,
             sensitivity_factorizations: 0,
             iterate_opens: false,
+            inner_flips: 0,
         })
     }
 
@@ -451,6 +455,7 @@ impl Solver {
                 forces0: &start.driver_forces,
                 pressures0: &start.pressures,
             };
+            self.inner_flips = 0;
             let mut attempt = self.increment(t, &from, log);
             // The inner solves open and close nodes on the linearised
             // problem, which can be far from the body's (a strip held on a
@@ -458,9 +463,10 @@ impl Solver {
             // until it is stretched: the first solve pulls it off at many
             // nodes and the next turns its elements inside out). An
             // increment they fail is tried again, before it is halved,
-            // with opening and closing decided on the iterate only.
+            // with opening and closing decided on the iterate only (if they
+            // opened or closed a node).
             if let Err(reason) = &attempt
-                && pairs::inner_solves(&self.problem)
+                && self.inner_flips > 0
             {
                 log(
                     LogCategory::Warning,
@@ -1195,8 +1201,9 @@ impl Solver {
             }
             seen.push(key);
             inner += 1;
+            let [opened, closed, slips] = switched.counts();
+            self.inner_flips += opened + closed;
             log(LogCategory::Contact, &{
-                let [opened, closed, slips] = switched.counts();
                 format!(
                     "t = {t:.6e} it {it}: solve {inner}: the linearised problem opens {opened}, \
                          closes {closed} and changes {slips} between stick and slip"
