@@ -17,6 +17,7 @@ use faer::sparse::linalg::cholesky::{
 use faer::sparse::linalg::solvers::{Llt, Lu, SymbolicLlt, SymbolicLu};
 use faer::sparse::{FaerError, SparseColMatRef, SymbolicSparseColMat, SymbolicSparseColMatRef};
 use faer::{Conj, MatMut, Par, Side};
+use std::time::{Duration, Instant};
 
 #[derive(Debug, thiserror::Error)]
 pub enum LinearError {
@@ -40,6 +41,33 @@ enum Factor {
     Lu(Box<Lu<usize, f64>>),
 }
 
+/// Wall time of the linear algebra by phase, summed over its calls (the
+/// benchmark's split, issue 14).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct LinearTimes {
+    /// Building the bordered matrix (contact rows sorted into the tangent's
+    /// columns) and its symmetry check.
+    pub system: Duration,
+    /// Fill-reducing ordering and symbolic factorization.
+    pub symbolic: Duration,
+    /// Numeric factorization.
+    pub numeric: Duration,
+    /// Triangular solves, refinement and backward errors, bordered solves.
+    pub solve: Duration,
+}
+
+impl LinearTimes {
+    /// The sum of two tallies.
+    pub fn plus(self, o: LinearTimes) -> LinearTimes {
+        LinearTimes {
+            system: self.system + o.system,
+            symbolic: self.symbolic + o.symbolic,
+            numeric: self.numeric + o.numeric,
+            solve: self.solve + o.solve,
+        }
+    }
+}
+
 pub struct LinearSolver {
     symbolic: SymbolicSparseColMat<usize>,
     llt: Option<SymbolicLlt<usize>>,
@@ -48,6 +76,7 @@ pub struct LinearSolver {
     /// Start with LLT (symmetric tangent); switches to LU for good on a failed LLT.
     try_llt: bool,
     pub factorizations: usize,
+    pub times: LinearTimes,
 }
 
 impl LinearSolver {
@@ -61,6 +90,7 @@ impl LinearSolver {
             factor: None,
             try_llt: symmetric,
             factorizations: 0,
+            times: LinearTimes::default(),
         })
     }
 
@@ -78,12 +108,17 @@ impl LinearSolver {
         self.factorizations += 1;
         if self.try_llt {
             if self.llt.is_none() {
+                let clock = Instant::now();
                 let s = SymbolicLlt::try_new(self.symbolic.as_ref(), Side::Lower)
                     .map_err(|e| LinearError::Factorization(format!("{e:?}")))?;
                 self.llt = Some(s);
+                self.times.symbolic += clock.elapsed();
             }
+            let clock = Instant::now();
             let sym = self.llt.clone().expect("set above");
-            match Llt::try_new_with_symbolic(sym, mat, Side::Lower) {
+            let llt = Llt::try_new_with_symbolic(sym, mat, Side::Lower);
+            self.times.numeric += clock.elapsed();
+            match llt {
                 Ok(f) => {
                     self.factor = Some(Factor::Llt(f));
                     return Ok(());
@@ -92,19 +127,24 @@ impl LinearSolver {
             }
         }
         if self.lu.is_none() {
+            let clock = Instant::now();
             let s = SymbolicLu::try_new(self.symbolic.as_ref())
                 .map_err(|e| LinearError::Factorization(format!("{e:?}")))?;
             self.lu = Some(s);
+            self.times.symbolic += clock.elapsed();
         }
+        let clock = Instant::now();
         let sym = self.lu.clone().expect("set above");
         let f = Lu::try_new_with_symbolic(sym, mat)
             .map_err(|e| LinearError::Factorization(format!("{e:?}")))?;
         self.factor = Some(Factor::Lu(Box::new(f)));
+        self.times.numeric += clock.elapsed();
         Ok(())
     }
 
     /// Solve in place with the last factorization.
-    pub fn solve(&self, rhs: &mut [f64]) -> Result<(), LinearError> {
+    pub fn solve(&mut self, rhs: &mut [f64]) -> Result<(), LinearError> {
+        let clock = Instant::now();
         let n = rhs.len();
         let m = MatMut::from_column_major_slice_mut(rhs, n, 1);
         match &self.factor {
@@ -112,6 +152,7 @@ impl LinearSolver {
             Some(Factor::Lu(f)) => f.solve_in_place(m),
             None => return Err(LinearError::Factorization("no factorization".into())),
         }
+        self.times.solve += clock.elapsed();
         if rhs.iter().any(|v| !v.is_finite()) {
             return Err(LinearError::NonFinite);
         }
@@ -172,6 +213,7 @@ pub struct Augmented {
     /// Solves done with the kept factorization of another system
     /// (`solve_modified`).
     pub bordered: usize,
+    pub times: LinearTimes,
 }
 
 /// The factorization of the last system `solve` factored (LDLT: the
@@ -213,6 +255,7 @@ impl Augmented {
         rhs: &mut [f64],
     ) -> Result<(), LinearError> {
         self.kept = None;
+        let clock = Instant::now();
         let n = rhs.len();
         let old_ptr = std::mem::take(&mut self.col_ptr);
         let old_idx = std::mem::take(&mut self.row_idx);
@@ -241,17 +284,20 @@ impl Augmented {
             });
         }
         let analysis = self.analysis.as_mut().expect("set above");
-
-        if !self.force_lu
+        let symmetric = !self.force_lu
             && !analysis.ldlt_failed
-            && is_symmetric(&self.col_ptr, &self.row_idx, &self.values)
-        {
+            && is_symmetric(&self.col_ptr, &self.row_idx, &self.values);
+        self.times.system += clock.elapsed();
+
+        if symmetric {
             if analysis.ldlt.is_none() {
+                let clock = Instant::now();
                 self.analyses += 1;
                 match analyse_ldlt(analysis.mat.as_ref(), n_disp) {
                     Ok(s) => analysis.ldlt = Some(s),
                     Err(_) => analysis.ldlt_failed = true,
                 }
+                self.times.symbolic += clock.elapsed();
             }
             if let Some((symbolic, mem)) = analysis.ldlt.as_mut() {
                 self.factorizations += 1;
@@ -264,6 +310,7 @@ impl Augmented {
                     n_disp,
                     rhs,
                     &mut self.x,
+                    &mut self.times,
                 ) {
                     rhs.copy_from_slice(&self.x);
                     self.ldlt += 1;
@@ -276,17 +323,23 @@ impl Augmented {
         }
 
         if analysis.lu.is_none() {
+            let clock = Instant::now();
             self.analyses += 1;
             let lu = SymbolicLu::try_new(analysis.mat.as_ref())
                 .map_err(|e| LinearError::Factorization(format!("{e:?}")))?;
             analysis.lu = Some(lu);
+            self.times.symbolic += clock.elapsed();
         }
+        let clock = Instant::now();
         let lu = analysis.lu.clone().expect("set above");
         let mat = SparseColMatRef::new(analysis.mat.as_ref(), &self.values);
         self.factorizations += 1;
         let f = Lu::try_new_with_symbolic(lu, mat)
             .map_err(|e| LinearError::Factorization(format!("{e:?}")))?;
+        self.times.numeric += clock.elapsed();
+        let clock = Instant::now();
         f.solve_in_place(MatMut::from_column_major_slice_mut(rhs, n, 1));
+        self.times.solve += clock.elapsed();
         if rhs.iter().any(|v| !v.is_finite()) {
             return Err(LinearError::NonFinite);
         }
@@ -313,6 +366,20 @@ impl Augmented {
     /// `bordering`). False when it cannot (nothing kept, too many changes,
     /// a singular or inaccurate bordered solve): then `solve` it.
     pub fn solve_modified(
+        &mut self,
+        pattern: &Pattern,
+        k: &[f64],
+        extra: &mut [(usize, usize, f64)],
+        rhs: &mut [f64],
+        max_rank: usize,
+    ) -> bool {
+        let clock = Instant::now();
+        let done = self.border_kept(pattern, k, extra, rhs, max_rank);
+        self.times.solve += clock.elapsed();
+        done
+    }
+
+    fn border_kept(
         &mut self,
         pattern: &Pattern,
         k: &[f64],
@@ -350,6 +417,13 @@ impl Augmented {
                 let Some((symbolic, _)) = analysis.and_then(|a| a.ldlt.as_ref()) else {
                     return false;
                 };
+                // Each change costs a triangular solve, about 2 nnz(L)
+                // flops; the factorization at least nnz(L)^2 / n (the sum
+                // of the squared column counts): bordered, r changes cost
+                // half a factorization at r = nnz(L) / (4 n). Measured on
+                // Hertz at 1e5 unknowns: nnz(L) / n = 107, one triangular
+                // solve 1/50 of a factorization.
+                let max_rank = max_rank.min(symbolic.len_val() / (4 * n).max(1)).max(1);
                 let mut solve0 = |block: &mut [f64], cols: usize| {
                     let rows = symbolic.nrows();
                     let req = symbolic.solve_in_place_scratch::<f64>(cols, Par::Seq);
@@ -603,12 +677,13 @@ fn solve_ldlt(
     n_disp: usize,
     b: &[f64],
     x: &mut Vec<f64>,
+    times: &mut LinearTimes,
 ) -> bool {
-    let n = b.len();
+    let clock = Instant::now();
     l_values.clear();
     l_values.resize(symbolic.len_val(), 0.0);
     let stack = MemStack::new(mem);
-    let Ok(ldlt) = symbolic.factorize_numeric_ldlt(
+    let ldlt = symbolic.factorize_numeric_ldlt(
         l_values,
         a,
         Side::Lower,
@@ -616,9 +691,25 @@ fn solve_ldlt(
         Par::Seq,
         stack,
         Default::default(),
-    ) else {
-        return false;
-    };
+    );
+    times.numeric += clock.elapsed();
+    let clock = Instant::now();
+    let done = ldlt.is_ok_and(|ldlt| refined_ldlt_solve(ldlt, stack, n_disp, a, b, x));
+    times.solve += clock.elapsed();
+    done
+}
+
+/// The solve of `a x = b` into `x` with the factor `ldlt` of `a`, checked
+/// and refined (`solve_ldlt`).
+fn refined_ldlt_solve(
+    ldlt: faer::sparse::linalg::cholesky::LdltRef<'_, usize, f64>,
+    stack: &mut MemStack,
+    n_disp: usize,
+    a: SparseColMatRef<'_, usize, f64>,
+    b: &[f64],
+    x: &mut Vec<f64>,
+) -> bool {
+    let n = b.len();
     x.clear();
     x.extend_from_slice(b);
     ldlt.solve_in_place_with_conj(

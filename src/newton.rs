@@ -7,10 +7,11 @@
 use crate::assembly::{Model, PRESCRIBED, Workspace};
 use crate::constraint::TieResult;
 use crate::contact::pairs::{self, ContactSystem, Flips, PairMemory, Switched};
-use crate::linsolve::{Augmented, LinearSolver};
+use crate::linsolve::{Augmented, LinearSolver, LinearTimes};
 use crate::problem::Problem;
 use crate::results::{DriverResult, LogCategory, StepResult};
 use crate::state::State;
+use std::time::{Duration, Instant};
 
 mod sensitivity;
 pub use sensitivity::{Input, Response};
@@ -27,10 +28,18 @@ const MAX_INNER: usize = 50;
 /// Times a node may open or close in one iteration's inner solves.
 const INNER_FLIPS: usize = 1;
 
-/// Rows and displacement entries by which an inner solve's system may
-/// differ from the iteration's factored one and still be solved with its
-/// factorization (`Augmented::solve_modified`); beyond, it is factored.
-const MAX_BORDERED: usize = 256;
+/// Rows and displacement entries by which an inner solve's system of order
+/// n may differ from the iteration's factored one and still be solved with
+/// its factorization (`Augmented::solve_modified`); beyond, it is factored.
+/// A bordered solve of rank r costs about r + 4 triangular solves and a
+/// dense r x r Schur complement formed against n entries per column, r^2 n;
+/// a 2D mesh's sparse factorization costs about n^1.5: bordering pays while
+/// r stays below about sqrt(n). Measured on the capstan at 516 unknowns
+/// (LU: the strip is held by contact alone), a limit of 256 made its inner
+/// solves border at up to 1 ms each against 0.37 ms for a factorization.
+fn max_bordered(n: usize) -> usize {
+    ((n as f64).sqrt().ceil() as usize).min(256)
+}
 
 /// An iterate is still settling while the correction that reached it is
 /// above this fraction of the increment's first correction (and always
@@ -149,6 +158,61 @@ struct Converged {
     residual: f64,
 }
 
+/// Where a solver's time went since it was made, by phase (the benchmarks'
+/// split, issue 14). `total` is the wall time inside `advance`; what the
+/// phases leave of it is the iteration's own work (residual norms,
+/// convergence tests, copies of the iterate).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Phases {
+    /// Element internal forces and tangents.
+    pub assembly: Duration,
+    /// Contact search, force recovery, decisions and rows, and the inner
+    /// solves' predictions of the linearised problem's states.
+    pub contact: Duration,
+    /// Building, ordering, factoring and solving the linear systems.
+    pub linear: LinearTimes,
+    pub total: Duration,
+    /// Numeric factorizations of the increments' systems (the
+    /// sensitivities' not counted).
+    pub factorizations: usize,
+    /// Symbolic analyses of bordered systems (a new contact pattern).
+    pub analyses: usize,
+    /// Bordered systems solved by LDLT, by LU, and without a factorization
+    /// of their own (an inner solve bordering its iteration's factor).
+    pub ldlt: usize,
+    pub lu: usize,
+    pub bordered: usize,
+}
+
+impl Phases {
+    /// The phases as percentages of the time inside `advance`, one line.
+    pub fn split(&self) -> String {
+        let total = self.total.as_secs_f64().max(f64::MIN_POSITIVE);
+        let parts = [
+            ("assembly", self.assembly),
+            ("contact", self.contact),
+            ("system", self.linear.system),
+            ("symbolic", self.linear.symbolic),
+            ("numeric", self.linear.numeric),
+            ("solve", self.linear.solve),
+        ];
+        let named: Duration = parts.iter().map(|(_, d)| *d).sum();
+        let rest = self.total.saturating_sub(named);
+        (parts.iter().chain([&("rest", rest)]))
+            .map(|(name, d)| format!("{name} {:.1}", 100.0 * d.as_secs_f64() / total))
+            .collect::<Vec<_>>()
+            .join("  ")
+    }
+}
+
+/// The solver's own part of [`Phases`].
+#[derive(Clone, Copy, Debug, Default)]
+struct SolverTimes {
+    assembly: Duration,
+    contact: Duration,
+    total: Duration,
+}
+
 pub struct Solver {
     problem: Problem,
     /// Driver forces of the increment being solved (`driver_forces`).
@@ -189,6 +253,8 @@ pub struct Solver {
     /// iterate's decisions: its inner solves change stick and slip only
     /// (the fallback of `advance`).
     iterate_opens: bool,
+    /// Wall time of assembly and contact, summed (`phases`).
+    times: SolverTimes,
     /// Nodes the inner solves opened or closed since `advance` last reset
     /// it (an increment they did not touch gains nothing from the fallback).
     inner_flips: usize,
@@ -296,6 +362,7 @@ impl Solver {
             sensitivity_factorizations: 0,
             iterate_opens: false,
             inner_flips: 0,
+            times: SolverTimes::default(),
         })
     }
 
@@ -335,6 +402,21 @@ impl Solver {
     }
 
     /// Number of numeric factorizations done so far.
+    /// Where the time of every `advance` so far went.
+    pub fn phases(&self) -> Phases {
+        Phases {
+            assembly: self.times.assembly,
+            contact: self.times.contact,
+            linear: self.linear.times.plus(self.augmented.times),
+            total: self.times.total,
+            factorizations: self.linear.factorizations + self.augmented.factorizations,
+            analyses: self.augmented.analyses,
+            ldlt: self.augmented.ldlt,
+            lu: self.augmented.lu,
+            bordered: self.augmented.bordered,
+        }
+    }
+
     pub fn factorizations(&self) -> usize {
         self.linear.factorizations + self.augmented.factorizations + self.sensitivity_factorizations
     }
@@ -427,6 +509,17 @@ impl Solver {
     /// `solver.max_bisections` times; on error the state stays at the last
     /// converged time.
     pub fn advance(
+        &mut self,
+        t_end: f64,
+        log: &mut dyn FnMut(LogCategory, &str),
+    ) -> Result<StepResult, SolveError> {
+        let clock = Instant::now();
+        let result = self.advance_to(t_end, log);
+        self.times.total += clock.elapsed();
+        result
+    }
+
+    fn advance_to(
         &mut self,
         t_end: f64,
         log: &mut dyn FnMut(LogCategory, &str),
@@ -941,7 +1034,9 @@ impl Solver {
         let (t, it) = (step.t, step.it);
         let pred = if it == 0 { Some((step.dup, kdu)) } else { None };
         let k = if need_k { Some(&mut self.k[..]) } else { None };
-        self.model
+        let clock = Instant::now();
+        let assembled = self
+            .model
             .assemble(
                 &self.problem,
                 t,
@@ -953,7 +1048,9 @@ impl Solver {
                 pred,
                 &mut self.ws,
             )
-            .map_err(|e| e.to_string())?;
+            .map_err(|e| e.to_string());
+        self.times.assembly += clock.elapsed();
+        assembled?;
         subtract_loads(&self.problem, &self.step_forces, lambda, &mut self.r);
         let contact = if !self.problem.contacts.is_empty() {
             Some(self.contact_update(step, None, memory, flips, log)?)
@@ -1154,7 +1251,7 @@ impl Solver {
                     &self.k,
                     extra,
                     &mut full,
-                    MAX_BORDERED,
+                    max_bordered(n),
                 );
             let solved = if bordered {
                 Ok(())
@@ -1185,7 +1282,10 @@ impl Solver {
             else {
                 break full;
             };
-            let Some(mut switched) = self.linearised_states(step, sys, &full, memory)? else {
+            let clock = Instant::now();
+            let predicted = self.linearised_states(step, sys, &full, memory);
+            self.times.contact += clock.elapsed();
+            let Some(mut switched) = predicted? else {
                 break full;
             };
             let flips_allowed = if self.iterate_opens { 0 } else { INNER_FLIPS };
@@ -1272,7 +1372,7 @@ impl Solver {
     /// the switched nodes' states and every other node's decision kept in
     /// the system given: the tangent and `r` do not change.
     fn contact_update(
-        &self,
+        &mut self,
         step: &Step,
         keep: Option<(&ContactSystem, &Switched)>,
         memory: &mut [PairMemory],
@@ -1286,7 +1386,8 @@ impl Solver {
             poses: &self.state.rigid,
             settling: step.settling,
         };
-        pairs::update(
+        let clock = Instant::now();
+        let updated = pairs::update(
             &self.problem,
             step.poses,
             step.u,
@@ -1297,7 +1398,9 @@ impl Solver {
             flips,
             &mut clog,
             keep,
-        )
+        );
+        self.times.contact += clock.elapsed();
+        updated
     }
 
     /// The constraint rows of Eq. (18) into `extra` (triplets beside K) and

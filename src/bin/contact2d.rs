@@ -435,6 +435,19 @@ fn run(scene: &Path, o: &RunOptions) -> ExitCode {
             Err(e) => errors.push(format!("cannot write {}: {e}", path.display())),
         }
     }
+    let p = solver.phases();
+    out.line(
+        Verbosity::Verbose,
+        &format!(
+            "time by phase (%): {}; {} factorizations ({} LDLT, {} LU), {} bordered solves, {} symbolic analyses",
+            p.split(),
+            p.factorizations,
+            p.ldlt,
+            p.lu,
+            p.bordered,
+            p.analyses
+        ),
+    );
     if errors.is_empty() {
         let done = format!(
             "done: {} increments in {:.3} s",
