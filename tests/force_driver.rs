@@ -299,3 +299,59 @@ fn a_distribution_needs_a_force_and_a_rigid_set_its_own_nodes() {
     );
     contact2d::scene::parse(&text, Path::new("scenes/bar.toml")).unwrap();
 }
+
+/// The winding machine's capstan with both strip ends pulled by forces
+/// (T1 = 10 N on the slack end, T2 = 12 N on the tight end, at once): the
+/// strip is held along the drum by its tension and friction alone. The
+/// default inner solves (opening and closing on the linearised problem)
+/// fail it; `advance` then solves the increment again with opening and
+/// closing decided on the iterate (`StepResult::fallbacks`), without
+/// halving it. The converged state: the drum holds both forces, the
+/// contact conditions hold, and as T2 / T1 = 1.2 < exp(mu pi) = 2.19 part
+/// of the wrap sticks, the friction's moment balances the ends', and
+/// |Ft| <= mu Fn.
+#[test]
+fn capstan_held_by_two_forces_converges_through_the_fallback() {
+    use common::stress::{Frame, check_contact_conditions};
+    let (text, path) = common::scene_text(
+        "../examples/winding_machine/capstan.toml",
+        &[("uy = 0.0", "fy = -12.0")],
+    );
+    let problem = contact2d::scene::parse(&text, &path).unwrap();
+    let mut solver = Solver::new(problem).unwrap();
+    let before = Frame::at_rest(&solver);
+    let step = solver.advance(1.0, &mut |_, _| {}).unwrap();
+    assert_eq!(step.substeps, 0);
+    assert_eq!(
+        step.fallbacks, 1,
+        "the inner solves alone now converge it: drop the note in README"
+    );
+    assert!(step.iterations <= 15, "{} iterations", step.iterations);
+    let drum = &step.drivers.iter().find(|d| d.0 == "drum").unwrap().1;
+    assert!((drum.ry + 22.0).abs() <= 1e-9 * 22.0, "{drum:?}");
+    let wrap = &step.pairs[0].1;
+    assert!(wrap.n_stick > 0, "{wrap:?}");
+    // The drum's moment balances the ends' forces, T2 - T1 = 2 N along
+    // lines between R = 100 and R + 1 (the strip's thickness); it is the
+    // friction's, Ft R, but for the normal forces' arms: a chord's normal
+    // passes through the centre at its midpoint only, up to half a chord
+    // (225 degrees in 5120 chords) from the contact point.
+    let r = 100.000001;
+    let mz = drum.mz.unwrap();
+    assert!((200.0..=202.0).contains(&mz.abs()), "Mz {mz}");
+    let half_chord = 0.5 * r * 225f64.to_radians() / 5120.0;
+    assert!(
+        (mz - wrap.ft * r).abs() <= wrap.fn_ * half_chord,
+        "Mz {mz} Ft {} Fn {}",
+        wrap.ft,
+        wrap.fn_
+    );
+    assert!(
+        wrap.ft.abs() <= 0.25 * wrap.fn_,
+        "Ft {} Fn {}",
+        wrap.ft,
+        wrap.fn_
+    );
+    let now = Frame::now(&solver, step);
+    check_contact_conditions(solver.problem(), &before, &now).unwrap();
+}
