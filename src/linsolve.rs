@@ -374,89 +374,73 @@ impl Augmented {
         max_rank: usize,
     ) -> bool {
         let clock = Instant::now();
-        let done = self.border_kept(pattern, k, extra, rhs, max_rank);
-        self.times.solve += clock.elapsed();
-        done
-    }
-
-    fn border_kept(
-        &mut self,
-        pattern: &Pattern,
-        k: &[f64],
-        extra: &mut [(usize, usize, f64)],
-        rhs: &mut [f64],
-        max_rank: usize,
-    ) -> bool {
-        let Some(kept) = self.kept.as_mut() else {
-            return false;
-        };
-        let n = rhs.len();
-        let (mut col_ptr, mut row_idx, mut values) = (Vec::new(), Vec::new(), Vec::new());
-        bordered(
-            pattern,
-            k,
-            extra,
-            n,
-            [&mut col_ptr, &mut row_idx],
-            &mut values,
-        );
-        let a1 = bordering::Csc {
-            col_ptr: &col_ptr,
-            row_idx: &row_idx,
-            values: &values,
-        };
-        let a0 = bordering::Csc {
-            col_ptr: &self.col_ptr,
-            row_idx: &self.row_idx,
-            values: &self.values,
-        };
-        let l_values = &self.l_values;
-        let analysis = self.analysis.as_ref();
-        let outcome = match kept {
-            Kept::Ldlt(base) => {
-                let Some((symbolic, _)) = analysis.and_then(|a| a.ldlt.as_ref()) else {
-                    return false;
-                };
-                // Each change costs a triangular solve, about 2 nnz(L)
-                // flops; the factorization at least nnz(L)^2 / n (the sum
-                // of the squared column counts): bordered, r changes cost
-                // half a factorization at r = nnz(L) / (4 n). Measured on
-                // Hertz at 1e5 unknowns: nnz(L) / n = 107, one triangular
-                // solve 1/50 of a factorization.
-                let max_rank = max_rank.min(symbolic.len_val() / (4 * n).max(1)).max(1);
-                let mut solve0 = |block: &mut [f64], cols: usize| {
-                    let rows = symbolic.nrows();
-                    let req = symbolic.solve_in_place_scratch::<f64>(cols, Par::Seq);
-                    let Ok(mut mem) = MemBuffer::try_new(req) else {
+        let mut border = || -> bool {
+            let Some(kept) = self.kept.as_mut() else {
+                return false;
+            };
+            let n = rhs.len();
+            let (col_ptr, row_idx, values) = bordered_new(pattern, k, extra, n);
+            let a1 = bordering::Csc {
+                col_ptr: &col_ptr,
+                row_idx: &row_idx,
+                values: &values,
+            };
+            let a0 = bordering::Csc {
+                col_ptr: &self.col_ptr,
+                row_idx: &self.row_idx,
+                values: &self.values,
+            };
+            let l_values = &self.l_values;
+            let analysis = self.analysis.as_ref();
+            let outcome = match kept {
+                Kept::Ldlt(base) => {
+                    let Some((symbolic, _)) = analysis.and_then(|a| a.ldlt.as_ref()) else {
                         return false;
                     };
-                    let ldlt = faer::sparse::linalg::cholesky::LdltRef::new(symbolic, l_values);
-                    ldlt.solve_in_place_with_conj(
-                        Conj::No,
-                        MatMut::from_column_major_slice_mut(block, rows, cols),
-                        Par::Seq,
-                        MemStack::new(&mut mem),
-                    );
+                    // Each change costs a triangular solve, about 2 nnz(L)
+                    // flops; the factorization at least nnz(L)^2 / n (the sum
+                    // of the squared column counts): bordered, r changes cost
+                    // half a factorization at r = nnz(L) / (4 n). Measured on
+                    // Hertz at 1e5 unknowns: nnz(L) / n = 107, one triangular
+                    // solve 1/50 of a factorization.
+                    let max_rank = max_rank.min(symbolic.len_val() / (4 * n).max(1)).max(1);
+                    let mut solve0 = |block: &mut [f64], cols: usize| {
+                        let rows = symbolic.nrows();
+                        let req = symbolic.solve_in_place_scratch::<f64>(cols, Par::Seq);
+                        let Ok(mut mem) = MemBuffer::try_new(req) else {
+                            return false;
+                        };
+                        let ldlt = faer::sparse::linalg::cholesky::LdltRef::new(symbolic, l_values);
+                        ldlt.solve_in_place_with_conj(
+                            Conj::No,
+                            MatMut::from_column_major_slice_mut(block, rows, cols),
+                            Par::Seq,
+                            MemStack::new(&mut mem),
+                        );
+                        true
+                    };
+                    bordering::solve(base, a0, a1, rhs, max_rank, &mut solve0)
+                }
+                Kept::Lu(lu, base) => {
+                    let rows = a0.col_ptr.len() - 1;
+                    let mut solve0 = |block: &mut [f64], cols: usize| {
+                        lu.solve_in_place(MatMut::from_column_major_slice_mut(block, rows, cols));
+                        true
+                    };
+                    bordering::solve(base, a0, a1, rhs, max_rank, &mut solve0)
+                }
+            };
+            match outcome {
+                Ok(_) => {
+                    self.bordered += 1;
                     true
-                };
-                bordering::solve(base, a0, a1, rhs, max_rank, &mut solve0)
-            }
-            Kept::Lu(lu, base) => {
-                let rows = a0.col_ptr.len() - 1;
-                let mut solve0 = |block: &mut [f64], cols: usize| {
-                    lu.solve_in_place(MatMut::from_column_major_slice_mut(block, rows, cols));
-                    true
-                };
-                bordering::solve(base, a0, a1, rhs, max_rank, &mut solve0)
+                }
+                Err(_) => false,
             }
         };
-        match outcome {
-            Ok(_) => {
-                self.bordered += 1;
-                true
-            }
-            Err(_) => false,
-        }
+        let done = border();
+        self.times.solve += clock.elapsed();
+        done
     }
 }
 
@@ -507,6 +491,25 @@ fn bordered(
     }
 }
 
+/// `bordered` into new arrays: `(col_ptr, row_idx, values)`.
+fn bordered_new(
+    pattern: &Pattern,
+    k: &[f64],
+    extra: &mut [(usize, usize, f64)],
+    n: usize,
+) -> (Vec<usize>, Vec<usize>, Vec<f64>) {
+    let (mut col_ptr, mut row_idx, mut values) = (Vec::new(), Vec::new(), Vec::new());
+    bordered(
+        pattern,
+        k,
+        extra,
+        n,
+        [&mut col_ptr, &mut row_idx],
+        &mut values,
+    );
+    (col_ptr, row_idx, values)
+}
+
 /// One sparse LU factorization of a bordered matrix (as [`Augmented`]
 /// builds it), kept for any number of solves: the sensitivities of a
 /// converged state solve with its tangent once per seed. Each solve is
@@ -530,15 +533,7 @@ impl FactoredLu {
         extra: &mut [(usize, usize, f64)],
         n: usize,
     ) -> Result<Self, LinearError> {
-        let (mut col_ptr, mut row_idx, mut values) = (Vec::new(), Vec::new(), Vec::new());
-        bordered(
-            pattern,
-            k,
-            extra,
-            n,
-            [&mut col_ptr, &mut row_idx],
-            &mut values,
-        );
+        let (col_ptr, row_idx, values) = bordered_new(pattern, k, extra, n);
         let mat = SymbolicSparseColMat::new_checked(n, n, col_ptr, None, row_idx);
         let symbolic = SymbolicLu::try_new(mat.as_ref())
             .map_err(|e| LinearError::Factorization(format!("{e:?}")))?;
