@@ -214,6 +214,11 @@ pub struct Augmented {
     /// (`solve_modified`).
     pub bordered: usize,
     pub times: LinearTimes,
+    /// The fill-reducing order of the displacement block (AMD), made on the
+    /// first pattern and kept for every later one: the block is the
+    /// tangent's pattern plus, against a deformable target, a few contact
+    /// couplings, and any order is valid (`analyse_ldlt`).
+    disp_order: Option<(Vec<usize>, Vec<usize>)>,
 }
 
 /// The factorization of the last system `solve` factored (LDLT: the
@@ -293,7 +298,7 @@ impl Augmented {
             if analysis.ldlt.is_none() {
                 let clock = Instant::now();
                 self.analyses += 1;
-                match analyse_ldlt(analysis.mat.as_ref(), n_disp) {
+                match analyse_ldlt(analysis.mat.as_ref(), n_disp, &mut self.disp_order) {
                     Ok(s) => analysis.ldlt = Some(s),
                     Err(_) => analysis.ldlt_failed = true,
                 }
@@ -401,8 +406,10 @@ impl Augmented {
                     // flops; the factorization at least nnz(L)^2 / n (the sum
                     // of the squared column counts): bordered, r changes cost
                     // half a factorization at r = nnz(L) / (4 n). Measured on
-                    // Hertz at 1e5 unknowns: nnz(L) / n = 107, one triangular
-                    // solve 1/50 of a factorization.
+                    // Hertz at 1e5 unknowns: nnz(L) / n = 107, so 26 changes;
+                    // the solves are memory-bound (one column 25-50 ms, 19
+                    // at once 200 ms, a factorization 230 ms), so bordering
+                    // there saves little: 5 bordered solves took 1.1 s.
                     let max_rank = max_rank.min(symbolic.len_val() / (4 * n).max(1)).max(1);
                     let mut solve0 = |block: &mut [f64], cols: usize| {
                         let rows = symbolic.nrows();
@@ -610,14 +617,11 @@ fn is_symmetric(col_ptr: &[usize], row_idx: &[usize], values: &[f64]) -> bool {
     true
 }
 
-/// Symbolic LDLT of `a` (lower triangle) in the order AMD of the leading
-/// `n_disp` block, then the remaining unknowns in their order; with the
-/// workspace of the numeric factorization and the solve.
-fn analyse_ldlt(
+/// AMD of the leading `n_disp` block of `a`: (forward, inverse).
+fn amd_of_block(
     a: SymbolicSparseColMatRef<'_, usize>,
     n_disp: usize,
-) -> Result<(SymbolicCholesky<usize>, MemBuffer), FaerError> {
-    let n = a.nrows();
+) -> Result<(Vec<usize>, Vec<usize>), FaerError> {
     // The displacement block (columns sorted, so the rows < n_disp lead).
     let mut ptr = Vec::with_capacity(n_disp + 1);
     let mut idx = Vec::new();
@@ -629,23 +633,39 @@ fn analyse_ldlt(
         ptr.push(idx.len());
     }
     let block = SymbolicSparseColMatRef::new_checked(n_disp, n_disp, &ptr, None, &idx);
-    let mut fwd = vec![0usize; n];
-    let mut inv = vec![0usize; n];
-    {
-        let mut mem = MemBuffer::try_new(amd::order_scratch::<usize>(n_disp, idx.len()))
-            .map_err(|_| FaerError::OutOfMemory)?;
-        amd::order(
-            &mut fwd[..n_disp],
-            &mut inv[..n_disp],
-            block,
-            amd::Control::default(),
-            MemStack::new(&mut mem),
-        )?;
+    let mut fwd = vec![0usize; n_disp];
+    let mut inv = vec![0usize; n_disp];
+    let mut mem = MemBuffer::try_new(amd::order_scratch::<usize>(n_disp, idx.len()))
+        .map_err(|_| FaerError::OutOfMemory)?;
+    amd::order(
+        &mut fwd,
+        &mut inv,
+        block,
+        amd::Control::default(),
+        MemStack::new(&mut mem),
+    )?;
+    Ok((fwd, inv))
+}
+
+/// Symbolic LDLT of `a` (lower triangle) in the order AMD of the leading
+/// `n_disp` block, then the remaining unknowns in their order; with the
+/// workspace of the numeric factorization and the solve. The block's order
+/// is `order` when given (of the same `n_disp`), else made here and kept
+/// there.
+fn analyse_ldlt(
+    a: SymbolicSparseColMatRef<'_, usize>,
+    n_disp: usize,
+    order: &mut Option<(Vec<usize>, Vec<usize>)>,
+) -> Result<(SymbolicCholesky<usize>, MemBuffer), FaerError> {
+    let n = a.nrows();
+    if order.as_ref().is_none_or(|(fwd, _)| fwd.len() != n_disp) {
+        *order = Some(amd_of_block(a, n_disp)?);
     }
-    for i in n_disp..n {
-        fwd[i] = i;
-        inv[i] = i;
-    }
+    let (block_fwd, block_inv) = order.as_ref().expect("set above");
+    let mut fwd: Vec<usize> = (0..n).collect();
+    let mut inv: Vec<usize> = (0..n).collect();
+    fwd[..n_disp].copy_from_slice(block_fwd);
+    inv[..n_disp].copy_from_slice(block_inv);
     let perm = PermRef::new_checked(&fwd, &inv, n);
     let symbolic = factorize_symbolic_cholesky(
         a,
