@@ -495,6 +495,7 @@ fn check(kind: ElementKind, rigid: bool, wanted: &[NodeState], r_nodes: &[V2], s
         u: &p.u,
         poses: &poses,
         settling: false,
+        touching: false,
     };
     let sys = pairs::update(
         &p.problem,

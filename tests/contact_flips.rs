@@ -41,6 +41,7 @@ fn a_node_flipping_open_and_closed_is_reported() {
         u: &u,
         poses: &poses,
         settling: false,
+        touching: false,
     };
     let error = loop {
         match pairs::update(

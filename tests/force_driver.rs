@@ -355,3 +355,89 @@ fn capstan_held_by_two_forces_converges_through_the_fallback() {
     let now = Frame::now(&solver, step);
     check_contact_conditions(solver.problem(), &before, &now).unwrap();
 }
+
+/// A block resting on a rigid plane at gap 0 (its bottom nodes on the
+/// plane), pressed by fy = -N and pushed by fx = Q on its top, a rigid
+/// force set: forces alone, so at its first solve the contact is all that
+/// could hold it, but touching nodes have not penetrated and stay open, and
+/// the solve finds the body free. `advance` then tries the increment again
+/// with the touching nodes closed (`StepResult::fallbacks`). With Q < mu N
+/// the block holds (its middle sticks): Fn = N, |Ft| = Q, the plane holds
+/// both, the contact conditions hold. With Q > mu N nothing can hold it: the increment fails
+/// fast and says so, and the state stays where it was.
+#[test]
+fn a_block_resting_at_gap_0_is_held_by_its_contact() {
+    use common::stress::{Frame, check_contact_conditions};
+    let scene = |q: f64| {
+        format!(
+            r#"
+title = "block at gap 0"
+[analysis]
+kind = "plane_strain"
+kinematics = "total_lagrangian"
+[[material]]
+name = "m"
+model = "linear_elastic"
+E = 1000.0
+nu = 0.3
+[[body]]
+name = "block"
+material = "m"
+element = "q4"
+mesh = {{ generator = "rectangle", origin = [0.0, 0.0], size = [2.0, 1.0], divisions = [4, 2] }}
+[[rigid]]
+name = "plane"
+points = [[10.0, 0.0], [-10.0, 0.0]]
+[[function]]
+name = "ramp"
+points = [[0.0, 0.0], [1.0, 1.0]]
+[[driver]]
+name = "top"
+set = "block.top"
+fy = {{ function = "ramp", scale = -10.0 }}
+fx = {{ function = "ramp", scale = {q} }}
+distribution = "rigid"
+[[contact]]
+name = "base"
+contactor = "block.bottom"
+target = "plane"
+mu_s = 0.3
+mu_d = 0.3
+[steps]
+times = [0.5, 1.0]
+"#
+        )
+    };
+    let problem = contact2d::scene::parse(&scene(1.0), Path::new("gap0.toml")).unwrap();
+    let mut solver = Solver::new(problem).unwrap();
+    let mut prev = Frame::at_rest(&solver);
+    for t in [0.5, 1.0] {
+        let step = solver.advance(t, &mut |_, _| {}).unwrap();
+        assert_eq!(step.substeps, 0);
+        // Only the first increment starts free.
+        assert_eq!(step.fallbacks, usize::from(t == 0.5));
+        assert!(step.iterations <= 4, "{} iterations", step.iterations);
+        let base = &step.pairs[0].1;
+        // All in contact; the corners may slide (the shear peaks there).
+        assert!(base.n_open == 0 && base.n_stick >= 1, "{base:?}");
+        assert!((base.fn_ - 10.0 * t).abs() <= 1e-10, "Fn {}", base.fn_);
+        assert!((base.ft.abs() - t).abs() <= 1e-10, "Ft {}", base.ft);
+        let plane = &step.drivers.iter().find(|d| d.0 == "plane").unwrap().1;
+        assert!(
+            (plane.rx - t).abs() <= 1e-10 && (plane.ry + 10.0 * t).abs() <= 1e-10,
+            "{plane:?}"
+        );
+        let cur = Frame::now(&solver, step);
+        check_contact_conditions(solver.problem(), &prev, &cur).unwrap();
+        prev = cur;
+    }
+    // Past friction's capacity (Q = 4 > 0.3 x 10, at every bisection too):
+    // no equilibrium, the state kept.
+    let problem = contact2d::scene::parse(&scene(4.0), Path::new("gap0.toml")).unwrap();
+    let mut solver = Solver::new(problem).unwrap();
+    solver.settings_mut().max_bisections = 1;
+    let before = solver.state().clone();
+    let err = solver.advance(1.0, &mut |_, _| {}).unwrap_err().to_string();
+    assert!(err.contains("no equilibrium near this state"), "{err}");
+    assert_eq!(solver.state(), &before);
+}

@@ -136,6 +136,8 @@ struct PairIterate<'a> {
     frictionless: bool,
     /// `Start::settling`.
     settling: bool,
+    /// `Start::touching`.
+    touching: bool,
 }
 
 impl<'a> PairIterate<'a> {
@@ -198,6 +200,7 @@ impl<'a> PairIterate<'a> {
             tension: TENSION_TOLERANCE * force_scale,
             frictionless: pair.mu_s == 0.0 && pair.mu_d == 0.0,
             settling: start.settling,
+            touching: start.touching,
         })
     }
 
@@ -416,7 +419,7 @@ fn decide(view: &PairIterate, k: usize, old: &NodeMemory, forced: Option<Forced>
                 s.seg.contact_at(x, s.seg.project(x).beta().clamp(0.0, 1.0)),
             )
         }),
-        (_, NodeState::Open) => pairs::search(segments, x, reach),
+        (_, NodeState::Open) => pairs::search(segments, x, reach, view.touching),
         (_, NodeState::Stick) => segments
             .get(old.segment)
             .map(|s| (old.segment, s.seg.contact_at(x, old.beta))),
@@ -438,7 +441,7 @@ fn decide(view: &PairIterate, k: usize, old: &NodeMemory, forced: Option<Forced>
     // is the linearisation's, and its row closes it).
     if matches!(forced, Some(Forced::Close { .. })) {
     } else if old.state == NodeState::Open {
-        if overlap <= 0.0 {
+        if overlap < 0.0 || (overlap == 0.0 && !view.touching) {
             return Decision::open(0.0);
         }
     } else if p_n < -tension
@@ -644,7 +647,7 @@ pub(super) fn predict_pair(
             // A free node the solve moves into the target closes.
             let x = pairs::position(problem, u_now, pair.contactor[k]);
             let reach = 2.0 * h + (x_new[k] - x).norm();
-            if let Some((j, cp)) = pairs::search(&segments, x_new[k], reach)
+            if let Some((j, cp)) = pairs::search(&segments, x_new[k], reach, false)
                 && cp.normal_overlap() > length_tolerance
             {
                 let overlap = cp.normal_overlap();

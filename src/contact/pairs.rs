@@ -400,9 +400,10 @@ pub(super) fn on_segment(seg: &Segment, x: Vector2<f64>) -> Option<ContactPoint>
         .then(|| seg.contact_at(x, cp.beta().clamp(0.0, 1.0)))
 }
 
-/// The segment a free node at `x` has penetrated, with its projection: the
-/// candidate (bounding box within `reach`) whose projection falls on the
-/// segment with a positive overlap smaller than `reach`, nearest first.
+/// The segment a free node at `x` has penetrated (or, with `touching`,
+/// touches), with its projection: the candidate (bounding box within
+/// `reach`) whose projection falls on the segment with a positive (or zero)
+/// overlap smaller than `reach`, nearest first.
 ///
 /// At a reflex corner of the target (the target turns toward the contactor:
 /// round a hole, or at the end of a target on a symmetry plane), a node that
@@ -416,6 +417,7 @@ pub(super) fn search(
     segments: &[TargetSegment],
     x: Vector2<f64>,
     reach: f64,
+    touching: bool,
 ) -> Option<(usize, ContactPoint)> {
     let mut best: Option<(usize, ContactPoint)> = None;
     let mut wedge: Option<(usize, ContactPoint, f64)> = None;
@@ -438,7 +440,7 @@ pub(super) fn search(
             continue;
         };
         let d = cp.normal_overlap();
-        if d <= 0.0 || d > reach {
+        if d < 0.0 || (d == 0.0 && !touching) || d > reach {
             continue;
         }
         if best.as_ref().is_none_or(|(_, b)| d < b.normal_overlap()) {
@@ -898,6 +900,10 @@ pub struct Start<'a> {
     /// against the increment's first. Its nodes in contact are not released
     /// on its forces (see `nodal::decide`).
     pub settling: bool,
+    /// Free nodes that touch a target (overlap exactly 0) close as well as
+    /// penetrated ones (`Solver::advance`'s retry of an increment whose
+    /// first solve found a body held by nothing).
+    pub touching: bool,
 }
 
 /// The paper's Section 3 for one pair, in phases: the pair at the iterate
@@ -1164,7 +1170,7 @@ fn recontacts(view: &PaperPair, rec: &Recovered, mem: &mut PairMemory) -> Vec<Re
     let nseg = mem.segments.len();
     let mut recontact: Vec<Recontact> = vec![None; m];
     for k in (0..m).filter(|&k| mem.nodes[k].state == NodeState::Open) {
-        let Some((j, cp)) = search(segments, x[k], view.reach) else {
+        let Some((j, cp)) = search(segments, x[k], view.reach, false) else {
             continue;
         };
         let slip = match (view.frictionless, mem.nodes[k].anchor) {
@@ -1873,7 +1879,7 @@ mod tests {
         for s in &valley {
             assert!(on_segment(&s.seg, x).is_none());
         }
-        let (_, cp) = search(&valley, x, 1.0).expect("penetrated node not found");
+        let (_, cp) = search(&valley, x, 1.0, false).expect("penetrated node not found");
         assert_eq!(cp.point(), Vector2::zeros());
         assert!(cp.normal_overlap() > 0.0099 && cp.normal_overlap() <= 0.01);
     }
@@ -1881,9 +1887,9 @@ mod tests {
     #[test]
     fn a_node_past_the_end_of_a_target_by_more_than_its_overlap_is_not_found() {
         let flat = [seg([1.0, 0.0], [0.0, 0.0])];
-        assert!(search(&flat, Vector2::new(-0.05, -0.01), 1.0).is_none());
+        assert!(search(&flat, Vector2::new(-0.05, -0.01), 1.0, false).is_none());
         // Within its overlap of the end it is held at the end.
-        let (_, cp) = search(&flat, Vector2::new(-0.005, -0.01), 1.0).unwrap();
+        let (_, cp) = search(&flat, Vector2::new(-0.005, -0.01), 1.0, false).unwrap();
         assert_eq!(cp.beta(), 1.0);
     }
 }

@@ -154,6 +154,7 @@ impl Solver {
                 u: &s.u,
                 poses: &s.rigid,
                 settling: false,
+                touching: false,
             };
             let system = pairs::update(
                 &self.problem,
