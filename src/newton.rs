@@ -556,55 +556,7 @@ impl Solver {
                 forces0: &start.driver_forces,
                 pressures0: &start.pressures,
             };
-            self.inner_flips = 0;
-            self.free_at_first_solve = false;
-            let mut attempt = self.increment(t, &from, log);
-            // The inner solves open and close nodes on the linearised
-            // problem, which can be far from the body's (a strip held on a
-            // drum by its own tension has no stiffness across the drum
-            // until it is stretched: the first solve pulls it off at many
-            // nodes and the next turns its elements inside out). An
-            // increment they fail is tried again, before it is halved,
-            // with opening and closing decided on the iterate only (if they
-            // opened or closed a node).
-            if let Err(reason) = &attempt
-                && self.inner_flips > 0
-            {
-                log(
-                    LogCategory::Warning,
-                    &format!(
-                        "increment to t = {t} failed ({reason}); trying it again with \
-                             opening and closing decided on the iterate only"
-                    ),
-                );
-                self.iterate_opens = true;
-                attempt = self.increment(t, &from, log);
-                self.iterate_opens = false;
-                fallbacks += 1;
-            }
-            // A body resting on a target at gap 0 and loaded by forces
-            // alone is held by nothing at its first solve: its touching
-            // nodes are not penetrated, so they stay open. The increment is
-            // tried again with them closed (a touching node the solve then
-            // pulls off opens as any other). Only then: closing touching
-            // nodes everywhere changes the first iteration of every scene
-            // that starts in touch (the Hertz cylinder with mu = 10 took 8
-            // iterations instead of 2, Cattaneo-Mindlin's stick zone split).
-            if let Err(reason) = &attempt
-                && self.free_at_first_solve
-            {
-                log(
-                    LogCategory::Warning,
-                    &format!(
-                        "increment to t = {t} failed ({reason}); trying it again with the \
-                         nodes that touch a target closed"
-                    ),
-                );
-                self.close_touching = true;
-                attempt = self.increment(t, &from, log);
-                self.close_touching = false;
-                fallbacks += 1;
-            }
+            let attempt = self.attempt(t, &from, &mut fallbacks, log);
             match attempt {
                 Ok(c) => {
                     iterations += c.iterations;
@@ -660,6 +612,68 @@ impl Solver {
             pairs: self.pair_results(Some(&start.contact))?,
             ties: self.tie_results(),
         })
+    }
+
+    /// One increment to t (`increment`) and, if it fails, its fallbacks
+    /// before `advance_to` halves it (docs/contact.md section 8, "Commit or
+    /// fail"), each counted in `fallbacks`.
+    fn attempt(
+        &mut self,
+        t: f64,
+        from: &Ramp,
+        fallbacks: &mut usize,
+        log: &mut dyn FnMut(LogCategory, &str),
+    ) -> Result<Converged, String> {
+        self.inner_flips = 0;
+        self.free_at_first_solve = false;
+        let mut attempt = self.increment(t, from, log);
+        // The inner solves open and close nodes on the linearised
+        // problem, which can be far from the body's (a strip held on a
+        // drum by its own tension has no stiffness across the drum
+        // until it is stretched: the first solve pulls it off at many
+        // nodes and the next turns its elements inside out). An
+        // increment they fail is tried again, before it is halved,
+        // with opening and closing decided on the iterate only (if they
+        // opened or closed a node).
+        if let Err(reason) = &attempt
+            && self.inner_flips > 0
+        {
+            log(
+                LogCategory::Warning,
+                &format!(
+                    "increment to t = {t} failed ({reason}); trying it again with \
+                     opening and closing decided on the iterate only"
+                ),
+            );
+            self.iterate_opens = true;
+            attempt = self.increment(t, from, log);
+            self.iterate_opens = false;
+            *fallbacks += 1;
+        }
+        // A body resting on a target at gap 0 and loaded by forces
+        // alone is held by nothing at its first solve: its touching
+        // nodes are not penetrated, so they stay open. The increment is
+        // tried again with them closed (a touching node the solve then
+        // pulls off opens as any other). Only then: closing touching
+        // nodes everywhere changes the first iteration of every scene
+        // that starts in touch (the Hertz cylinder with mu = 10 took 8
+        // iterations instead of 2, Cattaneo-Mindlin's stick zone split).
+        if let Err(reason) = &attempt
+            && self.free_at_first_solve
+        {
+            log(
+                LogCategory::Warning,
+                &format!(
+                    "increment to t = {t} failed ({reason}); trying it again with the \
+                 nodes that touch a target closed"
+                ),
+            );
+            self.close_touching = true;
+            attempt = self.increment(t, from, log);
+            self.close_touching = false;
+            *fallbacks += 1;
+        }
+        attempt
     }
 
     /// Reactions per driver from the residual at the prescribed dofs.
