@@ -3,6 +3,7 @@
 //!
 //!     cargo bench --bench scale              # 1e3, 1e4 and 1e5 unknowns
 //!     cargo bench --bench scale -- --full    # and 1e6 (about 10 GB, minutes)
+//!     cargo bench --bench scale -- --fmu     # part 2 alone (for a profiler)
 //!
 //! Part 1, the plane-strain Hertz press of scenes/hertz_plane_strain.toml
 //! with 4-node elements, pressed in one increment (the contact zone closed
@@ -35,6 +36,10 @@ use std::time::Instant;
 
 fn main() {
     let full = std::env::args().any(|a| a == "--full");
+    if std::env::args().any(|a| a == "--fmu") {
+        capstan_fmu();
+        return;
+    }
     println!("Hertz (plane strain, q4), pressed to uy = -0.07 in one increment");
     println!(
         "{:>5} {:>8} {:>3} {:>4} {:>11} {:>9} {:>9} {:>9} {:>6}  phases (% of the increment)                            rms/p0",
@@ -109,10 +114,14 @@ fn capstan_fmu() {
     let mut t = 0.0;
     let mut uy = 0.0;
     let mut sliding_at = None;
+    let mut drawn_phases = None;
     for k in 0..80 {
         // Drawn by 0.05 mm per step until the strip slides over the whole
         // wrap and ten steps more; then held for as many steps.
         let moving_phase = sliding_at.is_none_or(|s| k < s + 10);
+        if !moving_phase && drawn_phases.is_none() {
+            drawn_phases = inst.phases();
+        }
         if moving_phase {
             uy -= 0.05;
         }
@@ -143,6 +152,17 @@ fn capstan_fmu() {
     );
     report("drawn by 0.05 mm", &moving);
     report("held", &held);
+    if let Some(p) = drawn_phases {
+        println!(
+            "  drawn steps by phase (%): {}; {} factorizations ({} LDLT, {} LU), {} bordered solves, {} symbolic analyses",
+            p.split(),
+            p.factorizations,
+            p.ldlt,
+            p.lu,
+            p.bordered,
+            p.analyses
+        );
+    }
     let _ = std::fs::remove_dir_all(&dir);
 }
 

@@ -2,7 +2,7 @@
 //! report and the iteration does not need: the gap to the target and the
 //! slip over the last step.
 
-use super::pairs::{self, PairMemory, TargetSegment};
+use super::pairs::{self, PairMemory, TargetSegment, TargetSet};
 use crate::problem::{ContactPair, Problem};
 use crate::results::NodeState;
 use nalgebra::Vector2;
@@ -78,13 +78,34 @@ pub(super) fn along(x: &[Vector2<f64>], k: usize, closed: bool) -> Vector2<f64> 
 /// The signed distance from x to the nearest point of the target polyline:
 /// its size from the nearest point, its sign from that segment's normal
 /// (negative on the target's side).
-fn nearest_gap(segments: &[TargetSegment], x: Vector2<f64>) -> f64 {
+fn nearest_gap(segments: &TargetSet, x: Vector2<f64>) -> f64 {
     nearest(segments, x).map_or(f64::INFINITY, |(gap, _)| gap)
 }
 
 /// The nearest segment of the target to x: the signed distance to it (as
-/// [`nearest_gap`]) and its normal (into the target).
-pub(super) fn nearest(segments: &[TargetSegment], x: Vector2<f64>) -> Option<(f64, Vector2<f64>)> {
+/// [`nearest_gap`]) and its normal (into the target). Looked for within a
+/// box about x that doubles until the nearest found lies inside it (every
+/// segment outside is farther), then over all segments.
+pub(super) fn nearest(segments: &TargetSet, x: Vector2<f64>) -> Option<(f64, Vector2<f64>)> {
+    let mut r = segments.first().map_or(0.0, |s| s.seg.length());
+    for _ in 0..64 {
+        if !(r.is_finite() && r > 0.0) {
+            break;
+        }
+        let (lo, hi) = ([x.x - r, x.y - r], [x.x + r, x.y + r]);
+        match nearest_of(segments.visit(lo, hi).map(|(_, s)| s), x) {
+            Some(found) if found.0.abs() <= r => return Some(found),
+            _ => r *= 2.0,
+        }
+    }
+    nearest_of(segments.iter(), x)
+}
+
+/// [`nearest`] among `segments`, the first of equals in their order.
+fn nearest_of<'a>(
+    segments: impl Iterator<Item = &'a TargetSegment>,
+    x: Vector2<f64>,
+) -> Option<(f64, Vector2<f64>)> {
     let mut best = f64::INFINITY;
     let mut found = None;
     for s in segments {

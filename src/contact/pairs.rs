@@ -234,6 +234,7 @@ pub struct Flips {
 
 /// A target segment at the current time: end points and node numbers
 /// (None for a rigid target).
+#[derive(Clone)]
 pub(super) struct TargetSegment {
     pub(super) seg: Segment,
     pub(super) nodes: Option<[usize; 2]>,
@@ -284,7 +285,159 @@ pub fn rigid_points(problem: &Problem, r: usize, pose: [f64; 3]) -> (Vec<[f64; 2
 }
 
 /// A target's segments, shared: a rigid target's are kept per pose.
-pub(super) type Segments = Arc<Vec<TargetSegment>>;
+pub(super) type Segments = Arc<TargetSet>;
+
+/// A target's segments with a uniform grid over their boxes, so that a
+/// search near a point visits the segments near it instead of all of them:
+/// the capstan's drum has 5120 chords against 129 contactor nodes, and the
+/// search, `follow` and the outputs' nearest point scanned every chord for
+/// every node (issue 14). The grid only narrows the candidates: they are
+/// visited in index order, as the full scan visits them, so the results are
+/// the scan's bit for bit.
+pub(super) struct TargetSet {
+    list: Vec<TargetSegment>,
+    grid: Option<Grid>,
+}
+
+/// Targets of fewer segments are scanned whole.
+const GRID_FROM: usize = 32;
+
+struct Grid {
+    origin: [f64; 2],
+    cell: f64,
+    dims: [usize; 2],
+    /// Cell `c` holds the segments `items[start[c]..start[c + 1]]`.
+    start: Vec<u32>,
+    items: Vec<u32>,
+}
+
+impl std::ops::Deref for TargetSet {
+    type Target = [TargetSegment];
+    fn deref(&self) -> &[TargetSegment] {
+        &self.list
+    }
+}
+
+impl TargetSet {
+    pub(super) fn new(list: Vec<TargetSegment>) -> Self {
+        let grid = (list.len() >= GRID_FROM)
+            .then(|| Grid::new(&list))
+            .flatten();
+        TargetSet { list, grid }
+    }
+
+    /// The indices, ascending, of the segments whose boxes meet the box
+    /// `[lo, hi]` (and maybe a few more near it).
+    fn candidates(&self, lo: [f64; 2], hi: [f64; 2]) -> Vec<u32> {
+        match &self.grid {
+            Some(g) => g.candidates(lo, hi, self.list.len()),
+            None => (0..self.list.len() as u32).collect(),
+        }
+    }
+
+    /// The segments of `candidates` in index order.
+    pub(super) fn visit(
+        &self,
+        lo: [f64; 2],
+        hi: [f64; 2],
+    ) -> impl Iterator<Item = (usize, &TargetSegment)> {
+        let c = self.candidates(lo, hi);
+        c.into_iter().map(|j| (j as usize, &self.list[j as usize]))
+    }
+}
+
+impl Grid {
+    /// Cells about twice the mean segment box, at most 4 per segment; None
+    /// for a target of no extent or non-finite coordinates.
+    fn new(list: &[TargetSegment]) -> Option<Grid> {
+        let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+        let mut size = 0.0;
+        for s in list {
+            for a in 0..2 {
+                lo[a] = lo[a].min(s.lo[a]);
+                hi[a] = hi[a].max(s.hi[a]);
+            }
+            size += (s.hi[0] - s.lo[0]).max(s.hi[1] - s.lo[1]);
+        }
+        let extent = (hi[0] - lo[0]).max(hi[1] - lo[1]);
+        if !(extent.is_finite() && extent > 0.0) {
+            return None;
+        }
+        let n = list.len() as f64;
+        let mut cell = (2.0 * size / n).max(extent / 4096.0);
+        let cells = |cell: f64| [0, 1].map(|a| ((hi[a] - lo[a]) / cell) as usize + 1);
+        while (cells(cell)[0] * cells(cell)[1]) as f64 > 4.0 * n {
+            cell *= 2.0;
+        }
+        let dims = cells(cell);
+        let mut g = Grid {
+            origin: lo,
+            cell,
+            dims,
+            start: vec![0; dims[0] * dims[1] + 1],
+            items: Vec::new(),
+        };
+        // Count, then fill (a segment in every cell its box meets).
+        for s in list {
+            let range = g.range(s.lo, s.hi);
+            for cy in range[1].clone() {
+                for cx in range[0].clone() {
+                    g.start[cy * dims[0] + cx + 1] += 1;
+                }
+            }
+        }
+        for c in 0..dims[0] * dims[1] {
+            g.start[c + 1] += g.start[c];
+        }
+        let mut next = g.start.clone();
+        g.items = vec![0; g.start[dims[0] * dims[1]] as usize];
+        for (j, s) in list.iter().enumerate() {
+            let range = g.range(s.lo, s.hi);
+            for cy in range[1].clone() {
+                for cx in range[0].clone() {
+                    let c = cy * dims[0] + cx;
+                    g.items[next[c] as usize] = j as u32;
+                    next[c] += 1;
+                }
+            }
+        }
+        Some(g)
+    }
+
+    /// The cells the box `[lo, hi]` meets, per axis (clamped to the grid).
+    fn range(&self, lo: [f64; 2], hi: [f64; 2]) -> [std::ops::Range<usize>; 2] {
+        [0, 1].map(|a| {
+            let at = |x: f64| ((x - self.origin[a]) / self.cell).floor();
+            let last = self.dims[a] as f64 - 1.0;
+            let (i0, i1) = (at(lo[a]).max(0.0), at(hi[a]).min(last));
+            if i0 > i1 || i0.is_nan() || i1.is_nan() {
+                0..0
+            } else {
+                i0 as usize..i1 as usize + 1
+            }
+        })
+    }
+
+    fn candidates(&self, lo: [f64; 2], hi: [f64; 2], n: usize) -> Vec<u32> {
+        let range = self.range(lo, hi);
+        let unknown = lo.iter().chain(&hi).any(|v| v.is_nan());
+        if unknown || range[0].len() * range[1].len() >= n {
+            return (0..n as u32).collect();
+        }
+        let mut out = Vec::new();
+        for cy in range[1].clone() {
+            let row = cy * self.dims[0];
+            let (a, b) = (
+                self.start[row + range[0].start],
+                self.start[row + range[0].end],
+            );
+            out.extend_from_slice(&self.items[a as usize..b as usize]);
+        }
+        out.sort_unstable();
+        out.dedup();
+        out
+    }
+}
 
 /// The segments of each rigid target at the last two poses asked for (a
 /// step's start and its end), so that a rigid arc of thousands of chords is
@@ -315,7 +468,7 @@ impl RigidSegments {
         &self,
         r: usize,
         key: RigidKey,
-        build: impl FnOnce() -> Result<Vec<TargetSegment>, String>,
+        build: impl FnOnce() -> Result<TargetSet, String>,
     ) -> Result<Segments, String> {
         let lock = || {
             self.0
@@ -363,7 +516,7 @@ pub(super) fn target_segments(
                 )
             })
             .collect::<Result<Vec<_>, String>>()
-            .map(Arc::new),
+            .map(|list| Arc::new(TargetSet::new(list))),
         Target::Rigid(r) => {
             let points = &problem.rigids[*r].points;
             let ends = [points.first(), points.last()].map(|p| p.copied().unwrap_or_default());
@@ -380,7 +533,8 @@ pub(super) fn target_segments(
                         let v = |p: [f64; 2]| Vector2::new(p[0], p[1]);
                         make(v(w[0]), v(w[1]), None)
                     })
-                    .collect()
+                    .collect::<Result<Vec<_>, String>>()
+                    .map(TargetSet::new)
             })
         }
     }
@@ -414,14 +568,15 @@ pub(super) fn on_segment(seg: &Segment, x: Vector2<f64>) -> Option<ContactPoint>
 /// overlap`: corners up to 45 degrees). A node past the end of a target by
 /// more than its overlap is not found.
 pub(super) fn search(
-    segments: &[TargetSegment],
+    segments: &TargetSet,
     x: Vector2<f64>,
     reach: f64,
     touching: bool,
 ) -> Option<(usize, ContactPoint)> {
     let mut best: Option<(usize, ContactPoint)> = None;
     let mut wedge: Option<(usize, ContactPoint, f64)> = None;
-    for (j, s) in segments.iter().enumerate() {
+    let (lo, hi) = ([x.x - reach, x.y - reach], [x.x + reach, x.y + reach]);
+    for (j, s) in segments.visit(lo, hi) {
         if x.x < s.lo[0] - reach
             || x.x > s.hi[0] + reach
             || x.y < s.lo[1] - reach
@@ -454,7 +609,7 @@ pub(super) fn search(
 /// the segment it has slid onto (any segment whose projection contains it,
 /// nearest in |overlap|). None when it has slid off the target.
 pub(super) fn follow(
-    segments: &[TargetSegment],
+    segments: &TargetSet,
     j: usize,
     x: Vector2<f64>,
     reach: f64,
@@ -463,7 +618,8 @@ pub(super) fn follow(
         return Some((j, cp));
     }
     let mut best: Option<(usize, ContactPoint)> = None;
-    for (i, s) in segments.iter().enumerate() {
+    let (lo, hi) = ([x.x - reach, x.y - reach], [x.x + reach, x.y + reach]);
+    for (i, s) in segments.visit(lo, hi) {
         if x.x < s.lo[0] - reach
             || x.x > s.hi[0] + reach
             || x.y < s.lo[1] - reach
@@ -1879,17 +2035,87 @@ mod tests {
         for s in &valley {
             assert!(on_segment(&s.seg, x).is_none());
         }
-        let (_, cp) = search(&valley, x, 1.0, false).expect("penetrated node not found");
+        let (_, cp) = search(&TargetSet::new(valley.into()), x, 1.0, false)
+            .expect("penetrated node not found");
         assert_eq!(cp.point(), Vector2::zeros());
         assert!(cp.normal_overlap() > 0.0099 && cp.normal_overlap() <= 0.01);
     }
 
     #[test]
     fn a_node_past_the_end_of_a_target_by_more_than_its_overlap_is_not_found() {
-        let flat = [seg([1.0, 0.0], [0.0, 0.0])];
+        let flat = TargetSet::new(vec![seg([1.0, 0.0], [0.0, 0.0])]);
         assert!(search(&flat, Vector2::new(-0.05, -0.01), 1.0, false).is_none());
         // Within its overlap of the end it is held at the end.
         let (_, cp) = search(&flat, Vector2::new(-0.005, -0.01), 1.0, false).unwrap();
         assert_eq!(cp.beta(), 1.0);
+    }
+
+    /// The grid only narrows the candidates: `search`, `follow` and the
+    /// outputs' `nearest` give exactly what a scan of every segment gives,
+    /// on a fine arc (the capstan's drum), a wall (no extent across) and a
+    /// zigzag, at points near and far, for reaches small and large.
+    #[test]
+    fn the_grid_finds_what_a_full_scan_finds() {
+        let arc: Vec<TargetSegment> = (0..2000)
+            .map(|k| {
+                let at = |k: usize| {
+                    let a = -0.4 + 3.9 * k as f64 / 2000.0;
+                    [100.0 * a.cos(), 100.0 * a.sin()]
+                };
+                seg(at(k), at(k + 1))
+            })
+            .collect();
+        let wall: Vec<TargetSegment> = (0..64)
+            .map(|k| seg([1.0, 64.0 - k as f64], [1.0, 63.0 - k as f64]))
+            .collect();
+        let zigzag: Vec<TargetSegment> = (0..100)
+            .map(|k| {
+                let y = |k: usize| if k % 2 == 0 { 0.0 } else { 0.3 };
+                seg([k as f64 * 0.1, y(k)], [(k + 1) as f64 * 0.1, y(k + 1)])
+            })
+            .collect();
+        let mut state = 12345u64;
+        let mut random = move || {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        for (list, centre, size) in [
+            (arc, [0.0, 0.0], 110.0),
+            (wall, [1.0, 32.0], 40.0),
+            (zigzag, [5.0, 0.15], 6.0),
+        ] {
+            let n = list.len();
+            let gridded = TargetSet::new(list.clone());
+            assert!(gridded.grid.is_some());
+            let scanned = TargetSet { list, grid: None };
+            for _ in 0..3000 {
+                let near = random() < 0.5;
+                let r = if near { 0.05 * size } else { size };
+                let x = Vector2::new(
+                    centre[0] + r * (2.0 * random() - 1.0),
+                    centre[1] + r * (2.0 * random() - 1.0),
+                );
+                let reach = [1e-3, 0.1, 3.0, 1e3][(4.0 * random()) as usize % 4] * size / 100.0;
+                let touching = random() < 0.5;
+                let j = (random() * n as f64) as usize % n;
+                assert_eq!(
+                    search(&gridded, x, reach, touching),
+                    search(&scanned, x, reach, touching),
+                    "search at {x:?}, reach {reach}"
+                );
+                assert_eq!(
+                    follow(&gridded, j, x, reach),
+                    follow(&scanned, j, x, reach),
+                    "follow from {j} at {x:?}, reach {reach}"
+                );
+                assert_eq!(
+                    super::super::outputs::nearest(&gridded, x),
+                    super::super::outputs::nearest(&scanned, x),
+                    "nearest to {x:?}"
+                );
+            }
+        }
     }
 }

@@ -731,6 +731,12 @@ impl Instance {
             .map_or(self.start_time, |s| s.state().time)
     }
 
+    /// Where the solver's time went since initialization (the benchmarks'
+    /// split; None before `exit_initialization`).
+    pub fn phases(&self) -> Option<crate::newton::Phases> {
+        self.solver.as_ref().map(|s| s.phases())
+    }
+
     /// One quasi-static increment from t to t + h with the inputs' current
     /// values as the prescribed values at t + h, or, for an input given a
     /// derivative, its value plus h times the derivative (then the input

@@ -58,19 +58,34 @@ impl Csc<'_> {
         r
     }
 
-    /// The normwise backward error of `x`: `|b - A x|_inf / (|A|_inf
-    /// |x|_inf + |b|_inf)`.
-    fn backward_error(&self, x: &[f64], b: &[f64]) -> f64 {
-        let inf = |v: &[f64]| v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    /// `|A|_inf`, the largest row sum of magnitudes.
+    fn norm_inf(&self) -> f64 {
         let mut rows = vec![0.0f64; self.n()];
         for j in 0..self.n() {
             for (i, v) in self.column(j) {
                 rows[i] += v.abs();
             }
         }
-        inf(&self.residual(x, b)) / (inf(&rows) * inf(x) + inf(b))
+        inf(&rows)
     }
 }
+
+fn inf(v: &[f64]) -> f64 {
+    v.iter().fold(0.0f64, |m, x| m.max(x.abs()))
+}
+
+/// The normwise backward error of `x` from its residual `r = b - A x`:
+/// `|r|_inf / (|A|_inf |x|_inf + |b|_inf)`.
+fn backward_error(r: &[f64], norm_a: f64, x: &[f64], b: &[f64]) -> f64 {
+    inf(r) / (norm_a * inf(x) + inf(b))
+}
+
+/// A bordered solution whose backward error is at most this is taken
+/// without the refinement step (which costs a second solve with the
+/// factor): round-off, 1e4 below what a refined one must reach
+/// (`LDLT_BACKWARD_ERROR`). A factored LU solve is taken unrefined at any
+/// backward error.
+const UNREFINED: f64 = 1e-12;
 
 /// One multiplier of a bordered system: its row and its column over the
 /// displacement unknowns, and its diagonal entry.
@@ -142,8 +157,9 @@ pub(super) struct Base {
 
 impl Base {
     pub(super) fn new(a0: Csc, n_disp: usize) -> Self {
+        // Each key's multipliers in ascending order.
         let mut keys: HashMap<Vec<u64>, Vec<usize>> = HashMap::new();
-        for (m, mult) in multipliers(a0, n_disp).iter().enumerate().rev() {
+        for (m, mult) in multipliers(a0, n_disp).iter().enumerate() {
             keys.entry(mult.key()).or_default().push(m);
         }
         Base {
@@ -217,11 +233,12 @@ pub(super) fn solve(
     }
     // Multipliers: matched by key, released, added.
     let new = multipliers(a1, nd);
-    let mut keys = base.keys.clone();
     let mut matched: Vec<Option<usize>> = Vec::with_capacity(new.len());
     let mut used = vec![false; n0 - nd];
     for mult in &new {
-        let m0 = keys.get_mut(&mult.key()).and_then(Vec::pop);
+        // The first of A0's multipliers with the same key not taken yet.
+        let m0 =
+            (base.keys.get(&mult.key())).and_then(|list| list.iter().copied().find(|&m| !used[m]));
         if let Some(m) = m0 {
             used[m] = true;
         }
@@ -348,13 +365,20 @@ pub(super) fn solve(
     };
     // One step of refinement against A1 itself, then its normwise backward
     // error, accepted below the factored solves' `LDLT_BACKWARD_ERROR`.
+    // Unless the first solution is good to round-off (`UNREFINED`).
     let b = rhs.to_vec();
+    let norm_a = a1.norm_inf();
     let mut x = apply(&b).ok_or(NotBordered::Unsound)?;
-    let dx = apply(&a1.residual(&x, &b)).ok_or(NotBordered::Unsound)?;
-    for (xi, di) in x.iter_mut().zip(&dx) {
-        *xi += di;
+    let mut residual = a1.residual(&x, &b);
+    let mut backward = backward_error(&residual, norm_a, &x, &b);
+    if backward.is_nan() || backward > UNREFINED {
+        let dx = apply(&residual).ok_or(NotBordered::Unsound)?;
+        for (xi, di) in x.iter_mut().zip(&dx) {
+            *xi += di;
+        }
+        residual = a1.residual(&x, &b);
+        backward = backward_error(&residual, norm_a, &x, &b);
     }
-    let backward = a1.backward_error(&x, &b);
     // (NaN fails too.)
     if backward.is_nan() || backward > super::LDLT_BACKWARD_ERROR {
         return Err(NotBordered::Unsound);
