@@ -17,6 +17,8 @@ use faer::sparse::linalg::cholesky::{
 use faer::sparse::linalg::solvers::{Llt, Lu, SymbolicLlt, SymbolicLu};
 use faer::sparse::{FaerError, SparseColMatRef, SymbolicSparseColMat, SymbolicSparseColMatRef};
 use faer::{Conj, MatMut, Par, Side};
+use std::borrow::Cow;
+use std::collections::HashMap;
 use std::time::{Duration, Instant};
 
 #[derive(Debug, thiserror::Error)]
@@ -168,9 +170,97 @@ struct Analysis {
     /// LDLT analysis (AMD of the displacement block, multipliers last) and
     /// its workspace; made on the first symmetric system of the pattern.
     ldlt: Option<(SymbolicCholesky<usize>, MemBuffer)>,
-    /// LDLT failed on this pattern: LU until the pattern changes.
+    /// LDLT failed on this pattern: LU until the pattern changes or the
+    /// multipliers take other slots.
     ldlt_failed: bool,
     lu: Option<SymbolicLu<usize>>,
+    /// The multiplier unknowns `n_disp..` of the pattern: a system's
+    /// multipliers take slots of their key (`place`); a slot left empty is
+    /// an identity row, its entries on the key's dofs zeros (`in_slots`).
+    /// So a contact set that loses rows, or changes rows between keys it
+    /// had before, keeps the pattern and its analyses (issue 14).
+    slots: Vec<SlotKey>,
+}
+
+/// Where a multiplier's row and column meet the displacement unknowns.
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+struct SlotKey {
+    row: Vec<usize>,
+    column: Vec<usize>,
+}
+
+/// The keys of the `m` multipliers (unknowns `n_disp..`) of a system given
+/// by the entries `extra`; None when two multipliers are coupled.
+fn slot_keys(extra: &[(usize, usize, f64)], n_disp: usize, m: usize) -> Option<Vec<SlotKey>> {
+    let mut keys = vec![
+        SlotKey {
+            row: Vec::new(),
+            column: Vec::new(),
+        };
+        m
+    ];
+    for &(r, c, _) in extra {
+        match (r >= n_disp, c >= n_disp) {
+            (true, false) => keys[r - n_disp].row.push(c),
+            (false, true) => keys[c - n_disp].column.push(r),
+            (true, true) if r != c => return None,
+            _ => {}
+        }
+    }
+    for k in &mut keys {
+        k.row.sort_unstable();
+        k.row.dedup();
+        k.column.sort_unstable();
+        k.column.dedup();
+    }
+    Some(keys)
+}
+
+/// The slot of each key: the first slot of the same key not taken; None
+/// when a key finds none.
+fn place(slots: &[SlotKey], keys: &[SlotKey]) -> Option<Vec<usize>> {
+    let mut by_key: HashMap<&SlotKey, Vec<usize>> = HashMap::new();
+    for (s, key) in slots.iter().enumerate().rev() {
+        by_key.entry(key).or_default().push(s);
+    }
+    keys.iter()
+        .map(|k| by_key.get_mut(k).and_then(Vec::pop))
+        .collect()
+}
+
+/// The entries `extra` with the multipliers moved to their slots, a zero
+/// diagonal for each taken slot, and an empty slot's identity row (its key's
+/// entries zero).
+fn in_slots(
+    extra: &[(usize, usize, f64)],
+    n_disp: usize,
+    slots: &[SlotKey],
+    slot_of: &[usize],
+) -> Vec<(usize, usize, f64)> {
+    let at = |i: usize| {
+        if i < n_disp {
+            i
+        } else {
+            n_disp + slot_of[i - n_disp]
+        }
+    };
+    let mut out: Vec<(usize, usize, f64)> =
+        (extra.iter()).map(|&(r, c, v)| (at(r), at(c), v)).collect();
+    let mut taken = vec![false; slots.len()];
+    for &s in slot_of {
+        taken[s] = true;
+    }
+    for (s, key) in slots.iter().enumerate() {
+        let i = n_disp + s;
+        if taken[s] {
+            out.push((i, i, 0.0));
+        } else {
+            out.push((i, i, 1.0));
+            out.extend(key.row.iter().map(|&d| (i, d, 0.0)));
+            out.extend(key.column.iter().map(|&d| (d, i, 0.0)));
+        }
+    }
+    out
 }
 
 /// The saddle-point system of Eq. (18): the free-dof tangent bordered by the
@@ -219,6 +309,11 @@ pub struct Augmented {
     /// tangent's pattern plus, against a deformable target, a few contact
     /// couplings, and any order is valid (`analyse_ldlt`).
     disp_order: Option<(Vec<usize>, Vec<usize>)>,
+    /// The slot of each multiplier of the last system `solve` factored.
+    last_slots: Vec<usize>,
+    /// Keep the multipliers in slots (`Analysis::slots`); when false, each
+    /// contact set is a pattern of its own.
+    pub slots: bool,
 }
 
 /// The factorization of the last system `solve` factored (LDLT: the
@@ -244,6 +339,14 @@ const LDLT_BACKWARD_ERROR: f64 = 1e-8;
 const LDLT_REFINEMENT: f64 = 1e-4;
 
 impl Augmented {
+    /// An empty solver whose multipliers keep slots (`slots`) or not.
+    pub fn with_slots(slots: bool) -> Self {
+        Augmented {
+            slots,
+            ..Augmented::default()
+        }
+    }
+
     /// The factorization the last successful solve used.
     pub fn method(&self) -> Option<Method> {
         self.last
@@ -262,32 +365,142 @@ impl Augmented {
         self.kept = None;
         let clock = Instant::now();
         let n = rhs.len();
-        let old_ptr = std::mem::take(&mut self.col_ptr);
-        let old_idx = std::mem::take(&mut self.row_idx);
-        bordered(
-            pattern,
-            k,
-            extra,
-            n,
-            [&mut self.col_ptr, &mut self.row_idx],
-            &mut self.values,
-        );
-        let (col_ptr, row_idx) = (&self.col_ptr, &self.row_idx);
         let n_disp = pattern.n.min(n);
-        let same = self.analysis.as_ref().is_some_and(|a| a.n_disp == n_disp)
-            && old_ptr == *col_ptr
-            && old_idx == *row_idx;
-        if !same {
-            let mat =
-                SymbolicSparseColMat::new_checked(n, n, col_ptr.clone(), None, row_idx.clone());
+        let keys = (n > n_disp && self.slots)
+            .then(|| slot_keys(extra, n_disp, n - n_disp))
+            .flatten();
+        // The multipliers in the slots of the kept analysis, when they fit
+        // and the pattern is the same; else a new analysis, its slots the
+        // old ones and the new keys (while they stay few), else the keys.
+        let mut fresh = false;
+        let slot_of = loop {
+            let kept = self
+                .analysis
+                .as_ref()
+                .filter(|a| a.n_disp == n_disp && !fresh);
+            let placed = keys
+                .as_ref()
+                .zip(kept)
+                .and_then(|(k, a)| place(&a.slots, k));
+            let (slots, slot_of, reuse) = match (placed, &keys) {
+                (Some(slot_of), _) => {
+                    let slots =
+                        kept.map_or(Cow::Owned(Vec::new()), |a| Cow::Borrowed(&a.slots[..]));
+                    (slots, slot_of, true)
+                }
+                (None, Some(keys)) => {
+                    let mut slots: Vec<SlotKey> = Vec::new();
+                    if let Some(a) = kept {
+                        slots.clone_from(&a.slots);
+                    }
+                    let mut free: HashMap<&SlotKey, usize> = HashMap::new();
+                    for s in &slots {
+                        *free.entry(s).or_default() += 1;
+                    }
+                    let mut added = Vec::new();
+                    for key in keys {
+                        match free.get_mut(key) {
+                            Some(c) if *c > 0 => *c -= 1,
+                            _ => added.push(key.clone()),
+                        }
+                    }
+                    if slots.len() + added.len() > 2 * keys.len() + 8 {
+                        slots.clone_from(keys);
+                    } else {
+                        slots.extend(added);
+                    }
+                    let slot_of = place(&slots, keys).expect("every key has a slot");
+                    (Cow::Owned(slots), slot_of, false)
+                }
+                // Multipliers coupled to each other: no slots, the system
+                // as given.
+                (None, None) => (Cow::Owned(Vec::new()), Vec::new(), false),
+            };
+            let order = if keys.is_some() {
+                n_disp + slots.len()
+            } else {
+                n
+            };
+            let mut placed_extra: Vec<(usize, usize, f64)>;
+            let extra_now: &mut [(usize, usize, f64)] = if keys.is_some() {
+                placed_extra = in_slots(extra, n_disp, &slots, &slot_of);
+                &mut placed_extra
+            } else {
+                &mut *extra
+            };
+            let old_ptr = std::mem::take(&mut self.col_ptr);
+            let old_idx = std::mem::take(&mut self.row_idx);
+            bordered(
+                pattern,
+                k,
+                extra_now,
+                order,
+                [&mut self.col_ptr, &mut self.row_idx],
+                &mut self.values,
+            );
+            let same = old_ptr == self.col_ptr && old_idx == self.row_idx;
+            if reuse && same {
+                break slot_of;
+            }
+            if reuse {
+                // The slots fit but the displacement block changed.
+                fresh = true;
+                continue;
+            }
+            let mat = SymbolicSparseColMat::new_checked(
+                order,
+                order,
+                self.col_ptr.clone(),
+                None,
+                self.row_idx.clone(),
+            );
             self.analysis = Some(Analysis {
                 mat,
                 n_disp,
                 ldlt: None,
                 ldlt_failed: false,
                 lu: None,
+                slots: slots.into_owned(),
             });
+            break slot_of;
+        };
+        // An LDLT that failed is tried again once the multipliers take
+        // other slots (a new contact set, as a new pattern did before).
+        if self.last_slots != slot_of
+            && let Some(a) = self.analysis.as_mut()
+        {
+            a.ldlt_failed = false;
         }
+        self.last_slots.clone_from(&slot_of);
+        // The right-hand side in the slots' order (an empty slot's 0).
+        let order = self.col_ptr.len() - 1;
+        let mut full = vec![0.0; order];
+        if keys.is_some() {
+            full[..n_disp].copy_from_slice(&rhs[..n_disp]);
+            for (m, &s) in slot_of.iter().enumerate() {
+                full[n_disp + s] = rhs[n_disp + m];
+            }
+        } else {
+            full.copy_from_slice(rhs);
+        }
+        self.times.system += clock.elapsed();
+        self.solve_kept(n_disp, &mut full)?;
+        if keys.is_some() {
+            rhs[..n_disp].copy_from_slice(&full[..n_disp]);
+            for (m, &s) in slot_of.iter().enumerate() {
+                rhs[n_disp + m] = full[n_disp + s];
+            }
+        } else {
+            rhs.copy_from_slice(&full);
+        }
+        Ok(())
+    }
+
+    /// Factors the system built in `col_ptr`, `row_idx`, `values` over the
+    /// kept analysis and solves it in place (`solve`).
+    fn solve_kept(&mut self, n_disp: usize, rhs: &mut [f64]) -> Result<(), LinearError> {
+        let clock = Instant::now();
+        let n = rhs.len();
         let analysis = self.analysis.as_mut().expect("set above");
         let symmetric = !self.force_lu
             && !analysis.ldlt_failed

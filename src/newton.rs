@@ -268,6 +268,8 @@ pub struct Solver {
 
 impl Solver {
     pub fn new(problem: Problem) -> Result<Self, SolveError> {
+        let all_rigid =
+            (problem.contacts.iter()).all(|p| matches!(p.target, crate::problem::Target::Rigid(_)));
         let ndof = 2 * problem.mesh.nodes.len();
         if problem.element_material.len() != problem.mesh.elements.len() {
             return Err(SolveError::Invalid(
@@ -359,7 +361,17 @@ impl Solver {
             r: vec![0.0; ndof],
             k: vec![0.0; nnz],
             factor_valid: false,
-            augmented: Augmented::default(),
+            augmented: Augmented::with_slots(
+                // Multiplier slots where every target is rigid, as the
+                // bordered inner solves: a row then keeps its key while
+                // its node stays in contact. Against a deformable target
+                // a sliding node's row changes key with its segment, and on
+                // the buried pipe (held by contact alone, its LU solves
+                // good to 1e-9 of the right-hand side) the first increment
+                // took another path through its stick/slip decisions and
+                // bisected.
+                all_rigid,
+            ),
             contact: None,
             size,
             diagonal_at,

@@ -2070,7 +2070,7 @@ mod tests {
             .collect();
         let zigzag: Vec<TargetSegment> = (0..100)
             .map(|k| {
-                let y = |k: usize| if k % 2 == 0 { 0.0 } else { 0.3 };
+                let y = |k: usize| if k.is_multiple_of(2) { 0.0 } else { 0.3 };
                 seg([k as f64 * 0.1, y(k)], [(k + 1) as f64 * 0.1, y(k + 1)])
             })
             .collect();

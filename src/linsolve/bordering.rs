@@ -96,6 +96,16 @@ struct Multiplier {
 }
 
 impl Multiplier {
+    /// An identity-like row of its own: no coupling to the displacements
+    /// (an empty slot of a kept pattern, or a row on prescribed dofs
+    /// alone), a nonzero diagonal. Its unknown is `h / diagonal` in any
+    /// system it is part of: no change to border.
+    fn decoupled(&self) -> bool {
+        self.row.iter().chain(&self.column).all(|&(_, v)| v == 0.0)
+            && self.diagonal != 0.0
+            && self.diagonal.is_finite()
+    }
+
     /// Bit-exact identity: a row the inner solves keep is rebuilt from the
     /// same decision at the same iterate, entry for entry.
     fn key(&self) -> Vec<u64> {
@@ -152,6 +162,8 @@ pub(super) struct Base {
     n: usize,
     n_disp: usize,
     keys: HashMap<Vec<u64>, Vec<usize>>,
+    /// Per multiplier of `A0`: decoupled (`Multiplier::decoupled`).
+    decoupled: Vec<bool>,
     solved: HashMap<Change, Vec<f64>>,
 }
 
@@ -159,13 +171,15 @@ impl Base {
     pub(super) fn new(a0: Csc, n_disp: usize) -> Self {
         // Each key's multipliers in ascending order.
         let mut keys: HashMap<Vec<u64>, Vec<usize>> = HashMap::new();
-        for (m, mult) in multipliers(a0, n_disp).iter().enumerate() {
+        let all = multipliers(a0, n_disp);
+        for (m, mult) in all.iter().enumerate() {
             keys.entry(mult.key()).or_default().push(m);
         }
         Base {
             n: a0.n(),
             n_disp,
             keys,
+            decoupled: all.iter().map(Multiplier::decoupled).collect(),
             solved: HashMap::new(),
         }
     }
@@ -244,14 +258,27 @@ pub(super) fn solve(
         }
         matched.push(m0);
     }
+    // A decoupled multiplier of A0 left out is no change (its unknown was
+    // alone); a decoupled one of A1 not in A0 is solved alone (`direct`).
     let mut changes: Vec<Change> = Vec::new();
-    changes.extend((0..n0 - nd).filter(|&m| !used[m]).map(Change::Released));
-    let added: Vec<usize> = (0..new.len()).filter(|&m| matched[m].is_none()).collect();
+    let left_out = (0..n0 - nd).filter(|&m| !used[m] && !base.decoupled[m]);
+    changes.extend(left_out.map(Change::Released));
+    let unmatched = |m: &usize| matched[*m].is_none();
+    let added: Vec<usize> = (0..new.len())
+        .filter(unmatched)
+        .filter(|&m| !new[m].decoupled())
+        .collect();
+    let direct: Vec<usize> = (0..new.len())
+        .filter(unmatched)
+        .filter(|&m| new[m].decoupled())
+        .collect();
     changes.extend(added.iter().map(|&m| Change::Added(new[m].key())));
     let mut delta: Vec<usize> = delta_rows.keys().copied().collect();
     delta.sort_unstable();
     changes.extend(delta.iter().map(|&i| Change::Displacement(i)));
-    let released = n0 - nd - used.iter().filter(|u| **u).count();
+    let released = (0..n0 - nd)
+        .filter(|&m| !used[m] && !base.decoupled[m])
+        .count();
     let r = changes.len();
     if r > max_rank {
         return Err(NotBordered::TooMany);
@@ -360,6 +387,9 @@ pub(super) fn solve(
         }
         for (q, &m1) in added.iter().enumerate() {
             x1[nd + m1] = y[released + q];
+        }
+        for &m1 in &direct {
+            x1[nd + m1] = b1[nd + m1] / new[m1].diagonal;
         }
         Some(x1)
     };

@@ -383,6 +383,102 @@ fn symbolic_analysis_reused_while_the_pattern_holds() {
     assert_eq!(n, p.n + 5);
 }
 
+/// With slots, a contact set that loses rows, or comes back to rows it
+/// had, keeps the pattern: one analysis while the keys fit, every solve
+/// exact against the dense system.
+#[test]
+fn multipliers_in_slots_keep_the_analysis() {
+    let mut rng = Rng(11);
+    let (p, k) = q4(9, 8, true);
+    let rows = contact_rows(9, 8, 5, &mut rng);
+    let mut aug = Augmented::with_slots(true);
+    let check = |aug: &mut Augmented, rows: &[Vec<(usize, f64)>], extra_k: &[_]| {
+        let n = p.n + rows.len();
+        let mut extra = border(p.n, rows);
+        extra.extend_from_slice(extra_k);
+        let b = rhs(n, &mut Rng(n as u64 + 3));
+        let a = dense(&p, &k, &extra, n);
+        let mut x = b.clone();
+        aug.solve(&p, &k, &mut extra, &mut x).unwrap();
+        let r = residual(&a, &x, &b);
+        assert!(r < 1e-10, "residual {r:e}");
+        (aug.analyses, aug.ldlt, aug.lu)
+    };
+    assert_eq!(check(&mut aug, &rows, &[]), (1, 1, 0));
+    // Rows left out, in any order: their slots stay empty.
+    assert_eq!(check(&mut aug, &rows[..4], &[]), (1, 2, 0));
+    let some: Rows = vec![rows[3].clone(), rows[0].clone()];
+    assert_eq!(check(&mut aug, &some, &[]), (1, 3, 0));
+    // A row with other dofs: a slot more, analysed again; then the first
+    // set fits again.
+    let mut rows3 = rows.clone();
+    rows3[4] = vec![(p.n - 1, 1.0), (p.n - 3, -1.0)];
+    assert_eq!(check(&mut aug, &rows3, &[]), (2, 4, 0));
+    assert_eq!(check(&mut aug, &rows, &[]), (2, 5, 0));
+    // Unsymmetric: LU on the same pattern (one LU analysis), kept.
+    assert_eq!(check(&mut aug, &rows[1..], &[(1, 0, 0.3)]), (3, 5, 1));
+    assert_eq!(check(&mut aug, &rows[2..], &[(1, 0, 0.3)]), (3, 5, 2));
+    // No rows at all.
+    assert_eq!(check(&mut aug, &[], &[]).1, 6);
+}
+
+/// An inner solve bordered on the factor of another contact set (rows
+/// released, rows added, a friction-like unsymmetric column, a changed
+/// tangent entry, an identity row) solves its own system, whether the
+/// factored system kept its multipliers in slots (empty slots are no
+/// change) or not, by LDLT and by LU.
+#[test]
+fn bordered_solves_match_the_dense_system() {
+    let mut rng = Rng(21);
+    let (p, k) = q4(9, 8, true);
+    let rows = contact_rows(9, 8, 6, &mut rng);
+    let (n_disp, top) = (p.n, 2 * (7 * 9) + 1);
+    for (slots, force_lu) in [(false, false), (true, false), (false, true), (true, true)] {
+        let mut aug = Augmented {
+            force_lu,
+            ..Augmented::with_slots(slots)
+        };
+        // The factored system: rows 0..5 (and, with slots, row 5 seen once
+        // before, so that its slot is empty now).
+        if slots {
+            let mut extra = border(n_disp, &rows);
+            let mut x = rhs(n_disp + rows.len(), &mut Rng(3));
+            aug.solve(&p, &k, &mut extra, &mut x).unwrap();
+        }
+        let base = &rows[..5];
+        let mut extra = border(n_disp, base);
+        let mut x = rhs(n_disp + base.len(), &mut Rng(4));
+        aug.solve(&p, &k, &mut extra, &mut x).unwrap();
+        // The inner solve's system: rows 1 and 3 released, row 5 added with
+        // a column of its own, an identity row, K(top, top) changed.
+        let new_rows: Rows = vec![rows[0].clone(), rows[2].clone(), rows[4].clone()];
+        let mut extra = border(n_disp, &new_rows);
+        let m5 = n_disp + new_rows.len();
+        for &(d, c) in &rows[5] {
+            extra.push((m5, d, c));
+            extra.push((d, m5, 0.7 * c));
+        }
+        extra.push((m5 + 1, m5 + 1, 1.0));
+        extra.push((
+            top,
+            top,
+            0.25 * k.iter().fold(0.0f64, |m, v| m.max(v.abs())),
+        ));
+        let n = m5 + 2;
+        let b = rhs(n, &mut Rng(5));
+        let a = dense(&p, &k, &extra, n);
+        let mut x = b.clone();
+        assert!(
+            aug.solve_modified(&p, &k, &mut extra, &mut x, 16),
+            "slots {slots}, LU {force_lu}: not bordered"
+        );
+        assert_eq!(aug.bordered, 1);
+        let r = residual(&a, &x, &b);
+        assert!(r < 1e-10, "slots {slots}, LU {force_lu}: residual {r:e}");
+        assert_eq!(x[m5 + 1], b[m5 + 1]);
+    }
+}
+
 #[test]
 fn no_multipliers_is_plain_ldlt() {
     let (p, k) = q4(8, 8, true);
