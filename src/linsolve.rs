@@ -339,6 +339,17 @@ const LDLT_BACKWARD_ERROR: f64 = 1e-8;
 const LDLT_REFINEMENT: f64 = 1e-4;
 
 impl Augmented {
+    /// Forgets the slots (and the analysis and factor that hold them):
+    /// the next system is laid out from its own multipliers. Without slots
+    /// nothing changes (an analysis is a function of its pattern).
+    pub fn restart(&mut self) {
+        if self.slots {
+            self.analysis = None;
+            self.kept = None;
+            self.last_slots.clear();
+        }
+    }
+
     /// An empty solver whose multipliers keep slots (`slots`) or not.
     pub fn with_slots(slots: bool) -> Self {
         Augmented {
@@ -439,7 +450,9 @@ impl Augmented {
                 &mut self.values,
             );
             let same = old_ptr == self.col_ptr && old_idx == self.row_idx;
-            if reuse && same {
+            // Without slots, the kept analysis holds while the pattern does.
+            let unslotted = keys.is_none() && kept.is_some();
+            if (reuse || unslotted) && same {
                 break slot_of;
             }
             if reuse {

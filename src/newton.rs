@@ -819,6 +819,10 @@ impl Solver {
         log: &mut dyn FnMut(LogCategory, &str),
     ) -> Result<Converged, String> {
         let max_iterations = self.problem.solver.max_iterations;
+        // The multipliers' slots start afresh: an increment's round-off
+        // depends on its start state alone (a restored state continues bit
+        // for bit).
+        self.augmented.restart();
         let mut inc = self.predictor(t, from);
         for it in 0..=max_iterations {
             let eval = self.evaluate(&mut inc, it, log)?;

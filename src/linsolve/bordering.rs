@@ -371,7 +371,8 @@ pub(super) fn solve(
             };
             h[q] = hq - f_dot(q, &w);
         }
-        let y = lu.solve(&h)?;
+        // (No change to border: A1 is A0 but for decoupled rows.)
+        let y = if r == 0 { h } else { lu.solve(&h)? };
         for (p, zp) in z.iter().enumerate() {
             let yp = y[p];
             for (wi, zi) in w.iter_mut().zip(zp.iter()) {

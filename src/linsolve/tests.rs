@@ -476,6 +476,15 @@ fn bordered_solves_match_the_dense_system() {
         let r = residual(&a, &x, &b);
         assert!(r < 1e-10, "slots {slots}, LU {force_lu}: residual {r:e}");
         assert_eq!(x[m5 + 1], b[m5 + 1]);
+        // The factored system itself, bordered: nothing to border (with
+        // slots, A0 differs from it in an empty slot only).
+        let mut extra = border(n_disp, base);
+        let b = rhs(n_disp + base.len(), &mut Rng(6));
+        let a = dense(&p, &k, &extra, b.len());
+        let mut x = b.clone();
+        assert!(aug.solve_modified(&p, &k, &mut extra, &mut x, 16));
+        let r = residual(&a, &x, &b);
+        assert!(r < 1e-10, "slots {slots}, LU {force_lu}: residual {r:e}");
     }
 }
 
