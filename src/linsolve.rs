@@ -303,6 +303,9 @@ pub struct Augmented {
     /// Solves done with the kept factorization of another system
     /// (`solve_modified`).
     pub bordered: usize,
+    /// Right-hand sides those solves solved with the kept factor (columns
+    /// of `A0^-1 E`, right-hand sides, refinements).
+    pub columns: usize,
     pub times: LinearTimes,
     /// The fill-reducing order of the displacement block (AMD), made on the
     /// first pattern and kept for every later one: the block is the
@@ -514,6 +517,7 @@ impl Augmented {
     fn solve_kept(&mut self, n_disp: usize, rhs: &mut [f64]) -> Result<(), LinearError> {
         let clock = Instant::now();
         let n = rhs.len();
+        let b = rhs.to_vec();
         let analysis = self.analysis.as_mut().expect("set above");
         let symmetric = !self.force_lu
             && !analysis.ldlt_failed
@@ -546,7 +550,8 @@ impl Augmented {
                     rhs.copy_from_slice(&self.x);
                     self.ldlt += 1;
                     self.last = Some(Method::Ldlt);
-                    self.kept = Some(Kept::Ldlt(bordering::Base::new(self.csc(), n_disp)));
+                    let base = bordering::Base::new(self.csc(), n_disp, b, rhs.to_vec());
+                    self.kept = Some(Kept::Ldlt(base));
                     return Ok(());
                 }
                 analysis.ldlt_failed = true;
@@ -576,7 +581,7 @@ impl Augmented {
         }
         self.lu += 1;
         self.last = Some(Method::Lu);
-        let base = bordering::Base::new(self.csc(), n_disp);
+        let base = bordering::Base::new(self.csc(), n_disp, b, rhs.to_vec());
         self.kept = Some(Kept::Lu(Box::new(f), base));
         Ok(())
     }
@@ -623,6 +628,7 @@ impl Augmented {
             };
             let l_values = &self.l_values;
             let analysis = self.analysis.as_ref();
+            let columns = &mut self.columns;
             let outcome = match kept {
                 Kept::Ldlt(base) => {
                     let Some((symbolic, _)) = analysis.and_then(|a| a.ldlt.as_ref()) else {
@@ -638,6 +644,7 @@ impl Augmented {
                     // there saves little: 5 bordered solves took 1.1 s.
                     let max_rank = max_rank.min(symbolic.len_val() / (4 * n).max(1)).max(1);
                     let mut solve0 = |block: &mut [f64], cols: usize| {
+                        *columns += cols;
                         let rows = symbolic.nrows();
                         let req = symbolic.solve_in_place_scratch::<f64>(cols, Par::Seq);
                         let Ok(mut mem) = MemBuffer::try_new(req) else {
@@ -657,6 +664,7 @@ impl Augmented {
                 Kept::Lu(lu, base) => {
                     let rows = a0.col_ptr.len() - 1;
                     let mut solve0 = |block: &mut [f64], cols: usize| {
+                        *columns += cols;
                         lu.solve_in_place(MatMut::from_column_major_slice_mut(block, rows, cols));
                         true
                     };

@@ -432,6 +432,7 @@ fn bordered_solves_match_the_dense_system() {
     let mut rng = Rng(21);
     let (p, k) = q4(9, 8, true);
     let rows = contact_rows(9, 8, 6, &mut rng);
+    let kept_rows: Rows = vec![rows[0].clone(), rows[2].clone(), rows[4].clone()];
     let (n_disp, top) = (p.n, 2 * (7 * 9) + 1);
     for (slots, force_lu) in [(false, false), (true, false), (false, true), (true, true)] {
         let mut aug = Augmented {
@@ -447,8 +448,22 @@ fn bordered_solves_match_the_dense_system() {
         }
         let base = &rows[..5];
         let mut extra = border(n_disp, base);
-        let mut x = rhs(n_disp + base.len(), &mut Rng(4));
+        let b_base = rhs(n_disp + base.len(), &mut Rng(4));
+        let mut x = b_base.clone();
         aug.solve(&p, &k, &mut extra, &mut x).unwrap();
+        // Rows 1 and 3 released, the right-hand side otherwise the factored
+        // one's: solved from the kept solution and columns.
+        let mut extra = border(n_disp, &kept_rows);
+        let mut b: Vec<f64> = b_base[..n_disp].to_vec();
+        b.extend([0, 2, 4].map(|i| b_base[n_disp + i]));
+        let a = dense(&p, &k, &extra, b.len());
+        let mut x = b.clone();
+        assert!(aug.solve_modified(&p, &k, &mut extra, &mut x, 16));
+        let r = residual(&a, &x, &b);
+        assert!(r < 1e-10, "slots {slots}, LU {force_lu}: residual {r:e}");
+        // One column per release and the refinement's solve: none for the
+        // right-hand side.
+        assert_eq!(aug.columns, 3, "slots {slots}, LU {force_lu}");
         // The inner solve's system: rows 1 and 3 released, row 5 added with
         // a column of its own, an identity row, K(top, top) changed.
         let new_rows: Rows = vec![rows[0].clone(), rows[2].clone(), rows[4].clone()];
@@ -472,10 +487,29 @@ fn bordered_solves_match_the_dense_system() {
             aug.solve_modified(&p, &k, &mut extra, &mut x, 16),
             "slots {slots}, LU {force_lu}: not bordered"
         );
-        assert_eq!(aug.bordered, 1);
+        assert_eq!(aug.bordered, 2);
         let r = residual(&a, &x, &b);
         assert!(r < 1e-10, "slots {slots}, LU {force_lu}: residual {r:e}");
         assert_eq!(x[m5 + 1], b[m5 + 1]);
+        // The same releases and tangent change, the right-hand side the
+        // factored one's but at the changed row: every column is kept, the
+        // refinement's is the one solve with the factor.
+        let mut extra = border(n_disp, &kept_rows);
+        extra.push((
+            top,
+            top,
+            0.25 * k.iter().fold(0.0f64, |m, v| m.max(v.abs())),
+        ));
+        let mut b: Vec<f64> = b_base[..n_disp].to_vec();
+        b.extend([0, 2, 4].map(|i| b_base[n_disp + i]));
+        b[top] += 2.0;
+        let a = dense(&p, &k, &extra, b.len());
+        let mut x = b.clone();
+        let columns = aug.columns;
+        assert!(aug.solve_modified(&p, &k, &mut extra, &mut x, 16));
+        let r = residual(&a, &x, &b);
+        assert!(r < 1e-10, "slots {slots}, LU {force_lu}: residual {r:e}");
+        assert_eq!(aug.columns, columns + 1, "slots {slots}, LU {force_lu}");
         // The factored system itself, bordered: nothing to border (with
         // slots, A0 differs from it in an empty slot only).
         let mut extra = border(n_disp, base);
