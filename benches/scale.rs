@@ -153,15 +153,7 @@ fn capstan_fmu() {
     report("drawn by 0.05 mm", &moving);
     report("held", &held);
     if let Some(p) = drawn_phases {
-        println!(
-            "  drawn steps by phase (%): {}; {} factorizations ({} LDLT, {} LU), {} bordered solves, {} symbolic analyses",
-            p.split(),
-            p.factorizations,
-            p.ldlt,
-            p.lu,
-            p.bordered,
-            p.analyses
-        );
+        println!("  drawn steps by phase (%): {}", p.summary());
     }
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -205,6 +205,21 @@ impl Phases {
     }
 }
 
+impl Phases {
+    /// `split` and the counts, one line (the CLI's `-v` and the benchmark).
+    pub fn summary(&self) -> String {
+        format!(
+            "{}; {} factorizations ({} LDLT, {} LU), {} bordered solves, {} symbolic analyses",
+            self.split(),
+            self.factorizations,
+            self.ldlt,
+            self.lu,
+            self.bordered,
+            self.analyses
+        )
+    }
+}
+
 /// The solver's own part of [`Phases`].
 #[derive(Clone, Copy, Debug, Default)]
 struct SolverTimes {

@@ -438,15 +438,7 @@ fn run(scene: &Path, o: &RunOptions) -> ExitCode {
     let p = solver.phases();
     out.line(
         Verbosity::Verbose,
-        &format!(
-            "time by phase (%): {}; {} factorizations ({} LDLT, {} LU), {} bordered solves, {} symbolic analyses",
-            p.split(),
-            p.factorizations,
-            p.ldlt,
-            p.lu,
-            p.bordered,
-            p.analyses
-        ),
+        &format!("time by phase (%): {}", p.summary()),
     );
     if errors.is_empty() {
         let done = format!(
