@@ -203,9 +203,7 @@ impl Phases {
             .collect::<Vec<_>>()
             .join("  ")
     }
-}
 
-impl Phases {
     /// `split` and the counts, one line (the CLI's `-v` and the benchmark).
     pub fn summary(&self) -> String {
         format!(
@@ -273,6 +271,15 @@ pub struct Solver {
     /// Free nodes touching a target close too (`pairs::Start::touching`;
     /// the second fallback of `advance`).
     close_touching: bool,
+    /// Every contact pair's target is rigid: only then do the inner solves
+    /// border the iteration's factor (`constrained_correction`) and the
+    /// multipliers keep slots (`Augmented::slots`). Against a deformable
+    /// target a sliding node's row changes key with its segment, and the
+    /// buried pipe (a steel pipe in soft soil, held by contact alone, its
+    /// LU solves good to about 1e-9 of the right-hand side) stalled at
+    /// |r|/F = 4.8e-4 in its first increment and bisected under either:
+    /// its stick/slip path depends on round-off (docs/contact.md section 8).
+    rigid_targets: bool,
     /// The last increment failed at its first solve because nothing held
     /// a body (`correction`).
     free_at_first_solve: bool,
@@ -283,7 +290,7 @@ pub struct Solver {
 
 impl Solver {
     pub fn new(problem: Problem) -> Result<Self, SolveError> {
-        let all_rigid =
+        let rigid_targets =
             (problem.contacts.iter()).all(|p| matches!(p.target, crate::problem::Target::Rigid(_)));
         let ndof = 2 * problem.mesh.nodes.len();
         if problem.element_material.len() != problem.mesh.elements.len() {
@@ -376,17 +383,8 @@ impl Solver {
             r: vec![0.0; ndof],
             k: vec![0.0; nnz],
             factor_valid: false,
-            augmented: Augmented::with_slots(
-                // Multiplier slots where every target is rigid, as the
-                // bordered inner solves: a row then keeps its key while
-                // its node stays in contact. Against a deformable target
-                // a sliding node's row changes key with its segment, and on
-                // the buried pipe (held by contact alone, its LU solves
-                // good to 1e-9 of the right-hand side) the first increment
-                // took another path through its stick/slip decisions and
-                // bisected.
-                all_rigid,
-            ),
+            augmented: Augmented::with_slots(rigid_targets),
+            rigid_targets,
             contact: None,
             size,
             diagonal_at,
@@ -1310,14 +1308,8 @@ impl Solver {
         let mut inner = 0usize;
         let mut seen: Vec<u64> = Vec::new();
         let mut flipped: Vec<Vec<usize>> = Vec::new();
-        // Bordered inner solves against rigid targets only: on the buried
-        // pipe (a steel pipe in soft soil, flexible against flexible, held
-        // by contact alone) they left its first increment stuck at |r|/F =
-        // 4.8e-4 after the inner solves' states and it bisected six times;
-        // factored inner solves converge there in 5 iterations.
-        // Not understood yet (docs/contact.md section 8).
-        let bordering = (self.problem.contacts.iter())
-            .all(|p| matches!(p.target, crate::problem::Target::Rigid(_)));
+        // Bordered inner solves against rigid targets only (`rigid_targets`).
+        let bordering = self.rigid_targets;
         type Kept = (Vec<f64>, Vec<PairMemory>, Option<ContactSystem>);
         let mut kept: Option<Kept> = None;
         let full = loop {
