@@ -43,7 +43,7 @@ fn main() {
     println!("Hertz (plane strain, q4), pressed to uy = -0.07 in one increment");
     println!(
         "{:>5} {:>8} {:>3} {:>4} {:>11} {:>9} {:>9} {:>9} {:>6}  phases (% of the increment)                            rms/p0",
-        "div", "unknowns", "it", "fac", "ldlt/lu/bd", "incr s", "s/it", "s/fac", "it/fac"
+        "div", "unknowns", "it", "fac", "ldlt/lu/bd(tr)", "incr s", "s/it", "s/fac", "it/fac"
     );
     let mut sizes = vec![38, 120, 380];
     if full {
@@ -82,7 +82,7 @@ fn hertz(div: usize) {
         solver.dofs(),
         step.iterations,
         p.factorizations,
-        format!("{}/{}/{}", p.ldlt, p.lu, p.bordered),
+        format!("{}/{}/{}({})", p.ldlt, p.lu, p.bordered, p.trailing),
         per_it / per_fac,
         p.split(),
         h.rms,

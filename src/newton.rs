@@ -182,6 +182,9 @@ pub struct Phases {
     pub ldlt: usize,
     pub lu: usize,
     pub bordered: usize,
+    /// Of the bordered, those solved on the factor's trailing block
+    /// (`linsolve::Augmented::trailing_solves`).
+    pub trailing: usize,
 }
 
 impl Phases {
@@ -207,12 +210,13 @@ impl Phases {
     /// `split` and the counts, one line (the CLI's `-v` and the benchmark).
     pub fn summary(&self) -> String {
         format!(
-            "{}; {} factorizations ({} LDLT, {} LU), {} bordered solves, {} symbolic analyses",
+            "{}; {} factorizations ({} LDLT, {} LU), {} bordered solves ({} on the trailing block), {} symbolic analyses",
             self.split(),
             self.factorizations,
             self.ldlt,
             self.lu,
             self.bordered,
+            self.trailing,
             self.analyses
         )
     }
@@ -447,6 +451,7 @@ impl Solver {
             ldlt: self.augmented.ldlt,
             lu: self.augmented.lu,
             bordered: self.augmented.bordered,
+            trailing: self.augmented.trailing_solves,
         }
     }
 
@@ -1238,7 +1243,17 @@ impl Solver {
         let contact = (eval.contact.as_ref()).filter(|c| c.neqc() > 0 || !c.k.is_empty());
         if contact.is_none() && inc.lambda.is_empty() {
             if eval.need_k {
+                // One AMD for the tangent and the bordered systems' block
+                // where that block is the tangent's pattern (rigid targets;
+                // against a deformable one the block has contact couplings
+                // and its own order, as the buried pipe's round-off needs).
+                if self.rigid_targets {
+                    self.linear.share_order(self.augmented.order());
+                }
                 self.linear.factorize(&self.k).map_err(|e| e.to_string())?;
+                if self.rigid_targets {
+                    self.augmented.share_order(self.linear.order());
+                }
                 self.factor_valid = self.model.constant_tangent;
             }
             self.linear.solve(&mut inc.rhs).map_err(|e| e.to_string())?;

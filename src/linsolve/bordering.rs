@@ -48,7 +48,7 @@ impl Csc<'_> {
     }
 
     /// `b - A x`.
-    fn residual(&self, x: &[f64], b: &[f64]) -> Vec<f64> {
+    pub(super) fn residual(&self, x: &[f64], b: &[f64]) -> Vec<f64> {
         let mut r = b.to_vec();
         for (j, &xj) in x.iter().enumerate() {
             for (i, v) in self.column(j) {
@@ -59,7 +59,7 @@ impl Csc<'_> {
     }
 
     /// `|A|_inf`, the largest row sum of magnitudes.
-    fn norm_inf(&self) -> f64 {
+    pub(super) fn norm_inf(&self) -> f64 {
         let mut rows = vec![0.0f64; self.n()];
         for j in 0..self.n() {
             for (i, v) in self.column(j) {
@@ -76,7 +76,7 @@ fn inf(v: &[f64]) -> f64 {
 
 /// The normwise backward error of `x` from its residual `r = b - A x`:
 /// `|r|_inf / (|A|_inf |x|_inf + |b|_inf)`.
-fn backward_error(r: &[f64], norm_a: f64, x: &[f64], b: &[f64]) -> f64 {
+pub(super) fn backward_error(r: &[f64], norm_a: f64, x: &[f64], b: &[f64]) -> f64 {
     inf(r) / (norm_a * inf(x) + inf(b))
 }
 

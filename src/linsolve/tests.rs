@@ -3,6 +3,7 @@
 //! against LU on Q4-like matrices.
 
 use super::*;
+use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
 use nalgebra::{DMatrix, DVector};
 use std::time::Instant;
 
@@ -437,6 +438,7 @@ fn bordered_solves_match_the_dense_system() {
     for (slots, force_lu) in [(false, false), (true, false), (false, true), (true, true)] {
         let mut aug = Augmented {
             force_lu,
+            border_only: true,
             ..Augmented::with_slots(slots)
         };
         // The factored system: rows 0..5 (and, with slots, row 5 seen once
@@ -520,6 +522,56 @@ fn bordered_solves_match_the_dense_system() {
         let r = residual(&a, &x, &b);
         assert!(r < 1e-10, "slots {slots}, LU {force_lu}: residual {r:e}");
     }
+}
+
+/// Inner solves on the trailing block of the factor (the slots' dofs and
+/// multipliers eliminated last): releases, an unsymmetric row, a tangent
+/// entry changed on a contact dof, each against the dense system; a change
+/// outside the trailing set borders the factor instead, and right.
+#[test]
+fn trailing_solves_match_the_dense_system() {
+    let mut rng = Rng(31);
+    let (p, k) = q4(12, 10, true);
+    let rows = contact_rows(12, 10, 6, &mut rng);
+    let n_disp = p.n;
+    let mut aug = Augmented::with_slots(true);
+    let mut extra = border(n_disp, &rows);
+    let b0 = rhs(n_disp + rows.len(), &mut Rng(3));
+    let mut x = b0.clone();
+    aug.solve(&p, &k, &mut extra, &mut x).unwrap();
+    assert_eq!(aug.method(), Some(Method::Ldlt));
+    let kmax = k.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    // A contact dof (in the trailing set) and a dof far from the rows.
+    let (contact_dof, inner_dof) = (rows[0][0].0, 2 * (5 * 12 + 6));
+    assert!(rows.iter().flatten().all(|&(d, _)| d != inner_dof));
+    let mut check = |extra: &mut Vec<(usize, usize, f64)>, m: usize, trailing: bool| {
+        let n = n_disp + m;
+        let b = rhs(n, &mut Rng(7 + m as u64));
+        let a = dense(&p, &k, extra, n);
+        let mut x = b.clone();
+        let before = aug.trailing_solves;
+        assert!(aug.solve_modified(&p, &k, extra, &mut x, 16));
+        let r = residual(&a, &x, &b);
+        assert!(r < 1e-10, "residual {r:e}");
+        assert_eq!(aug.trailing_solves - before, usize::from(trailing));
+    };
+    // Rows 1 and 3 released.
+    let kept: Rows = [0, 2, 4, 5].map(|i| rows[i].clone()).to_vec();
+    check(&mut border(n_disp, &kept), kept.len(), true);
+    // Row 5's column unlike its row (a slip row's friction column), and a
+    // tangent entry changed on a contact dof.
+    let mut extra = border(n_disp, &kept[..3]);
+    let m5 = n_disp + 3;
+    for &(d, c) in &rows[5] {
+        extra.push((m5, d, c));
+        extra.push((d, m5, 0.7 * c));
+    }
+    extra.push((contact_dof, contact_dof, 0.25 * kmax));
+    check(&mut extra, 4, true);
+    // A tangent entry changed away from the contact rows: bordered.
+    let mut extra = border(n_disp, &kept);
+    extra.push((inner_dof, inner_dof, 0.25 * kmax));
+    check(&mut extra, kept.len(), false);
 }
 
 #[test]
