@@ -249,6 +249,10 @@ pub struct Solver {
     ws: Workspace,
     r: Vec<f64>,
     k: Vec<f64>,
+    /// `k` holds the tangent of a model whose tangent is constant
+    /// (`Model::constant_tangent`: small strain, linear laws), assembled
+    /// once: later iterations assemble the forces alone.
+    k_constant: bool,
     /// The factorization in `linear` is of the current constant tangent.
     factor_valid: bool,
     /// The bordered system of Eq. (18), used while contact rows exist.
@@ -386,6 +390,7 @@ impl Solver {
             ws: Workspace::new(),
             r: vec![0.0; ndof],
             k: vec![0.0; nnz],
+            k_constant: false,
             factor_valid: false,
             augmented: Augmented::with_slots(rigid_targets),
             rigid_targets,
@@ -1119,7 +1124,12 @@ impl Solver {
     ) -> Result<Option<ContactSystem>, String> {
         let (t, it) = (step.t, step.it);
         let pred = if it == 0 { Some((step.dup, kdu)) } else { None };
-        let k = if need_k { Some(&mut self.k[..]) } else { None };
+        let assemble_k = need_k && !self.k_constant;
+        let k = if assemble_k {
+            Some(&mut self.k[..])
+        } else {
+            None
+        };
         let clock = Instant::now();
         let assembled = self
             .model
@@ -1137,6 +1147,9 @@ impl Solver {
             .map_err(|e| e.to_string());
         self.times.assembly += clock.elapsed();
         assembled?;
+        if assemble_k {
+            self.k_constant = self.model.constant_tangent;
+        }
         subtract_loads(&self.problem, &self.step_forces, lambda, &mut self.r);
         let contact = if !self.problem.contacts.is_empty() {
             Some(self.contact_update(step, None, memory, flips, log)?)
