@@ -587,6 +587,19 @@ impl Augmented {
         }
         self.times.system += clock.elapsed();
         self.solve_kept(n_disp, &mut full)?;
+        // What the trailing solves compare their systems with: this one's
+        // tangent and its entries beside it, in the slots.
+        if matches!(self.kept, Some(Kept::Ldlt(_, Some(_))))
+            && let Some(a) = self.analysis.as_ref()
+        {
+            let clock = Instant::now();
+            let work = &mut self.trailing_work;
+            work.k0.clear();
+            work.k0.extend_from_slice(k);
+            work.k_rows.clear();
+            work.extra0 = summed(in_slots(extra, n_disp, &a.slots, &slot_of));
+            self.times.system += clock.elapsed();
+        }
         if keys.is_some() {
             rhs[..n_disp].copy_from_slice(&full[..n_disp]);
             for (m, &s) in slot_of.iter().enumerate() {
@@ -847,63 +860,78 @@ impl Augmented {
             return false;
         };
         let order = self.col_ptr.len() - 1;
-        let mut placed = in_slots(extra, n_disp, &analysis.slots, &slot_of);
         let TrailingWork {
-            col_ptr,
-            row_idx,
-            values,
+            k0,
+            k_rows,
+            extra0,
             forward,
         } = work;
-        bordered(
-            pattern,
-            k,
-            &mut placed,
-            order,
-            [&mut *col_ptr, &mut *row_idx],
-            values,
-        );
-        let a1 = bordering::Csc {
-            col_ptr,
-            row_idx,
-            values,
-        };
-        // The Schur complement of the new system: S0 plus its change, which
-        // must lie inside the trailing set.
+        // The tangent is the factored one's; the entries beside it differ
+        // (a merge of the two sorted lists): the change, which must lie
+        // inside the trailing set, added to S0.
+        if k0.as_slice() != k {
+            return false;
+        }
+        let extra1 = summed(in_slots(extra, n_disp, &analysis.slots, &slot_of));
         let mut s1 = s0.clone();
-        for j in 0..order {
-            let (r0, v0) = (
-                &self.row_idx[self.col_ptr[j]..self.col_ptr[j + 1]],
-                &self.values[self.col_ptr[j]..self.col_ptr[j + 1]],
-            );
-            let (r1, v1) = (
-                &a1.row_idx[a1.col_ptr[j]..a1.col_ptr[j + 1]],
-                &a1.values[a1.col_ptr[j]..a1.col_ptr[j + 1]],
-            );
-            let (mut p, mut q) = (0, 0);
-            while p < r0.len() || q < r1.len() {
-                let i0 = r0.get(p).copied().unwrap_or(usize::MAX);
-                let i1 = r1.get(q).copied().unwrap_or(usize::MAX);
-                let (i, d) = if i0 == i1 {
+        let (mut p, mut q) = (0, 0);
+        while p < extra0.len() || q < extra1.len() {
+            let key = |e: &(usize, usize, f64)| (e.1, e.0);
+            let (i, j, d) = match (extra0.get(p), extra1.get(q)) {
+                (Some(a), Some(b)) if key(a) == key(b) => {
                     p += 1;
                     q += 1;
-                    (i0, v1[q - 1] - v0[p - 1])
-                } else if i0 < i1 {
+                    (b.0, b.1, b.2 - a.2)
+                }
+                (Some(a), Some(b)) if key(a) < key(b) => {
                     p += 1;
-                    (i0, -v0[p - 1])
-                } else {
+                    (a.0, a.1, -a.2)
+                }
+                (Some(a), None) => {
+                    p += 1;
+                    (a.0, a.1, -a.2)
+                }
+                (_, Some(b)) => {
                     q += 1;
-                    (i1, v1[q - 1])
-                };
-                if d == 0.0 {
-                    continue;
+                    (b.0, b.1, b.2)
                 }
-                let (pi, pj) = (f.inv[i], f.inv[j]);
-                if pi < f.b || pj < f.b {
-                    return false;
+                (None, None) => break,
+            };
+            if d == 0.0 {
+                continue;
+            }
+            let (pi, pj) = (f.inv[i], f.inv[j]);
+            if pi < f.b || pj < f.b {
+                return false;
+            }
+            s1[(pi - f.b, pj - f.b)] += d;
+        }
+        // `b - A1 x` and `|A1|_inf`, from the tangent and the entries.
+        let residual = |x: &[f64], b: &[f64]| {
+            let mut r = b.to_vec();
+            for (j, &xj) in x.iter().enumerate().take(pattern.n) {
+                for p in pattern.col_ptr[j]..pattern.col_ptr[j + 1] {
+                    r[pattern.row_idx[p]] -= k[p] * xj;
                 }
-                s1[(pi - f.b, pj - f.b)] += d;
+            }
+            for &(i, j, v) in &extra1 {
+                r[i] -= v * x[j];
+            }
+            r
+        };
+        if k_rows.is_empty() {
+            k_rows.resize(order, 0.0);
+            for j in 0..pattern.n {
+                for p in pattern.col_ptr[j]..pattern.col_ptr[j + 1] {
+                    k_rows[pattern.row_idx[p]] += k[p].abs();
+                }
             }
         }
+        let mut rows = k_rows.clone();
+        for &(i, _, v) in &extra1 {
+            rows[i] += v.abs();
+        }
+        let norm_a = rows.iter().fold(0.0f64, |m, v| m.max(*v));
         let lu = s1.partial_piv_lu();
         // `x` (the factor's order) from its forward substitution.
         let finish = |x: &mut Vec<f64>| -> Option<Vec<f64>> {
@@ -946,7 +974,7 @@ impl Augmented {
         };
         // One step of refinement (more gain nothing: measured on Hertz at
         // 1e5 unknowns, the residual is at its round-off after one).
-        let r = a1.residual(&x, &b);
+        let r = residual(&x, &b);
         let mut y: Vec<f64> = f.fwd.iter().map(|&i| r[i]).collect();
         f.forward(&mut y);
         let Some(dx) = finish(&mut y) else {
@@ -955,7 +983,7 @@ impl Augmented {
         for (xi, di) in x.iter_mut().zip(&dx) {
             *xi += di;
         }
-        let backward = bordering::backward_error(&a1.residual(&x, &b), a1.norm_inf(), &x, &b);
+        let backward = bordering::backward_error(&residual(&x, &b), norm_a, &x, &b);
         // (NaN fails too.)
         if backward.is_nan() || backward > LDLT_BACKWARD_ERROR {
             return false;
@@ -968,16 +996,30 @@ impl Augmented {
     }
 }
 
-/// Buffers of the solves on the trailing block, kept between them: the
-/// new system's CSC arrays, and the last forward substitution (the
-/// permuted right-hand side and its result), which serves the next inner
-/// solve of the same factor.
+/// What the solves on the trailing block keep of the factored system (set
+/// by `solve`): its tangent, the row sums of the tangent's magnitudes
+/// (made by the first solve), its entries beside the tangent in the slots
+/// (`summed`), and the last forward substitution (the permuted right-hand
+/// side and its result), which serves the next inner solve.
 #[derive(Default)]
 struct TrailingWork {
-    col_ptr: Vec<usize>,
-    row_idx: Vec<usize>,
-    values: Vec<f64>,
+    k0: Vec<f64>,
+    k_rows: Vec<f64>,
+    extra0: Vec<(usize, usize, f64)>,
     forward: Option<(Vec<f64>, Vec<f64>)>,
+}
+
+/// The entries sorted by (column, row), duplicates summed.
+fn summed(mut e: Vec<(usize, usize, f64)>) -> Vec<(usize, usize, f64)> {
+    e.sort_unstable_by_key(|&(r, c, _)| (c, r));
+    let mut out: Vec<(usize, usize, f64)> = Vec::with_capacity(e.len());
+    for (r, c, v) in e {
+        match out.last_mut() {
+            Some(last) if last.0 == r && last.1 == c => last.2 += v,
+            _ => out.push((r, c, v)),
+        }
+    }
+    out
 }
 
 /// The CSC form (both triangles, rows sorted) of the order-`n` matrix made

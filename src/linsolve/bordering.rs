@@ -48,7 +48,7 @@ impl Csc<'_> {
     }
 
     /// `b - A x`.
-    pub(super) fn residual(&self, x: &[f64], b: &[f64]) -> Vec<f64> {
+    fn residual(&self, x: &[f64], b: &[f64]) -> Vec<f64> {
         let mut r = b.to_vec();
         for (j, &xj) in x.iter().enumerate() {
             for (i, v) in self.column(j) {
@@ -59,7 +59,7 @@ impl Csc<'_> {
     }
 
     /// `|A|_inf`, the largest row sum of magnitudes.
-    pub(super) fn norm_inf(&self) -> f64 {
+    fn norm_inf(&self) -> f64 {
         let mut rows = vec![0.0f64; self.n()];
         for j in 0..self.n() {
             for (i, v) in self.column(j) {
