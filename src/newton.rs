@@ -185,6 +185,8 @@ pub struct Phases {
     /// Of the bordered, those solved on the factor's trailing block
     /// (`linsolve::Augmented::trailing_solves`).
     pub trailing: usize,
+    /// Assemblies of the tangent (one per solver for a constant one).
+    pub tangents: usize,
 }
 
 impl Phases {
@@ -225,6 +227,7 @@ impl Phases {
 /// The solver's own part of [`Phases`].
 #[derive(Clone, Copy, Debug, Default)]
 struct SolverTimes {
+    tangents: usize,
     assembly: Duration,
     contact: Duration,
     total: Duration,
@@ -457,6 +460,7 @@ impl Solver {
             lu: self.augmented.lu,
             bordered: self.augmented.bordered,
             trailing: self.augmented.trailing_solves,
+            tangents: self.times.tangents,
         }
     }
 
@@ -1149,6 +1153,7 @@ impl Solver {
         assembled?;
         if assemble_k {
             self.k_constant = self.model.constant_tangent;
+            self.times.tangents += 1;
         }
         subtract_loads(&self.problem, &self.step_forces, lambda, &mut self.r);
         let contact = if !self.problem.contacts.is_empty() {
