@@ -865,6 +865,7 @@ impl Augmented {
             k_rows,
             extra0,
             forward,
+            correction,
         } = work;
         // The tangent is the factored one's; the entries beside it differ
         // (a merge of the two sorted lists): the change, which must lie
@@ -983,6 +984,8 @@ impl Augmented {
         for (xi, di) in x.iter_mut().zip(&dx) {
             *xi += di;
         }
+        let inf = |v: &[f64]| v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+        *correction = inf(&dx) / inf(&x);
         let backward = bordering::backward_error(&residual(&x, &b), norm_a, &x, &b);
         // (NaN fails too.)
         if backward.is_nan() || backward > LDLT_BACKWARD_ERROR {
@@ -1007,6 +1010,9 @@ struct TrailingWork {
     k_rows: Vec<f64>,
     extra0: Vec<(usize, usize, f64)>,
     forward: Option<(Vec<f64>, Vec<f64>)>,
+    /// The last solve's refinement step relative to its solution (round-off
+    /// for a sound solve; the tests read it).
+    correction: f64,
 }
 
 /// The entries sorted by (column, row), duplicates summed.

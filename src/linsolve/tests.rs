@@ -544,20 +544,36 @@ fn trailing_solves_match_the_dense_system() {
     // A contact dof (in the trailing set) and a dof far from the rows.
     let (contact_dof, inner_dof) = (rows[0][0].0, 2 * (5 * 12 + 6));
     assert!(rows.iter().flatten().all(|&(d, _)| d != inner_dof));
-    let mut check = |extra: &mut Vec<(usize, usize, f64)>, m: usize, trailing: bool| {
-        let n = n_disp + m;
-        let b = rhs(n, &mut Rng(7 + m as u64));
+    let mut check = |extra: &mut Vec<(usize, usize, f64)>, b: &[f64], trailing: bool| {
+        let n = b.len();
         let a = dense(&p, &k, extra, n);
-        let mut x = b.clone();
+        let mut x = b.to_vec();
         let before = aug.trailing_solves;
         assert!(aug.solve_modified(&p, &k, extra, &mut x, 16));
-        let r = residual(&a, &x, &b);
+        let r = residual(&a, &x, b);
         assert!(r < 1e-10, "residual {r:e}");
         assert_eq!(aug.trailing_solves - before, usize::from(trailing));
+        // The solve before its refinement was sound: the refinement
+        // corrects round-off only (a wrong forward substitution kept from
+        // the last solve would be corrected there, unseen in x).
+        if trailing {
+            let c = aug.trailing_work.correction;
+            assert!(c < 1e-12, "refinement step {c:e} of x");
+        }
     };
     // Rows 1 and 3 released.
     let kept: Rows = [0, 2, 4, 5].map(|i| rows[i].clone()).to_vec();
-    check(&mut border(n_disp, &kept), kept.len(), true);
+    let b1 = rhs(n_disp + kept.len(), &mut Rng(11));
+    check(&mut border(n_disp, &kept), &b1, true);
+    // The same system, its right-hand side changed on the trailing set only
+    // (a contact dof and the multipliers' rows), as between inner solves:
+    // the last forward substitution serves, shifted.
+    let mut b2 = b1.clone();
+    b2[contact_dof] += 3.0;
+    for v in &mut b2[n_disp..] {
+        *v -= 0.5;
+    }
+    check(&mut border(n_disp, &kept), &b2, true);
     // Row 5's column unlike its row (a slip row's friction column), and a
     // tangent entry changed on a contact dof.
     let mut extra = border(n_disp, &kept[..3]);
@@ -567,11 +583,11 @@ fn trailing_solves_match_the_dense_system() {
         extra.push((d, m5, 0.7 * c));
     }
     extra.push((contact_dof, contact_dof, 0.25 * kmax));
-    check(&mut extra, 4, true);
+    check(&mut extra, &rhs(n_disp + 4, &mut Rng(12)), true);
     // A tangent entry changed away from the contact rows: bordered.
     let mut extra = border(n_disp, &kept);
     extra.push((inner_dof, inner_dof, 0.25 * kmax));
-    check(&mut extra, kept.len(), false);
+    check(&mut extra, &rhs(n_disp + kept.len(), &mut Rng(13)), false);
 }
 
 #[test]
