@@ -11,8 +11,9 @@
 //! Per mesh: unknowns, Newton iterations, numeric factorizations (and how
 //! many were LDLT, LU, and how many inner solves bordered an existing
 //! factor instead; in parentheses, how many of those solved on the
-//! factor's trailing block, docs/contact.md section 8), wall time of the increment and per iteration, the mean
-//! time of one numeric factorization, their ratio, and the split of the
+//! factor's trailing block, docs/contact.md section 8), wall time of the
+//! increment and per iteration, the mean time of one numeric
+//! factorization, their ratio, and the split of the
 //! time into phases (assembly; contact search, recovery and decisions;
 //! building the bordered system; ordering and symbolic analysis; numeric
 //! factorization; triangular solves with their checks; the rest), and the
