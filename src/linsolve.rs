@@ -372,6 +372,8 @@ pub struct Augmented {
     pub bordered: usize,
     /// Of those, the solves on the factor's trailing block (`trailing`).
     pub trailing_solves: usize,
+    /// Of those, the deferred ones (`solve_modified_watching`).
+    pub deferred_solves: usize,
     trailing_work: TrailingWork,
     /// Right-hand sides those solves solved with the kept factor (columns
     /// of `A0^-1 E`, right-hand sides, refinements).
@@ -462,6 +464,7 @@ impl Augmented {
         rhs: &mut [f64],
     ) -> Result<(), LinearError> {
         self.kept = None;
+        self.trailing_work.pending = None;
         let clock = Instant::now();
         let n = rhs.len();
         let n_disp = pattern.n.min(n);
@@ -726,8 +729,28 @@ impl Augmented {
         rhs: &mut [f64],
         max_rank: usize,
     ) -> bool {
+        self.solve_modified_watching(pattern, k, extra, rhs, max_rank, None)
+    }
+
+    /// `solve_modified`; with `watch` (displacement unknowns), a solve on
+    /// the trailing block may stop short of the interior: `rhs` then holds
+    /// the multipliers, the trailing set's and the watched unknowns'
+    /// solution and NaN elsewhere, and `deferred` says so until `complete`
+    /// finishes it (the inner solves of an iteration need the contact
+    /// nodes' motion alone until one is accepted; the interior's back
+    /// substitution and the refinement are three passes over the factor).
+    pub fn solve_modified_watching(
+        &mut self,
+        pattern: &Pattern,
+        k: &[f64],
+        extra: &mut [(usize, usize, f64)],
+        rhs: &mut [f64],
+        max_rank: usize,
+        watch: Option<&[usize]>,
+    ) -> bool {
         let clock = Instant::now();
-        if self.solve_trailing(pattern, k, extra, rhs) {
+        self.trailing_work.pending = None;
+        if self.solve_trailing(pattern, k, extra, rhs, watch) {
             self.times.solve += clock.elapsed();
             return true;
         }
@@ -818,15 +841,54 @@ impl Augmented {
         k: &[f64],
         extra: &[(usize, usize, f64)],
         rhs: &mut [f64],
+        watch: Option<&[usize]>,
     ) -> bool {
         let mut work = std::mem::take(&mut self.trailing_work);
-        let done = self.trailing_into(pattern, k, extra, rhs, &mut work);
+        let done = self.trailing_into(pattern, k, extra, rhs, &mut work, watch);
         self.trailing_work = work;
         if done {
             self.bordered += 1;
             self.columns += 2;
             self.trailing_solves += 1;
+            self.deferred_solves += usize::from(self.trailing_work.pending.is_some());
         }
+        done
+    }
+
+    /// Whether the last solve was deferred (`solve_modified_watching`).
+    pub fn deferred(&self) -> bool {
+        self.trailing_work.pending.is_some()
+    }
+
+    /// Finishes the deferred last solve into `rhs` (`pattern` and `k` as
+    /// given to it): the interior's back substitution, one step of
+    /// refinement and the backward error check of every trailing solve.
+    /// False when it fails the check (then `solve` the system) or nothing
+    /// is deferred.
+    pub fn complete(&mut self, pattern: &Pattern, k: &[f64], rhs: &mut [f64]) -> bool {
+        let clock = Instant::now();
+        let Some(pending) = self.trailing_work.pending.take() else {
+            return false;
+        };
+        let (Some(Kept::Ldlt(_, Some((_, d_inv)))), Some(analysis)) = (&self.kept, &self.analysis)
+        else {
+            return false;
+        };
+        let Some(f) = (analysis.ldlt.as_ref()).and_then(|(symbolic, _)| {
+            trailing::Factor::new(symbolic, &self.l_values, analysis.trailing)
+        }) else {
+            return false;
+        };
+        let done = complete_trailing(
+            &f,
+            d_inv,
+            &pending,
+            pattern,
+            k,
+            rhs,
+            &mut self.trailing_work.correction,
+        );
+        self.times.solve += clock.elapsed();
         done
     }
 
@@ -838,6 +900,7 @@ impl Augmented {
         extra: &[(usize, usize, f64)],
         rhs: &mut [f64],
         work: &mut TrailingWork,
+        watch: Option<&[usize]>,
     ) -> bool {
         let (Some(Kept::Ldlt(_, Some((s0, d_inv)))), Some(analysis)) = (&self.kept, &self.analysis)
         else {
@@ -866,6 +929,7 @@ impl Augmented {
             extra0,
             forward,
             correction,
+            pending,
         } = work;
         // The tangent is the factored one's; the entries beside it differ
         // (a merge of the two sorted lists): the change, which must lie
@@ -907,19 +971,7 @@ impl Augmented {
             }
             s1[(pi - f.b, pj - f.b)] += d;
         }
-        // `b - A1 x` and `|A1|_inf`, from the tangent and the entries.
-        let residual = |x: &[f64], b: &[f64]| {
-            let mut r = b.to_vec();
-            for (j, &xj) in x.iter().enumerate().take(pattern.n) {
-                for p in pattern.col_ptr[j]..pattern.col_ptr[j + 1] {
-                    r[pattern.row_idx[p]] -= k[p] * xj;
-                }
-            }
-            for &(i, j, v) in &extra1 {
-                r[i] -= v * x[j];
-            }
-            r
-        };
+        // `|A1|_inf`, from the tangent and the entries.
         if k_rows.is_empty() {
             k_rows.resize(order, 0.0);
             for j in 0..pattern.n {
@@ -934,17 +986,6 @@ impl Augmented {
         }
         let norm_a = rows.iter().fold(0.0f64, |m, v| m.max(*v));
         let lu = s1.partial_piv_lu();
-        // `x` (the factor's order) from its forward substitution.
-        let finish = |x: &mut Vec<f64>| -> Option<Vec<f64>> {
-            let t = x.len() - f.b;
-            lu.solve_in_place(MatMut::from_column_major_slice_mut(&mut x[f.b..], t, 1));
-            f.backward(d_inv, x);
-            let mut out = vec![0.0; x.len()];
-            for (p, &i) in f.fwd.iter().enumerate() {
-                out[i] = x[p];
-            }
-            x.iter().all(|v| v.is_finite()).then_some(out)
-        };
         let mut b = vec![0.0; order];
         b[..n_disp].copy_from_slice(&rhs[..n_disp]);
         for (m, &s) in slot_of.iter().enumerate() {
@@ -970,33 +1011,123 @@ impl Augmented {
                 *forward = Some((b_perm, y.clone()));
             }
         }
-        let Some(mut x) = finish(&mut y) else {
-            return false;
+        let t = order - f.b;
+        lu.solve_in_place(MatMut::from_column_major_slice_mut(&mut y[f.b..], t, 1));
+        let solved = Pending {
+            lu,
+            y,
+            b,
+            extra1,
+            slot_of,
+            norm_a,
         };
-        // One step of refinement (more gain nothing: measured on Hertz at
-        // 1e5 unknowns, the residual is at its round-off after one).
-        let r = residual(&x, &b);
-        let mut y: Vec<f64> = f.fwd.iter().map(|&i| r[i]).collect();
-        f.forward(&mut y);
-        let Some(dx) = finish(&mut y) else {
-            return false;
+        let Some(watch) = watch else {
+            return complete_trailing(&f, d_inv, &solved, pattern, k, rhs, correction);
         };
-        for (xi, di) in x.iter_mut().zip(&dx) {
-            *xi += di;
-        }
-        let inf = |v: &[f64]| v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-        *correction = inf(&dx) / inf(&x);
-        let backward = bordering::backward_error(&residual(&x, &b), norm_a, &x, &b);
-        // (NaN fails too.)
-        if backward.is_nan() || backward > LDLT_BACKWARD_ERROR {
+        // Deferred: the trailing unknowns and the watched ones (with the
+        // supernodes above them), the rest of the interior NaN until
+        // `complete`.
+        let need = f.needed(watch.iter().filter(|&&i| i < n_disp).map(|&i| f.inv[i]));
+        let mut x = solved.y.clone();
+        f.backward(d_inv, &mut x, Some(&need));
+        let known = |i: usize| x[f.inv[i]];
+        if !(x[f.b..].iter().all(|v| v.is_finite())
+            && watch.iter().all(|&i| i >= n_disp || known(i).is_finite()))
+        {
             return false;
         }
-        rhs[..n_disp].copy_from_slice(&x[..n_disp]);
-        for (m, &s) in slot_of.iter().enumerate() {
-            rhs[n_disp + m] = x[n_disp + s];
+        for (i, out) in rhs[..n_disp].iter_mut().enumerate() {
+            *out = known(i);
         }
+        for (m, &s) in solved.slot_of.iter().enumerate() {
+            rhs[n_disp + m] = known(n_disp + s);
+        }
+        *pending = Some(solved);
         true
     }
+}
+
+/// A trailing solve whose interior back substitution, refinement and
+/// check wait for `Augmented::complete`: the dense LU of `S0 + Delta`,
+/// the factor-order vector with the interior forward-substituted and the
+/// trailing unknowns solved, the right-hand side (slots' order), the
+/// entries beside the tangent (`summed`, slots' order), the slot of each
+/// multiplier and `|A1|_inf`.
+struct Pending {
+    lu: faer::linalg::solvers::PartialPivLu<f64>,
+    y: Vec<f64>,
+    b: Vec<f64>,
+    extra1: Vec<(usize, usize, f64)>,
+    slot_of: Vec<usize>,
+    norm_a: f64,
+}
+
+/// The back substitution of a trailing solve (`Pending`), one step of
+/// refinement against the system, and its normwise backward error checked
+/// against the factored solves' (`LDLT_BACKWARD_ERROR`); the solution into
+/// `rhs` (the caller's order), the refinement step relative to it into
+/// `correction`.
+fn complete_trailing(
+    f: &trailing::Factor,
+    d_inv: &[f64],
+    p: &Pending,
+    pattern: &Pattern,
+    k: &[f64],
+    rhs: &mut [f64],
+    correction: &mut f64,
+) -> bool {
+    let n_disp = pattern.n;
+    // `b - A1 x`, from the tangent and the entries.
+    let residual = |x: &[f64], b: &[f64]| {
+        let mut r = b.to_vec();
+        for (j, &xj) in x.iter().enumerate().take(pattern.n) {
+            for q in pattern.col_ptr[j]..pattern.col_ptr[j + 1] {
+                r[pattern.row_idx[q]] -= k[q] * xj;
+            }
+        }
+        for &(i, j, v) in &p.extra1 {
+            r[i] -= v * x[j];
+        }
+        r
+    };
+    // `x` (the factor's order) from its trailing solve, back-substituted.
+    let finish = |x: &mut Vec<f64>| -> Option<Vec<f64>> {
+        f.backward(d_inv, x, None);
+        let mut out = vec![0.0; x.len()];
+        for (q, &i) in f.fwd.iter().enumerate() {
+            out[i] = x[q];
+        }
+        x.iter().all(|v| v.is_finite()).then_some(out)
+    };
+    let mut y = p.y.clone();
+    let Some(mut x) = finish(&mut y) else {
+        return false;
+    };
+    // One step of refinement (more gain nothing: measured on Hertz at
+    // 1e5 unknowns, the residual is at its round-off after one).
+    let r = residual(&x, &p.b);
+    let mut y: Vec<f64> = f.fwd.iter().map(|&i| r[i]).collect();
+    f.forward(&mut y);
+    let t = y.len() - f.b;
+    p.lu.solve_in_place(MatMut::from_column_major_slice_mut(&mut y[f.b..], t, 1));
+    let Some(dx) = finish(&mut y) else {
+        return false;
+    };
+    for (xi, di) in x.iter_mut().zip(&dx) {
+        *xi += di;
+    }
+    let inf = |v: &[f64]| v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    *correction = inf(&dx) / inf(&x);
+    let backward = bordering::backward_error(&residual(&x, &p.b), p.norm_a, &x, &p.b);
+    // (NaN fails too.)
+    if backward.is_nan() || backward > LDLT_BACKWARD_ERROR {
+        return false;
+    }
+    rhs[..n_disp].copy_from_slice(&x[..n_disp]);
+    for (m, &s) in p.slot_of.iter().enumerate() {
+        rhs[n_disp + m] = x[n_disp + s];
+    }
+    true
 }
 
 /// What the solves on the trailing block keep of the factored system (set
@@ -1013,6 +1144,8 @@ struct TrailingWork {
     /// The last solve's refinement step relative to its solution (round-off
     /// for a sound solve; the tests read it).
     correction: f64,
+    /// The last solve, deferred (`Augmented::solve_modified_watching`).
+    pending: Option<Pending>,
 }
 
 /// The entries sorted by (column, row), duplicates summed.

@@ -185,6 +185,9 @@ pub struct Phases {
     /// Of the bordered, those solved on the factor's trailing block
     /// (`linsolve::Augmented::trailing_solves`).
     pub trailing: usize,
+    /// Of those, the ones whose interior waited until an inner solve was
+    /// accepted (`linsolve::Augmented::deferred_solves`).
+    pub deferred: usize,
     /// Assemblies of the tangent (one per solver for a constant one).
     pub tangents: usize,
 }
@@ -212,13 +215,14 @@ impl Phases {
     /// `split` and the counts, one line (the CLI's `-v` and the benchmark).
     pub fn summary(&self) -> String {
         format!(
-            "{}; {} factorizations ({} LDLT, {} LU), {} bordered solves ({} on the trailing block), {} symbolic analyses",
+            "{}; {} factorizations ({} LDLT, {} LU), {} bordered solves ({} on the trailing block, {} deferred), {} symbolic analyses",
             self.split(),
             self.factorizations,
             self.ldlt,
             self.lu,
             self.bordered,
             self.trailing,
+            self.deferred,
             self.analyses
         )
     }
@@ -291,6 +295,11 @@ pub struct Solver {
     /// |r|/F = 4.8e-4 in its first increment and bisected under either:
     /// its stick/slip path depends on round-off (docs/contact.md section 8).
     rigid_targets: bool,
+    /// The free equations of every contactor node (with rigid targets):
+    /// what the linearised problem's decisions read of an inner solve's
+    /// displacements (`pairs::predict`), so its solve may be deferred
+    /// (`Augmented::solve_modified_watching`).
+    contact_eqs: Vec<usize>,
     /// The last increment failed at its first solve because nothing held
     /// a body (`correction`).
     free_at_first_solve: bool,
@@ -342,6 +351,15 @@ impl Solver {
             }
         }
         let model = Model::new(&problem, &is_prescribed);
+        let mut contact_eqs: Vec<usize> = (problem.contacts.iter())
+            .filter(|_| rigid_targets)
+            .flat_map(|p| &p.contactor)
+            .flat_map(|&node| [2 * node, 2 * node + 1])
+            .filter(|&d| model.eq[d] != PRESCRIBED)
+            .map(|d| model.eq[d] as usize)
+            .collect();
+        contact_eqs.sort_unstable();
+        contact_eqs.dedup();
         let linear = LinearSolver::new(&model.pattern, model.symmetric)
             .map_err(|e| SolveError::Invalid(e.to_string()))?;
         let nnz = model.pattern.row_idx.len();
@@ -397,6 +415,7 @@ impl Solver {
             factor_valid: false,
             augmented: Augmented::with_slots(rigid_targets),
             rigid_targets,
+            contact_eqs,
             contact: None,
             size,
             diagonal_at,
@@ -460,6 +479,7 @@ impl Solver {
             lu: self.augmented.lu,
             bordered: self.augmented.bordered,
             trailing: self.augmented.trailing_solves,
+            deferred: self.augmented.deferred_solves,
             tangents: self.times.tangents,
         }
     }
@@ -1343,24 +1363,40 @@ impl Solver {
         let mut flipped: Vec<Vec<usize>> = Vec::new();
         // Bordered inner solves against rigid targets only (`rigid_targets`).
         let bordering = self.rigid_targets;
-        type Kept = (Vec<f64>, Vec<PairMemory>, Option<ContactSystem>);
+        // A solve before the decisions the linearised problem takes from
+        // it, with its right-hand side and entries when it was deferred.
+        type Kept = (
+            Vec<f64>,
+            Vec<PairMemory>,
+            Option<ContactSystem>,
+            Option<(Vec<f64>, Vec<(usize, usize, f64)>)>,
+        );
         let mut kept: Option<Kept> = None;
         let full = loop {
             let mut full = self.constraint_system(step, system.as_ref(), &rhs_now, extra);
             let neqc = system.as_ref().map_or(0, |c| c.rows.len());
             *solves += 1;
+            // Another inner solve may follow this one: the linearised
+            // problem's decisions read the contact nodes' motion alone, so
+            // an inner solve on the factor's trailing block leaves the
+            // interior until one is accepted (`finish_inner`).
+            let more = inner_solves && inner < MAX_INNER && system.is_some() && rhs_base.is_some();
+            let watch = more.then_some(&self.contact_eqs[..]);
+            let rhs_b = watch.map(|_| full.clone());
             // An inner solve borders the iteration's factorization with the
             // rows that changed (`Augmented::solve_modified`); the first, or
             // one that changes too much, factors the system.
             let bordered = inner > 0
                 && bordering
-                && self.augmented.solve_modified(
+                && self.augmented.solve_modified_watching(
                     &self.model.pattern,
                     &self.k,
                     extra,
                     &mut full,
                     max_bordered(n),
+                    watch,
                 );
+            let partial = bordered && self.augmented.deferred();
             let solved = if bordered {
                 Ok(())
             } else {
@@ -1372,40 +1408,50 @@ impl Solver {
             // equilibrium near (every node of a free body sliding
             // where the iterate's linearisation is poor): keep the
             // solve before them; the outer iteration decides.
-            if let Some((previous, states, rows)) = kept.take() {
+            if let Some((previous, states, rows, deferred)) = kept.take() {
                 let wild = solved.is_err()
                     || largest(&full[..n]).is_nan()
                     || largest(&full[..n]) > 1e3 * self.size;
                 if wild {
                     *memory = states;
                     system = rows;
-                    break previous;
+                    let Some((rhs_prev, extra_prev)) = deferred else {
+                        break previous;
+                    };
+                    // That solve was deferred: solved again in full.
+                    *extra = extra_prev;
+                    let mut x = rhs_prev;
+                    let (pattern, k) = (&self.model.pattern, &self.k);
+                    if !self
+                        .augmented
+                        .solve_modified(pattern, k, extra, &mut x, max_bordered(n))
+                    {
+                        (self.augmented.solve(pattern, k, extra, &mut x))
+                            .map_err(|e| format!("constraint system: {e}"))?;
+                    }
+                    break x;
                 }
             }
             solved?;
-            let Some((sys, rhs_base)) = system
-                .as_ref()
-                .zip(rhs_base)
-                .filter(|_| inner_solves && inner < MAX_INNER)
-            else {
-                break full;
+            let Some((sys, rhs_base)) = system.as_ref().zip(rhs_base).filter(|_| more) else {
+                break self.finish_inner(partial, full, rhs_b, extra)?;
             };
             let clock = Instant::now();
             let predicted = self.linearised_states(step, sys, &full, memory);
             self.times.contact += clock.elapsed();
             let Some(mut switched) = predicted? else {
-                break full;
+                break self.finish_inner(partial, full, rhs_b, extra)?;
             };
             let flips_allowed = if self.iterate_opens { 0 } else { INNER_FLIPS };
             switched.limit_flips(&mut flipped, flips_allowed);
             if switched.count() == 0 {
-                break full;
+                break self.finish_inner(partial, full, rhs_b, extra)?;
             }
             // The linearised problem's decisions may cycle (a set of
             // states met before): the outer iteration decides then.
             let key = pairs::state_key(memory, &switched);
             if seen.contains(&key) {
-                break full;
+                break self.finish_inner(partial, full, rhs_b, extra)?;
             }
             seen.push(key);
             inner += 1;
@@ -1417,7 +1463,8 @@ impl Solver {
                          closes {closed} and changes {slips} between stick and slip"
                 )
             });
-            kept = Some((full.clone(), memory.clone(), system.clone()));
+            let deferred = rhs_b.filter(|_| partial).map(|b| (b, extra.clone()));
+            kept = Some((full.clone(), memory.clone(), system.clone(), deferred));
             let rebuilt = self.contact_update(step, Some((sys, &switched)), memory, flips, log)?;
             rhs_now.copy_from_slice(rhs_base);
             for &(d, f) in &rebuilt.force {
@@ -1428,6 +1475,32 @@ impl Solver {
             system = Some(rebuilt);
         };
         Ok((full, system))
+    }
+
+    /// The accepted inner solve `full`: as solved, or, when it was
+    /// deferred (`partial`), finished (`Augmented::complete`); should that
+    /// fail its check, its system (right-hand side `rhs`, entries `extra`)
+    /// factored.
+    fn finish_inner(
+        &mut self,
+        partial: bool,
+        mut full: Vec<f64>,
+        rhs: Option<Vec<f64>>,
+        extra: &mut [(usize, usize, f64)],
+    ) -> Result<Vec<f64>, String> {
+        if !partial
+            || self
+                .augmented
+                .complete(&self.model.pattern, &self.k, &mut full)
+        {
+            return Ok(full);
+        }
+        let mut x = rhs.ok_or("a deferred solve without its right-hand side")?;
+        (self
+            .augmented
+            .solve(&self.model.pattern, &self.k, extra, &mut x))
+        .map_err(|e| format!("constraint system: {e}"))?;
+        Ok(x)
     }
 
     /// The nodes whose stick/slip state the linearised problem decides

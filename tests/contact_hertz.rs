@@ -212,6 +212,9 @@ fn hertz_press_in_one_increment_solves_on_the_trailing_block() {
     assert_eq!(p.tangents, 1);
     assert!(p.bordered >= 3, "{} inner solves", p.bordered);
     assert_eq!(p.trailing, p.bordered);
+    // Each of them deferred its interior until the linearised problem
+    // accepted it (the contact nodes' motion is all it reads).
+    assert_eq!(p.deferred, p.trailing);
     // One LDLT factorization of the bordered system for the increment (the
     // second iteration's system is the last inner solve's) and the
     // predictor's LLT.

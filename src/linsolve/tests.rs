@@ -590,6 +590,66 @@ fn trailing_solves_match_the_dense_system() {
     check(&mut extra, &rhs(n_disp + kept.len(), &mut Rng(13)), false);
 }
 
+/// A deferred inner solve on the trailing block (`solve_modified_watching`)
+/// gives the multipliers and the watched unknowns as the whole solve does,
+/// leaves interior unknowns it did not need unsolved (NaN), and `complete`
+/// finishes it into the system's solution; a later solve drops what was
+/// deferred.
+#[test]
+fn deferred_trailing_solves_give_the_watched_unknowns_then_the_solution() {
+    let mut rng = Rng(41);
+    let (p, k) = q4(16, 12, true);
+    let rows = contact_rows(16, 12, 6, &mut rng);
+    let n_disp = p.n;
+    let mut aug = Augmented::with_slots(true);
+    let mut extra = border(n_disp, &rows);
+    let mut x = rhs(n_disp + rows.len(), &mut Rng(3));
+    aug.solve(&p, &k, &mut extra, &mut x).unwrap();
+    assert!(!aug.complete(&p, &k, &mut x), "nothing deferred");
+    // Watched: a contact dof and a few dofs away from the rows (their
+    // values need the supernodes above theirs).
+    let contact_dof = rows[0][0].0;
+    let mut watch = vec![contact_dof];
+    let on_rows = |w: usize| rows.iter().flatten().any(|&(d, _)| d == w);
+    watch.extend((1..n_disp).step_by(41).filter(|&w| !on_rows(w)));
+    // Rows 1 and 3 released.
+    let kept: Rows = [0, 2, 4, 5].map(|i| rows[i].clone()).to_vec();
+    let mut extra = border(n_disp, &kept);
+    let b = rhs(n_disp + kept.len(), &mut Rng(11));
+    let a = dense(&p, &k, &extra, b.len());
+    let mut partial = b.clone();
+    assert!(aug.solve_modified_watching(&p, &k, &mut extra, &mut partial, 16, Some(&watch)));
+    assert!(aug.deferred());
+    assert_eq!(aug.trailing_solves, 1);
+    let unsolved = partial[..n_disp].iter().filter(|v| v.is_nan()).count();
+    assert!(unsolved > 0, "every interior unknown solved");
+    let mut x = partial.clone();
+    assert!(aug.complete(&p, &k, &mut x));
+    assert!(!aug.deferred());
+    let r = residual(&a, &x, &b);
+    assert!(r < 1e-10, "residual {r:e}");
+    // The deferred solve is the same solve, before its refinement.
+    let scale = x.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let known = (watch.iter().copied()).chain(n_disp..b.len());
+    for i in known {
+        let d = (partial[i] - x[i]).abs();
+        assert!(
+            d <= 1e-10 * scale,
+            "unknown {i}: {} against {}",
+            partial[i],
+            x[i]
+        );
+    }
+    // Deferred again, then another solve: nothing left to complete.
+    let mut y = b.clone();
+    assert!(aug.solve_modified_watching(&p, &k, &mut extra, &mut y, 16, Some(&watch)));
+    let mut z = b.clone();
+    assert!(aug.solve_modified(&p, &k, &mut extra, &mut z, 16));
+    assert!(!aug.deferred());
+    assert!(!aug.complete(&p, &k, &mut y));
+    assert!(residual(&a, &z, &b) < 1e-10);
+}
+
 #[test]
 fn no_multipliers_is_plain_ldlt() {
     let (p, k) = q4(8, 8, true);

@@ -196,10 +196,43 @@ impl<'a> Factor<'a> {
         }
     }
 
+    /// The supernodes whose columns a back substitution needs to give the
+    /// unknowns at the interior positions `at`: theirs and every
+    /// ancestor's (a column's solution reads the rows of its pattern, which
+    /// lie in its ancestors). The rest of the interior is left unsolved by
+    /// `backward` with this mask.
+    pub fn needed(&self, at: impl Iterator<Item = usize>) -> Vec<bool> {
+        let sym = self.symbolic;
+        let nodes = self.nodes();
+        let mut node_of = vec![0usize; self.b];
+        for s in 0..nodes {
+            let (start, end) = (sym.supernode_begin()[s], sym.supernode_end()[s]);
+            for c in node_of.iter_mut().take(end).skip(start) {
+                *c = s;
+            }
+        }
+        let mut need = vec![false; nodes];
+        for p in at.filter(|&p| p < self.b) {
+            need[node_of[p]] = true;
+        }
+        // Parents follow their children in the supernodes' order.
+        for s in 0..nodes {
+            if !need[s] {
+                continue;
+            }
+            let parent = (self.node(s).pattern.iter().min()).filter(|&&r| r < self.b);
+            if let Some(&r) = parent {
+                need[node_of[r]] = true;
+            }
+        }
+        need
+    }
+
     /// `D_I^-1` and the back substitution over the interior columns, in
     /// place on `x` in the factor's order: `x_I` holds `y_I` and `x_T` the
-    /// trailing unknowns' solution; on return `x_I` is the interior's.
-    pub fn backward(&self, d_inv: &[f64], x: &mut [f64]) {
+    /// trailing unknowns' solution; on return `x_I` is the interior's, or,
+    /// with `need` (`needed`), that of the needed supernodes' columns.
+    pub fn backward(&self, d_inv: &[f64], x: &mut [f64], need: Option<&[bool]>) {
         for (xi, di) in x.iter_mut().zip(d_inv) {
             *xi *= di;
         }
@@ -207,6 +240,11 @@ impl<'a> Factor<'a> {
         for s in (0..self.nodes()).rev() {
             let node = self.node(s);
             if node.start >= self.b {
+                continue;
+            }
+            if need.is_some_and(|need| !need[s]) {
+                let end = (node.start + node.width).min(self.b);
+                x[node.start..end].fill(f64::NAN);
                 continue;
             }
             let (w, at, q) = (node.width, node.start, node.pattern.len());
