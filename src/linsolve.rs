@@ -597,8 +597,7 @@ impl Augmented {
         {
             let clock = Instant::now();
             let work = &mut self.trailing_work;
-            work.k0.clear();
-            work.k0.extend_from_slice(k);
+            work.k0 = fingerprint(k);
             work.k_rows.clear();
             work.extra0 = summed(in_slots(extra, n_disp, &a.slots, &slot_of));
             self.times.system += clock.elapsed();
@@ -934,7 +933,7 @@ impl Augmented {
         // The tangent is the factored one's; the entries beside it differ
         // (a merge of the two sorted lists): the change, which must lie
         // inside the trailing set, added to S0.
-        if k0.as_slice() != k {
+        if *k0 != fingerprint(k) {
             return false;
         }
         let extra1 = summed(in_slots(extra, n_disp, &analysis.slots, &slot_of));
@@ -1131,13 +1130,13 @@ fn complete_trailing(
 }
 
 /// What the solves on the trailing block keep of the factored system (set
-/// by `solve`): its tangent, the row sums of the tangent's magnitudes
-/// (made by the first solve), its entries beside the tangent in the slots
-/// (`summed`), and the last forward substitution (the permuted right-hand
+/// by `solve`): its tangent's `fingerprint`, the row sums of the tangent's
+/// magnitudes (made by the first solve), its entries beside the tangent in
+/// the slots (`summed`), and the last forward substitution (the permuted right-hand
 /// side and its result), which serves the next inner solve.
 #[derive(Default)]
 struct TrailingWork {
-    k0: Vec<f64>,
+    k0: (usize, u64),
     k_rows: Vec<f64>,
     extra0: Vec<(usize, usize, f64)>,
     forward: Option<(Vec<f64>, Vec<f64>)>,
@@ -1146,6 +1145,18 @@ struct TrailingWork {
     correction: f64,
     /// The last solve, deferred (`Augmented::solve_modified_watching`).
     pending: Option<Pending>,
+}
+
+/// The length of `v` and a 64-bit FNV-1a hash of its bits, word by word:
+/// each word's step (xor, then multiplication by an odd constant) is a
+/// bijection of the state, so a change of any one entry always changes it,
+/// and more changes collide with probability 2^-64. One read of `v`, where
+/// a copy to compare with would write it once and read it twice.
+fn fingerprint(v: &[f64]) -> (usize, u64) {
+    let h = v.iter().fold(0xcbf2_9ce4_8422_2325u64, |h, x| {
+        (h ^ x.to_bits()).wrapping_mul(0x0000_0100_0000_01b3)
+    });
+    (v.len(), h)
 }
 
 /// The entries sorted by (column, row), duplicates summed.
@@ -1176,24 +1187,34 @@ fn bordered(
     col_ptr.clear();
     row_idx.clear();
     values.clear();
+    let nnz = pattern.col_ptr.get(pattern.n).copied().unwrap_or(0) + extra.len();
+    col_ptr.reserve(n + 1);
+    row_idx.reserve(nnz);
+    values.reserve(nnz);
     col_ptr.push(0);
     let mut e = 0;
     let mut column: Vec<(usize, f64)> = Vec::new();
     for c in 0..n {
-        column.clear();
-        if c < pattern.n {
-            for p in pattern.col_ptr[c]..pattern.col_ptr[c + 1] {
-                column.push((pattern.row_idx[p], k[p]));
-            }
-        }
+        let tangent = if c < pattern.n {
+            pattern.col_ptr[c]..pattern.col_ptr[c + 1]
+        } else {
+            0..0
+        };
         let start = e;
         while e < extra.len() && extra[e].1 == c {
-            column.push((extra[e].0, extra[e].2));
             e += 1;
         }
-        if e > start {
-            column.sort_unstable_by_key(|&(r, _)| r);
+        if e == start {
+            // The tangent's column as it is (its rows sorted, no duplicates).
+            row_idx.extend_from_slice(&pattern.row_idx[tangent.clone()]);
+            values.extend_from_slice(&k[tangent]);
+            col_ptr.push(row_idx.len());
+            continue;
         }
+        column.clear();
+        column.extend(tangent.map(|p| (pattern.row_idx[p], k[p])));
+        column.extend(extra[start..e].iter().map(|&(r, _, v)| (r, v)));
+        column.sort_unstable_by_key(|&(r, _)| r);
         let mut last = usize::MAX;
         for &(r, v) in &column {
             if r == last {
@@ -1308,16 +1329,26 @@ fn is_symmetric(col_ptr: &[usize], row_idx: &[usize], values: &[f64]) -> bool {
     }
     let tol = 1e-12 * max;
     let n = col_ptr.len().saturating_sub(1);
+    // Each entry's transpose, found by a cursor per column: the columns
+    // are swept in order, and the transpose of an entry of column j is
+    // row j of another column, so the rows asked of each column come in
+    // order too (one pass, no search).
+    let mut next: Vec<usize> = col_ptr[..n].to_vec();
     for j in 0..n {
         for p in col_ptr[j]..col_ptr[j + 1] {
             let i = row_idx[p];
             if i == j {
                 continue;
             }
-            let col_i = &row_idx[col_ptr[i]..col_ptr[i + 1]];
-            let transpose = match col_i.binary_search(&j) {
-                Ok(q) => values[col_ptr[i] + q],
-                Err(_) => 0.0,
+            let at = &mut next[i];
+            let end = col_ptr[i + 1];
+            while *at < end && row_idx[*at] < j {
+                *at += 1;
+            }
+            let transpose = if *at < end && row_idx[*at] == j {
+                values[*at]
+            } else {
+                0.0
             };
             if (values[p] - transpose).abs() > tol {
                 return false;

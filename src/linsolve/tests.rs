@@ -650,6 +650,72 @@ fn deferred_trailing_solves_give_the_watched_unknowns_then_the_solution() {
     assert!(residual(&a, &z, &b) < 1e-10);
 }
 
+/// The symmetry test against the dense definition on random sparse
+/// patterns: symmetric ones, one entry changed beyond and within the
+/// tolerance, and one entry whose transpose is not stored (above the
+/// diagonal and below it), which the one-pass cursors must still see.
+#[test]
+fn symmetry_test_matches_its_dense_definition() {
+    let mut rng = Rng(57);
+    let n = 40;
+    let csc = |a: &DMatrix<f64>, stored: &dyn Fn(usize, usize) -> bool| {
+        let (mut ptr, mut idx, mut val) = (vec![0], Vec::new(), Vec::new());
+        for j in 0..n {
+            for i in 0..n {
+                if stored(i, j) {
+                    idx.push(i);
+                    val.push(a[(i, j)]);
+                }
+            }
+            ptr.push(idx.len());
+        }
+        (ptr, idx, val)
+    };
+    for trial in 0..20 {
+        let mut a = DMatrix::<f64>::zeros(n, n);
+        for j in 0..n {
+            for i in j..n {
+                if i == j || rng.next() > 0.6 {
+                    let v = rng.next() + if i == j { 4.0 } else { 0.0 };
+                    a[(i, j)] = v;
+                    a[(j, i)] = v;
+                }
+            }
+        }
+        let nonzero = |i: usize, j: usize| a[(i, j)] != 0.0;
+        let (ptr, idx, val) = csc(&a, &nonzero);
+        assert!(is_symmetric(&ptr, &idx, &val), "trial {trial}");
+        // Off-diagonal entries, their values changed by 1e-9 and by 1e-14.
+        let (i, j) = (0..n * n)
+            .map(|q| (q % n, q / n))
+            .find(|&(i, j)| i != j && nonzero(i, j) && (i * 7 + j * 3 + trial) % 5 == 0)
+            .expect("an off-diagonal entry");
+        for (dv, symmetric) in [(1e-9, false), (1e-14, true)] {
+            let mut b = a.clone();
+            b[(i, j)] += dv;
+            let (ptr, idx, val) = csc(&b, &nonzero);
+            assert_eq!(
+                is_symmetric(&ptr, &idx, &val),
+                symmetric,
+                "trial {trial}, {dv:e}"
+            );
+        }
+        // A stored entry without its transpose: above, then below the diagonal.
+        let free = (0..n * n)
+            .map(|q| (q % n, q / n))
+            .filter(|&(i, j)| i < j && !nonzero(i, j))
+            .nth(trial)
+            .expect("a zero pair");
+        for (r, c) in [free, (free.1, free.0)] {
+            let mut b = a.clone();
+            b[(r, c)] = 0.5;
+            let stored = |i: usize, j: usize| b[(i, j)] != 0.0;
+            let (ptr, idx, val) = csc(&b, &stored);
+            assert!(!is_symmetric(&ptr, &idx, &val), "trial {trial}, ({r}, {c})");
+        }
+    }
+}
+
 #[test]
 fn no_multipliers_is_plain_ldlt() {
     let (p, k) = q4(8, 8, true);
