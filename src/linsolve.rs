@@ -854,6 +854,26 @@ impl Augmented {
         done
     }
 
+    /// `solve_modified_watching` on the trailing block alone (never
+    /// bordering): for a Newton iteration's first solve, whose tangent is
+    /// the kept factor's (a constant tangent) and whose contact rows moved
+    /// within the trailing set, the last factor serves as it serves the
+    /// inner solves.
+    pub fn solve_on_trailing_block(
+        &mut self,
+        pattern: &Pattern,
+        k: &[f64],
+        extra: &[(usize, usize, f64)],
+        rhs: &mut [f64],
+        watch: Option<&[usize]>,
+    ) -> bool {
+        let clock = Instant::now();
+        self.trailing_work.pending = None;
+        let done = self.solve_trailing(pattern, k, extra, rhs, watch);
+        self.times.solve += clock.elapsed();
+        done
+    }
+
     /// Whether the last solve was deferred (`solve_modified_watching`).
     pub fn deferred(&self) -> bool {
         self.trailing_work.pending.is_some()

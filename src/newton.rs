@@ -188,6 +188,10 @@ pub struct Phases {
     /// Of those, the ones whose interior waited until an inner solve was
     /// accepted (`linsolve::Augmented::deferred_solves`).
     pub deferred: usize,
+    /// Newton iterations whose first solve took the last factor's trailing
+    /// block instead of a factorization (a constant tangent, its contact
+    /// rows changed on the trailing set alone).
+    pub reused: usize,
     /// Assemblies of the tangent (one per solver for a constant one).
     pub tangents: usize,
 }
@@ -215,7 +219,7 @@ impl Phases {
     /// `split` and the counts, one line (the CLI's `-v` and the benchmark).
     pub fn summary(&self) -> String {
         format!(
-            "{}; {} factorizations ({} LDLT, {} LU), {} bordered solves ({} on the trailing block, {} deferred), {} symbolic analyses",
+            "{}; {} factorizations ({} LDLT, {} LU), {} bordered solves ({} on the trailing block, {} deferred, {} first of an iteration), {} symbolic analyses",
             self.split(),
             self.factorizations,
             self.ldlt,
@@ -223,6 +227,7 @@ impl Phases {
             self.bordered,
             self.trailing,
             self.deferred,
+            self.reused,
             self.analyses
         )
     }
@@ -232,6 +237,7 @@ impl Phases {
 #[derive(Clone, Copy, Debug, Default)]
 struct SolverTimes {
     tangents: usize,
+    reused: usize,
     assembly: Duration,
     contact: Duration,
     total: Duration,
@@ -480,6 +486,7 @@ impl Solver {
             bordered: self.augmented.bordered,
             trailing: self.augmented.trailing_solves,
             deferred: self.augmented.deferred_solves,
+            reused: self.times.reused,
             tangents: self.times.tangents,
         }
     }
@@ -1385,17 +1392,27 @@ impl Solver {
             let rhs_b = watch.map(|_| full.clone());
             // An inner solve borders the iteration's factorization with the
             // rows that changed (`Augmented::solve_modified`); the first, or
-            // one that changes too much, factors the system.
-            let bordered = inner > 0
-                && bordering
-                && self.augmented.solve_modified_watching(
-                    &self.model.pattern,
-                    &self.k,
-                    extra,
-                    &mut full,
-                    max_bordered(n),
-                    watch,
-                );
+            // one that changes too much, factors the system. Under a
+            // constant tangent the first takes the last factor's trailing
+            // block when its rows changed there alone.
+            let (pattern, k) = (&self.model.pattern, &self.k);
+            let bordered = bordering
+                && if inner > 0 {
+                    (self.augmented).solve_modified_watching(
+                        pattern,
+                        k,
+                        extra,
+                        &mut full,
+                        max_bordered(n),
+                        watch,
+                    )
+                } else {
+                    let reused = self.k_constant
+                        && (self.augmented)
+                            .solve_on_trailing_block(pattern, k, extra, &mut full, watch);
+                    self.times.reused += usize::from(reused);
+                    reused
+                };
             let partial = bordered && self.augmented.deferred();
             let solved = if bordered {
                 Ok(())

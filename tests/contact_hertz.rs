@@ -189,6 +189,34 @@ fn hertz_sphere_mno_and_total_lagrangian_every_load_step() {
     mno_and_total_lagrangian("hertz_axisymmetric.toml", 100.0);
 }
 
+/// The shipped Hertz cylinder in q4, in its four increments: the tangent is
+/// constant, so a Newton iteration whose contact rows changed on the last
+/// factor's trailing set alone solves there instead of factoring (at least
+/// once: measured one of the four increments' ten iterations, where the
+/// zone stops growing), and the press still meets Hertz.
+#[test]
+fn hertz_press_reuses_the_factor_across_iterations() {
+    let problem = common::shipped_scene(
+        "hertz_plane_strain.toml",
+        &[("element = \"q8\"", "element = \"q4\"")],
+    );
+    let mut solver = Solver::new(problem).unwrap();
+    for k in 1..=4 {
+        let step = solver.advance(0.25 * k as f64, &mut |_, _| {}).unwrap();
+        assert!(step.converged, "increment {k}");
+    }
+    let p = solver.phases();
+    println!("{}", p.summary());
+    assert_eq!(p.tangents, 1);
+    assert!(p.reused >= 1, "{}", p.summary());
+    // One factorization fewer per reuse: the predictor's LLT, then an LDLT
+    // per iteration that did not reuse one (measured 6 with one reuse).
+    assert!(p.factorizations <= 6, "{}", p.summary());
+    let h = common::hertz(&solver, 10.0, E_STAR);
+    println!("{h}");
+    assert!(h.rms <= 0.01, "RMS {:.3e}", h.rms);
+}
+
 /// The cylinder in 4-node elements pressed in one increment (the contact
 /// zone closed from nothing, then released node by node by the inner
 /// solves): its linear tangent is assembled once, every inner solve runs on
