@@ -716,6 +716,61 @@ fn symmetry_test_matches_its_dense_definition() {
     }
 }
 
+/// The trailing block's dense solver of `S0 + Delta`: by the low-rank
+/// update of `S0`'s LU when `Delta` touches few columns (and by `S0`'s LU
+/// alone when it touches none), by its own LU otherwise; each against
+/// nalgebra's dense LU, on an unsymmetric, indefinite `S0`.
+#[test]
+fn trailing_dense_solver_matches_a_dense_solve() {
+    let mut rng = Rng(63);
+    let t = 40;
+    let s0 = Mat::from_fn(t, t, |i, j| {
+        rng.next()
+            + if i == j {
+                6.0 * (-1.0f64).powi(i as i32)
+            } else {
+                0.0
+            }
+    });
+    let b: Vec<f64> = (0..t).map(|_| rng.next()).collect();
+    let mut s0_lu = None;
+    for (columns, kind) in [
+        (0, "unchanged"),
+        (3, "updated"),
+        (10, "updated"),
+        (11, "lu"),
+    ] {
+        let mut delta = Vec::new();
+        for q in 0..columns {
+            let j = (7 * q + 2) % t;
+            for i in [j, (j + 5) % t, (3 * j + 1) % t] {
+                delta.push((i, j, 2.0 * rng.next()));
+            }
+        }
+        let dense = Dense::new(&s0, &mut s0_lu, &delta, t);
+        let got = match dense {
+            Dense::Lu(_) => "lu",
+            Dense::Unchanged => "unchanged",
+            Dense::Updated { .. } => "updated",
+        };
+        assert_eq!(got, kind, "{columns} columns");
+        let mut a = DMatrix::from_fn(t, t, |i, j| s0[(i, j)]);
+        for &(i, j, d) in &delta {
+            a[(i, j)] += d;
+        }
+        let expected = a
+            .lu()
+            .solve(&DVector::from_column_slice(&b))
+            .expect("regular");
+        let mut x = b.clone();
+        dense.solve(s0_lu.as_ref(), &mut x);
+        let error = (0..t)
+            .map(|i| (x[i] - expected[i]).abs())
+            .fold(0.0, f64::max);
+        assert!(error < 1e-12 * expected.amax(), "{kind}: error {error:e}");
+    }
+}
+
 #[test]
 fn no_multipliers_is_plain_ldlt() {
     let (p, k) = q4(8, 8, true);
