@@ -18,8 +18,8 @@ use faer::sparse::linalg::cholesky::{
 use faer::sparse::linalg::solvers::{Lu, SymbolicLu};
 use faer::sparse::{FaerError, SparseColMatRef, SymbolicSparseColMat, SymbolicSparseColMatRef};
 use faer::{Conj, Mat, MatMut, Par, Side};
+use rustc_hash::FxHashMap as HashMap;
 use std::borrow::Cow;
-use std::collections::HashMap;
 use std::time::{Duration, Instant};
 
 #[derive(Debug, thiserror::Error)]
@@ -283,7 +283,7 @@ fn slot_keys(extra: &[(usize, usize, f64)], n_disp: usize, m: usize) -> Option<V
 /// The slot of each key: the first slot of the same key not taken; None
 /// when a key finds none.
 fn place(slots: &[SlotKey], keys: &[SlotKey]) -> Option<Vec<usize>> {
-    let mut by_key: HashMap<&SlotKey, Vec<usize>> = HashMap::new();
+    let mut by_key: HashMap<&SlotKey, Vec<usize>> = HashMap::default();
     for (s, key) in slots.iter().enumerate().rev() {
         by_key.entry(key).or_default().push(s);
     }
@@ -495,7 +495,7 @@ impl Augmented {
                     if let Some(a) = kept {
                         slots.clone_from(&a.slots);
                     }
-                    let mut free: HashMap<&SlotKey, usize> = HashMap::new();
+                    let mut free: HashMap<&SlotKey, usize> = HashMap::default();
                     for s in &slots {
                         *free.entry(s).or_default() += 1;
                     }

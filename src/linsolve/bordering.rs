@@ -24,7 +24,7 @@
 //! they are kept for the next inner solve of the same iteration).
 
 use nalgebra::{DMatrix, DVector};
-use std::collections::HashMap;
+use rustc_hash::FxHashMap as HashMap;
 
 /// A square sparse matrix in CSC form (both triangles, rows sorted).
 #[derive(Clone, Copy)]
@@ -169,7 +169,7 @@ pub(super) struct Base {
 impl Base {
     pub(super) fn new(a0: Csc, n_disp: usize, b0: Vec<f64>, x0: Vec<f64>) -> Self {
         // Each key's multipliers in ascending order.
-        let mut keys: HashMap<Vec<u64>, Vec<usize>> = HashMap::new();
+        let mut keys: HashMap<Vec<u64>, Vec<usize>> = HashMap::default();
         let all = multipliers(a0, n_disp);
         for (m, mult) in all.iter().enumerate() {
             keys.entry(mult.key()).or_default().push(m);
@@ -181,7 +181,7 @@ impl Base {
             decoupled: all.iter().map(Multiplier::decoupled).collect(),
             b0,
             x0,
-            solved: HashMap::new(),
+            solved: HashMap::default(),
         }
     }
 }
@@ -212,7 +212,7 @@ pub(super) fn solve(
         return Err(NotBordered::Unsound);
     }
     // The changed displacement rows: Delta = A1 - A0 on the displacements.
-    let mut delta_rows: HashMap<usize, Vec<(usize, f64)>> = HashMap::new();
+    let mut delta_rows: HashMap<usize, Vec<(usize, f64)>> = HashMap::default();
     for j in 0..nd {
         let mut c0 = a0.column(j).filter(|e| e.0 < nd).peekable();
         let mut c1 = a1.column(j).filter(|e| e.0 < nd).peekable();
