@@ -25,7 +25,8 @@
 //! capstan.toml) at 128 strip elements (516 unknowns), its tight end drawn
 //! by `pull.uy` one doStep at a time until the strip slides over the
 //! whole wrap, then held: per doStep the median and largest wall time, the
-//! Newton iterations, and the time per iteration.
+//! Newton iterations, and the time per iteration; for the drawn steps the
+//! phase split and the solves an iteration is made of.
 //!
 //! Nothing is asserted here (timings are not tests); tests/stress.rs and
 //! tests/contact_hertz.rs assert the iterations and the accuracy.
@@ -156,6 +157,17 @@ fn capstan_fmu() {
     report("held", &held);
     if let Some(p) = drawn_phases {
         println!("  drawn steps by phase (%): {}", p.summary());
+        // What an iteration is made of: its solves (the first factors or
+        // reuses, the inner ones border or factor again).
+        let its: f64 = moving.iter().map(|s| s.1).sum();
+        if its > 0.0 {
+            println!(
+                "  per drawn iteration: {:.1} solves ({:.1} factored, {:.1} bordered)",
+                (p.factorizations + p.bordered) as f64 / its,
+                p.factorizations as f64 / its,
+                p.bordered as f64 / its,
+            );
+        }
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
