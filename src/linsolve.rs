@@ -234,6 +234,9 @@ struct Analysis {
     /// LDLT failed on this pattern: LU until the pattern changes or the
     /// multipliers take other slots.
     ldlt_failed: bool,
+    /// An unsymmetric system of this pattern failed on the tangent's LDLT
+    /// with every slot empty (`Augmented::solve_kept`): LU for the rest.
+    split_failed: bool,
     lu: Option<SymbolicLu<usize>>,
     /// Unknowns of the trailing set eliminated last by the LDLT analysis
     /// (`trailing`), 0 without one.
@@ -348,6 +351,10 @@ pub struct Augmented {
     analysis: Option<Analysis>,
     /// Values of the LDLT factor.
     l_values: Vec<f64>,
+    /// The system's own values while `values` holds the tangent with every
+    /// slot empty that `solve_kept` factored for it (an unsymmetric system
+    /// solved on the trailing block).
+    split_values: Vec<f64>,
     /// Solution of the LDLT path before it is accepted.
     x: Vec<f64>,
     last: Option<Method>,
@@ -563,6 +570,7 @@ impl Augmented {
                 n_disp,
                 ldlt: None,
                 ldlt_failed: false,
+                split_failed: false,
                 lu: None,
                 trailing: 0,
                 slots: slots.into_owned(),
@@ -589,9 +597,10 @@ impl Augmented {
             full.copy_from_slice(rhs);
         }
         self.times.system += clock.elapsed();
-        self.solve_kept(n_disp, &mut full)?;
+        let split = self.solve_kept(pattern, k, n_disp, &mut full)?;
         // What the trailing solves compare their systems with: this one's
-        // tangent and its entries beside it, in the slots.
+        // tangent and its entries beside it, in the slots (with `split`,
+        // the factored system's: every slot empty).
         if matches!(self.kept, Some(Kept::Ldlt(_, Some(_))))
             && let Some(a) = self.analysis.as_ref()
         {
@@ -599,8 +608,32 @@ impl Augmented {
             let work = &mut self.trailing_work;
             work.k0 = fingerprint(k);
             work.k_rows.clear();
-            work.extra0 = summed(in_slots(extra, n_disp, &a.slots, &slot_of));
+            work.extra0 = if split {
+                summed(in_slots(&[], n_disp, &a.slots, &[]))
+            } else {
+                summed(in_slots(extra, n_disp, &a.slots, &slot_of))
+            };
             self.times.system += clock.elapsed();
+        }
+        if split {
+            // The system itself on the factor's trailing block; should that
+            // fail, by LU.
+            let mut x = rhs.to_vec();
+            let clock = Instant::now();
+            let solved = self.solve_trailing(pattern, k, extra, &mut x, None);
+            self.times.solve += clock.elapsed();
+            if solved {
+                rhs.copy_from_slice(&x);
+                self.ldlt += 1;
+                self.last = Some(Method::Ldlt);
+                return Ok(());
+            }
+            if let Some(a) = self.analysis.as_mut() {
+                a.split_failed = true;
+            }
+            self.kept = None;
+            std::mem::swap(&mut self.values, &mut self.split_values);
+            self.solve_kept(pattern, k, n_disp, &mut full)?;
         }
         if keys.is_some() {
             rhs[..n_disp].copy_from_slice(&full[..n_disp]);
@@ -615,7 +648,20 @@ impl Augmented {
 
     /// Factors the system built in `col_ptr`, `row_idx`, `values` over the
     /// kept analysis and solves it in place (`solve`).
-    fn solve_kept(&mut self, n_disp: usize, rhs: &mut [f64]) -> Result<(), LinearError> {
+    ///
+    /// An unsymmetric system with slots whose trailing set holds (every
+    /// entry beside the tangent lies in `T x T`, as with rigid targets) is
+    /// not factored by LU: the tangent with every slot empty (`K` and an
+    /// identity on the slots) is factored by LDLT, `T` last, and left in
+    /// `col_ptr`, `row_idx`, `values` as the kept system; returns true then,
+    /// and the system is to be solved on its trailing block (`solve`).
+    fn solve_kept(
+        &mut self,
+        pattern: &Pattern,
+        k: &[f64],
+        n_disp: usize,
+        rhs: &mut [f64],
+    ) -> Result<bool, LinearError> {
         let clock = Instant::now();
         self.trailing_work.forward = None;
         self.trailing_work.s0_lu = None;
@@ -625,7 +671,101 @@ impl Augmented {
         let symmetric = !self.force_lu
             && !analysis.ldlt_failed
             && is_symmetric(&self.col_ptr, &self.row_idx, &self.values);
+        let split_dofs = (!symmetric
+            && !self.force_lu
+            && self.slots
+            && !self.border_only
+            && !analysis.split_failed)
+            .then(|| trailing_dofs(&analysis.slots, n_disp, n))
+            .flatten();
         self.times.system += clock.elapsed();
+
+        if let Some(dofs) = split_dofs {
+            let clock = Instant::now();
+            let mut base_extra = in_slots(&[], n_disp, &analysis.slots, &[]);
+            let (mut col_ptr, mut row_idx, mut values) = (Vec::new(), Vec::new(), Vec::new());
+            bordered(
+                pattern,
+                k,
+                &mut base_extra,
+                n,
+                [&mut col_ptr, &mut row_idx],
+                &mut values,
+            );
+            self.times.system += clock.elapsed();
+            if analysis.ldlt.is_none() && col_ptr == self.col_ptr && row_idx == self.row_idx {
+                let clock = Instant::now();
+                self.analyses += 1;
+                match analyse_ldlt(
+                    analysis.mat.as_ref(),
+                    n_disp,
+                    &mut self.disp_order,
+                    Some(&dofs),
+                ) {
+                    Ok(s) => {
+                        analysis.trailing = dofs.len() + (n - n_disp);
+                        analysis.ldlt = Some(s);
+                    }
+                    Err(_) => analysis.split_failed = true,
+                }
+                self.times.symbolic += clock.elapsed();
+            }
+            // The system differs from it in `T x T` alone (its entries
+            // beside the tangent lie on the slots and their keys' dofs).
+            let mut in_t = vec![false; n];
+            for &d in &dofs {
+                in_t[d] = true;
+            }
+            in_t[n_disp..].fill(true);
+            let same = col_ptr == self.col_ptr
+                && row_idx == self.row_idx
+                && (0..n).all(|j| {
+                    (col_ptr[j]..col_ptr[j + 1])
+                        .all(|q| values[q] == self.values[q] || (in_t[j] && in_t[row_idx[q]]))
+                });
+            if let Some((symbolic, mem)) = analysis
+                .ldlt
+                .as_mut()
+                .filter(|_| same && analysis.trailing > 0)
+            {
+                let clock = Instant::now();
+                self.factorizations += 1;
+                self.l_values.clear();
+                self.l_values.resize(symbolic.len_val(), 0.0);
+                let mat = SparseColMatRef::new(analysis.mat.as_ref(), &values);
+                let ldlt = symbolic.factorize_numeric_ldlt(
+                    &mut self.l_values,
+                    mat,
+                    Side::Lower,
+                    LdltRegularization::default(),
+                    Par::Seq,
+                    MemStack::new(mem),
+                    Default::default(),
+                );
+                self.times.numeric += clock.elapsed();
+                let clock = Instant::now();
+                let schur = ldlt
+                    .is_ok()
+                    .then(|| trailing::Factor::new(symbolic, &self.l_values, analysis.trailing))
+                    .flatten()
+                    .map(|f| (f.schur(), f.d_inv()))
+                    .filter(|(s0, d_inv)| {
+                        d_inv.iter().all(|v| v.is_finite())
+                            && (0..s0.ncols()).all(|j| s0.col(j).iter().all(|v| v.is_finite()))
+                    });
+                self.times.solve += clock.elapsed();
+                if let Some(schur) = schur {
+                    // The kept system is the factored one, its solution 0
+                    // for a right-hand side 0 (`bordering::Base`).
+                    self.split_values = std::mem::replace(&mut self.values, values);
+                    let zeros = vec![0.0; n];
+                    let base = bordering::Base::new(self.csc(), n_disp, zeros.clone(), zeros);
+                    self.kept = Some(Kept::Ldlt(base, Some(schur)));
+                    return Ok(true);
+                }
+            }
+            analysis.split_failed = true;
+        }
 
         if symmetric {
             if analysis.ldlt.is_none() {
@@ -672,7 +812,7 @@ impl Augmented {
                     self.times.solve += clock.elapsed();
                     let base = bordering::Base::new(self.csc(), n_disp, b, rhs.to_vec());
                     self.kept = Some(Kept::Ldlt(base, schur));
-                    return Ok(());
+                    return Ok(false);
                 }
                 analysis.ldlt_failed = true;
             }
@@ -703,7 +843,7 @@ impl Augmented {
         self.last = Some(Method::Lu);
         let base = bordering::Base::new(self.csc(), n_disp, b, rhs.to_vec());
         self.kept = Some(Kept::Lu(Box::new(f), base));
-        Ok(())
+        Ok(false)
     }
 
     fn csc(&self) -> bordering::Csc<'_> {
@@ -1243,6 +1383,13 @@ fn complete_trailing(
     }
     let inf = |v: &[f64]| v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
     *correction = inf(&dx) / inf(&x);
+    // A factor unsound along a near-null direction of the tangent shows in
+    // the refinement step, as for the factored LDLT solves
+    // (`LDLT_REFINEMENT`): the tangent's own factor with every slot empty
+    // (an unsymmetric system's) meets a body held by contact alone.
+    if inf(&dx[..n_disp]) > LDLT_REFINEMENT * inf(&x[..n_disp]) {
+        return false;
+    }
     let backward = bordering::backward_error(&residual(&x, &p.b), p.norm_a, &x, &p.b);
     // (NaN fails too.)
     if backward.is_nan() || backward > LDLT_BACKWARD_ERROR {

@@ -189,6 +189,65 @@ fn hertz_sphere_mno_and_total_lagrangian_every_load_step() {
     mno_and_total_lagrangian("hertz_axisymmetric.toml", 100.0);
 }
 
+/// The shipped Hertz cylinder in q4 with friction (mu_s 0.3, mu_d 0.2, as
+/// the stress suite's "hertz friction"): its sliding nodes' rows make every
+/// contact system unsymmetric, and every one is solved on the trailing block
+/// of the tangent's LDLT (every slot empty, the contact rows in the dense
+/// block), none by LU. The same equations solved by LU (at 4a97071, before
+/// this path existed) gave Fn = 3.313079e3 and Ft = 5.260279e2 with 15
+/// nodes sticking, 7 sliding: the paths agree to round-off, checked here
+/// to the 7 digits printed. Each sliding node carries no more than mu_d times its pressure
+/// along the target, each sticking node no more than mu_s.
+#[test]
+fn hertz_with_friction_solves_its_unsymmetric_systems_on_the_ldlt_of_the_tangent() {
+    let problem = common::shipped_scene(
+        "hertz_plane_strain.toml",
+        &[
+            ("element = \"q8\"", "element = \"q4\""),
+            ("mu_s = 0.0", "mu_s = 0.3\nmu_d = 0.2"),
+        ],
+    );
+    let mut solver = Solver::new(problem).unwrap();
+    for k in 1..=4 {
+        let step = solver.advance(0.25 * k as f64, &mut |_, _| {}).unwrap();
+        assert!(step.converged, "increment {k}");
+        assert!(
+            step.iterations <= 3,
+            "increment {k}: {} iterations",
+            step.iterations
+        );
+    }
+    let p = solver.phases();
+    println!("{}", p.summary());
+    assert_eq!(p.lu, 0, "{}", p.summary());
+    assert!(p.trailing >= p.ldlt, "{}", p.summary());
+    let pairs = solver.last_pairs().unwrap();
+    let pair = &pairs[0].1;
+    println!(
+        "Fn {:e} Ft {:e} stick/slip {}/{}",
+        pair.fn_, pair.ft, pair.n_stick, pair.n_slip
+    );
+    assert!(
+        (pair.fn_ / 3.313079e3 - 1.0).abs() < 1e-6,
+        "Fn {}",
+        pair.fn_
+    );
+    assert!((pair.ft / 5.260279e2 - 1.0).abs() < 1e-6, "Ft {}", pair.ft);
+    assert_eq!((pair.n_stick, pair.n_slip), (15, 7));
+    let n = &pair.nodes;
+    for k in 0..n.tn.len() {
+        let (tn, tt) = (n.tn[k], n.tt[k]);
+        let mu = match n.state[k] {
+            contact2d::results::NodeState::Slip => 0.2,
+            _ => 0.3,
+        };
+        assert!(
+            tt.abs() <= mu * tn.abs() * (1.0 + 1e-9) + 1e-9 * tn.abs().max(1.0),
+            "node {k}: tt {tt}, tn {tn}"
+        );
+    }
+}
+
 /// The shipped Hertz cylinder in q4, in its four increments: the tangent is
 /// constant, so a Newton iteration whose contact rows changed on the last
 /// factor's trailing set alone solves there instead of factoring (at least

@@ -416,11 +416,27 @@ fn multipliers_in_slots_keep_the_analysis() {
     rows3[4] = vec![(p.n - 1, 1.0), (p.n - 3, -1.0)];
     assert_eq!(check(&mut aug, &rows3, &[]), (2, 4, 0));
     assert_eq!(check(&mut aug, &rows, &[]), (2, 5, 0));
-    // Unsymmetric: LU on the same pattern (one LU analysis), kept.
-    assert_eq!(check(&mut aug, &rows[1..], &[(1, 0, 0.3)]), (3, 5, 1));
-    assert_eq!(check(&mut aug, &rows[2..], &[(1, 0, 0.3)]), (3, 5, 2));
+    // Unsymmetric (an entry on a contact node's dofs, as a sliding
+    // gradient): no LU; the tangent with every slot empty factored by LDLT
+    // on the same analysis, the system solved on its trailing block.
+    assert!(rows.iter().flatten().any(|&(d, _)| d == 0));
+    let trailing = aug.trailing_solves;
+    assert_eq!(check(&mut aug, &rows[1..], &[(1, 0, 0.3)]), (2, 6, 0));
+    assert_eq!(check(&mut aug, &rows[2..], &[(1, 0, 0.3)]), (2, 7, 0));
+    assert_eq!(aug.trailing_solves, trailing + 2);
+    // Unsymmetric away from the contact rows: LU on the same pattern.
+    let inner = 2 * (4 * 9 + 4);
+    assert!(
+        rows.iter()
+            .flatten()
+            .all(|&(d, _)| d != inner && d != inner + 1)
+    );
+    assert_eq!(
+        check(&mut aug, &rows[2..], &[(inner + 1, inner, 0.3)]),
+        (3, 7, 1)
+    );
     // No rows at all.
-    assert_eq!(check(&mut aug, &[], &[]).1, 6);
+    assert_eq!(check(&mut aug, &[], &[]).1, 8);
 }
 
 /// An inner solve bordered on the factor of another contact set (rows
