@@ -728,24 +728,14 @@ impl Augmented {
                 .as_mut()
                 .filter(|_| same && analysis.trailing > 0)
             {
-                let clock = Instant::now();
                 self.factorizations += 1;
-                self.l_values.clear();
-                self.l_values.resize(symbolic.len_val(), 0.0);
                 let mat = SparseColMatRef::new(analysis.mat.as_ref(), &values);
-                let ldlt = symbolic.factorize_numeric_ldlt(
-                    &mut self.l_values,
-                    mat,
-                    Side::Lower,
-                    LdltRegularization::default(),
-                    Par::Seq,
-                    MemStack::new(mem),
-                    Default::default(),
-                );
-                self.times.numeric += clock.elapsed();
+                let stack = MemStack::new(mem);
+                let factored =
+                    factor_ldlt(symbolic, stack, &mut self.l_values, mat, &mut self.times)
+                        .is_some();
                 let clock = Instant::now();
-                let schur = ldlt
-                    .is_ok()
+                let schur = factored
                     .then(|| trailing::Factor::new(symbolic, &self.l_values, analysis.trailing))
                     .flatten()
                     .map(|f| (f.schur(), f.d_inv()))
@@ -1747,10 +1737,26 @@ fn solve_ldlt(
     x: &mut Vec<f64>,
     times: &mut LinearTimes,
 ) -> bool {
+    let stack = MemStack::new(mem);
+    let ldlt = factor_ldlt(symbolic, stack, l_values, a, times);
+    let clock = Instant::now();
+    let done = ldlt.is_some_and(|ldlt| refined_ldlt_solve(ldlt, stack, n_disp, a, b, x));
+    times.solve += clock.elapsed();
+    done
+}
+
+/// The numeric LDLT factorization of `a` over `symbolic` into `l_values`
+/// (timed as numeric); None when it fails.
+fn factor_ldlt<'a>(
+    symbolic: &'a SymbolicCholesky<usize>,
+    stack: &mut MemStack,
+    l_values: &'a mut Vec<f64>,
+    a: SparseColMatRef<'_, usize, f64>,
+    times: &mut LinearTimes,
+) -> Option<faer::sparse::linalg::cholesky::LdltRef<'a, usize, f64>> {
     let clock = Instant::now();
     l_values.clear();
     l_values.resize(symbolic.len_val(), 0.0);
-    let stack = MemStack::new(mem);
     let ldlt = symbolic.factorize_numeric_ldlt(
         l_values,
         a,
@@ -1761,10 +1767,7 @@ fn solve_ldlt(
         Default::default(),
     );
     times.numeric += clock.elapsed();
-    let clock = Instant::now();
-    let done = ldlt.is_ok_and(|ldlt| refined_ldlt_solve(ldlt, stack, n_disp, a, b, x));
-    times.solve += clock.elapsed();
-    done
+    ldlt.ok()
 }
 
 /// The solve of `a x = b` into `x` with the factor `ldlt` of `a`, checked
