@@ -1375,8 +1375,8 @@ fn complete_trailing(
     *correction = inf(&dx) / inf(&x);
     // A factor unsound along a near-null direction of the tangent shows in
     // the refinement step, as for the factored LDLT solves
-    // (`LDLT_REFINEMENT`): the tangent's own factor with every slot empty
-    // (an unsymmetric system's) meets a body held by contact alone.
+    // (`LDLT_REFINEMENT`); the tangent's own factor with every slot empty
+    // (an unsymmetric system's) is checked here alone.
     if inf(&dx[..n_disp]) > LDLT_REFINEMENT * inf(&x[..n_disp]) {
         return false;
     }
