@@ -805,6 +805,12 @@ impl Augmented {
                     return Ok(false);
                 }
                 analysis.ldlt_failed = true;
+                // The tangent's own LDLT with the contact dofs last may
+                // still hold (a body held by contact alone): as for an
+                // unsymmetric system, before LU.
+                if self.slots && !self.border_only && !analysis.split_failed {
+                    return self.solve_kept(pattern, k, n_disp, rhs);
+                }
             }
         }
 

@@ -814,24 +814,33 @@ fn floating_body_held_by_contact_rows() {
     assert_eq!((aug.ldlt, aug.lu, aug.factorizations), (0, 1, 2));
 }
 
-/// The same floating body with slots and a friction-like column on its
-/// third row (unsymmetric, inside the trailing set). The tangent with every
-/// slot empty is factored with the contact dofs last: its interior is the
-/// body with those dofs held, regular, and the dense system on the trailing
-/// set (with the multipliers) is regular too, so the solve is right without
-/// LU, where the unpivoted LDLT of the whole system above is not.
+/// The same floating body with slots, its rows symmetric, then with a
+/// friction-like column on its third row (unsymmetric, inside the trailing
+/// set). The tangent with every slot empty is factored with the contact
+/// dofs last: its interior is the body with those dofs held, regular, and
+/// the dense system on the trailing set (with the multipliers) is regular
+/// too, so the solve is right without LU, where the unpivoted LDLT of the
+/// whole system is not (tried first for the symmetric one, and failed).
 #[test]
 fn floating_body_unsymmetric_on_the_trailing_block() {
     let (p, k) = q4(10, 10, false);
     let rows = [vec![(0, 1.0)], vec![(1, 1.0)], vec![(20, 0.5), (21, 0.5)]];
     let n = p.n + rows.len();
+    let mut symmetric = border(p.n, &rows);
+    let b = rhs(n, &mut Rng(12));
+    let mut x = b.clone();
+    let mut aug = Augmented::with_slots(true);
+    aug.solve(&p, &k, &mut symmetric, &mut x).unwrap();
+    let r = residual(&dense(&p, &k, &symmetric, n), &x, &b);
+    assert!(r < 1e-10, "{:?}: residual {r:e}", aug.method());
+    assert_eq!(aug.method(), Some(Method::Ldlt));
+    assert_eq!((aug.ldlt, aug.lu, aug.factorizations), (1, 0, 2));
     let mut extra = border(p.n, &rows[..2]);
     for &(d, c) in &rows[2] {
         extra.push((p.n + 2, d, c));
         extra.push((d, p.n + 2, 0.7 * c));
     }
     let a = dense(&p, &k, &extra, n);
-    let mut aug = Augmented::with_slots(true);
     for seed in [13, 14] {
         let b = rhs(n, &mut Rng(seed));
         let mut x = b.clone();
@@ -840,7 +849,7 @@ fn floating_body_unsymmetric_on_the_trailing_block() {
         assert!(r < 1e-10, "{:?}: residual {r:e}", aug.method());
         assert_eq!(aug.method(), Some(Method::Ldlt));
     }
-    assert_eq!((aug.ldlt, aug.lu, aug.trailing_solves), (2, 0, 2));
+    assert_eq!((aug.ldlt, aug.lu, aug.trailing_solves), (3, 0, 3));
 }
 
 /// Numeric LDLT against numeric LU (symbolic analyses cached) on Q4-like
