@@ -692,8 +692,21 @@ impl Augmented {
                 [&mut col_ptr, &mut row_idx],
                 &mut values,
             );
+            // The system differs from it in `T x T` alone (its entries
+            // beside the tangent lie on the slots and their keys' dofs).
+            let mut in_t = vec![false; n];
+            for &d in &dofs {
+                in_t[d] = true;
+            }
+            in_t[n_disp..].fill(true);
+            let same = col_ptr == self.col_ptr
+                && row_idx == self.row_idx
+                && (0..n).all(|j| {
+                    (col_ptr[j]..col_ptr[j + 1])
+                        .all(|q| values[q] == self.values[q] || (in_t[j] && in_t[row_idx[q]]))
+                });
             self.times.system += clock.elapsed();
-            if analysis.ldlt.is_none() && col_ptr == self.col_ptr && row_idx == self.row_idx {
+            if analysis.ldlt.is_none() && same {
                 let clock = Instant::now();
                 self.analyses += 1;
                 match analyse_ldlt(
@@ -710,19 +723,6 @@ impl Augmented {
                 }
                 self.times.symbolic += clock.elapsed();
             }
-            // The system differs from it in `T x T` alone (its entries
-            // beside the tangent lie on the slots and their keys' dofs).
-            let mut in_t = vec![false; n];
-            for &d in &dofs {
-                in_t[d] = true;
-            }
-            in_t[n_disp..].fill(true);
-            let same = col_ptr == self.col_ptr
-                && row_idx == self.row_idx
-                && (0..n).all(|j| {
-                    (col_ptr[j]..col_ptr[j + 1])
-                        .all(|q| values[q] == self.values[q] || (in_t[j] && in_t[row_idx[q]]))
-                });
             if let Some((symbolic, mem)) = analysis
                 .ldlt
                 .as_mut()
@@ -1014,6 +1014,16 @@ impl Augmented {
     /// Whether the last solve was deferred (`solve_modified_watching`).
     pub fn deferred(&self) -> bool {
         self.trailing_work.pending.is_some()
+    }
+
+    /// The right-hand side of the deferred last solve, in the caller's
+    /// order (to solve its system again another way).
+    pub fn deferred_rhs(&self) -> Option<Vec<f64>> {
+        let p = self.trailing_work.pending.as_ref()?;
+        let n_disp = self.analysis.as_ref()?.n_disp;
+        let mut rhs = p.b[..n_disp].to_vec();
+        rhs.extend(p.slot_of.iter().map(|&s| p.b[n_disp + s]));
+        Some(rhs)
     }
 
     /// Finishes the deferred last solve into `rhs` (`pattern` and `k` as
@@ -1401,8 +1411,8 @@ fn complete_trailing(
 /// What the solves on the trailing block keep of the factored system (set
 /// by `solve`): its tangent's `fingerprint`, the row sums of the tangent's
 /// magnitudes (made by the first solve), its entries beside the tangent in
-/// the slots (`summed`), and the last forward substitution (the permuted right-hand
-/// side and its result), which serves the next inner solve.
+/// the slots (`summed`), and the last forward substitution (the permuted
+/// right-hand side and its result), which serves the next inner solve.
 #[derive(Default)]
 struct TrailingWork {
     k0: (usize, u64),

@@ -1389,7 +1389,6 @@ impl Solver {
             // interior until one is accepted (`finish_inner`).
             let more = inner_solves && inner < MAX_INNER && system.is_some() && rhs_base.is_some();
             let watch = more.then_some(&self.contact_eqs[..]);
-            let rhs_b = watch.map(|_| full.clone());
             // An inner solve borders the iteration's factorization with the
             // rows that changed (`Augmented::solve_modified`); the first, or
             // one that changes too much, factors the system. Under a
@@ -1451,24 +1450,24 @@ impl Solver {
             }
             solved?;
             let Some((sys, rhs_base)) = system.as_ref().zip(rhs_base).filter(|_| more) else {
-                break self.finish_inner(partial, full, rhs_b, extra)?;
+                break self.finish_inner(partial, full, extra)?;
             };
             let clock = Instant::now();
             let predicted = self.linearised_states(step, sys, &full, memory);
             self.times.contact += clock.elapsed();
             let Some(mut switched) = predicted? else {
-                break self.finish_inner(partial, full, rhs_b, extra)?;
+                break self.finish_inner(partial, full, extra)?;
             };
             let flips_allowed = if self.iterate_opens { 0 } else { INNER_FLIPS };
             switched.limit_flips(&mut flipped, flips_allowed);
             if switched.count() == 0 {
-                break self.finish_inner(partial, full, rhs_b, extra)?;
+                break self.finish_inner(partial, full, extra)?;
             }
             // The linearised problem's decisions may cycle (a set of
             // states met before): the outer iteration decides then.
             let key = pairs::state_key(memory, &switched);
             if seen.contains(&key) {
-                break self.finish_inner(partial, full, rhs_b, extra)?;
+                break self.finish_inner(partial, full, extra)?;
             }
             seen.push(key);
             inner += 1;
@@ -1480,7 +1479,9 @@ impl Solver {
                          closes {closed} and changes {slips} between stick and slip"
                 )
             });
-            let deferred = rhs_b.filter(|_| partial).map(|b| (b, extra.clone()));
+            let deferred = (self.augmented.deferred_rhs())
+                .filter(|_| partial)
+                .map(|b| (b, extra.clone()));
             kept = Some((full.clone(), memory.clone(), system.clone(), deferred));
             let rebuilt = self.contact_update(step, Some((sys, &switched)), memory, flips, log)?;
             rhs_now.copy_from_slice(rhs_base);
@@ -1496,20 +1497,18 @@ impl Solver {
 
     /// The accepted inner solve `full`: as solved, or, when it was
     /// deferred (`partial`), finished (`Augmented::complete`); should that
-    /// fail its check, its system (right-hand side `rhs`, entries `extra`)
-    /// factored.
+    /// fail its check, its system (entries `extra`) factored.
     fn finish_inner(
         &mut self,
         partial: bool,
         mut full: Vec<f64>,
-        rhs: Option<Vec<f64>>,
         extra: &mut [(usize, usize, f64)],
     ) -> Result<Vec<f64>, String> {
-        if !partial
-            || self
-                .augmented
-                .complete(&self.model.pattern, &self.k, &mut full)
-        {
+        if !partial {
+            return Ok(full);
+        }
+        let rhs = self.augmented.deferred_rhs();
+        if (self.augmented).complete(&self.model.pattern, &self.k, &mut full) {
             return Ok(full);
         }
         let mut x = rhs.ok_or("a deferred solve without its right-hand side")?;

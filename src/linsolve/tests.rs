@@ -636,6 +636,7 @@ fn deferred_trailing_solves_give_the_watched_unknowns_then_the_solution() {
     let mut partial = b.clone();
     assert!(aug.solve_modified_watching(&p, &k, &mut extra, &mut partial, 16, Some(&watch)));
     assert!(aug.deferred());
+    assert_eq!(aug.deferred_rhs().as_deref(), Some(&b[..]));
     assert_eq!(aug.trailing_solves, 1);
     let unsolved = partial[..n_disp].iter().filter(|v| v.is_nan()).count();
     assert!(unsolved > 0, "every interior unknown solved");
