@@ -241,6 +241,9 @@ fn hertz_with_friction_solves_its_unsymmetric_systems_on_the_ldlt_of_the_tangent
             contact2d::results::NodeState::Slip => 0.2,
             _ => 0.3,
         };
+        // A sliding node carries exactly mu_d tn, recovered from converged
+        // forces (|r|/F below 1e-13): 1e-9 of tn is round-off room, and an
+        // open node has tn = tt = 0 (the absolute 1e-9 N).
         assert!(
             tt.abs() <= mu * tn.abs() * (1.0 + 1e-9) + 1e-9 * tn.abs().max(1.0),
             "node {k}: tt {tt}, tn {tn}"
