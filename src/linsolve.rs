@@ -20,6 +20,7 @@ use faer::sparse::{FaerError, SparseColMatRef, SymbolicSparseColMat, SymbolicSpa
 use faer::{Conj, Mat, MatMut, Par, Side};
 use rustc_hash::FxHashMap as HashMap;
 use std::borrow::Cow;
+use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 #[derive(Debug, thiserror::Error)]
@@ -664,7 +665,7 @@ impl Augmented {
     ) -> Result<bool, LinearError> {
         let clock = Instant::now();
         self.trailing_work.forward = None;
-        self.trailing_work.s0_lu = None;
+        self.trailing_work.bases = DenseBases::default();
         let n = rhs.len();
         let b = rhs.to_vec();
         let analysis = self.analysis.as_mut().expect("set above");
@@ -1048,7 +1049,6 @@ impl Augmented {
         let done = complete_trailing(
             &f,
             d_inv,
-            self.trailing_work.s0_lu.as_ref(),
             &pending,
             pattern,
             k,
@@ -1097,7 +1097,7 @@ impl Augmented {
             forward,
             correction,
             pending,
-            s0_lu,
+            bases,
         } = work;
         // The tangent is the factored one's; the entries beside it differ
         // (a merge of the two sorted lists): the change, which must lie
@@ -1154,7 +1154,7 @@ impl Augmented {
         }
         let norm_a = rows.iter().fold(0.0f64, |m, v| m.max(*v));
         let t = order - f.b;
-        let dense = Dense::new(s0, s0_lu, &delta, t);
+        let dense = Dense::new(s0, bases, &delta, t);
         let mut b = vec![0.0; order];
         b[..n_disp].copy_from_slice(&rhs[..n_disp]);
         for (m, &s) in slot_of.iter().enumerate() {
@@ -1180,7 +1180,7 @@ impl Augmented {
                 *forward = Some((b_perm, y.clone()));
             }
         }
-        dense.solve(s0_lu.as_ref(), &mut y[f.b..]);
+        dense.solve(&mut y[f.b..]);
         let solved = Pending {
             dense,
             y,
@@ -1190,16 +1190,7 @@ impl Augmented {
             norm_a,
         };
         let Some(watch) = watch else {
-            return complete_trailing(
-                &f,
-                d_inv,
-                s0_lu.as_ref(),
-                &solved,
-                pattern,
-                k,
-                rhs,
-                correction,
-            );
+            return complete_trailing(&f, d_inv, &solved, pattern, k, rhs, correction);
         };
         // Deferred: the trailing unknowns and the watched ones (with the
         // supernodes above them), the rest of the interior NaN until
@@ -1240,82 +1231,155 @@ struct Pending {
 }
 
 /// The dense solver of a trailing solve's `S1 = S0 + Delta` (trailing
-/// positions): its own LU, or, when `Delta` touches few columns, the LU of
-/// `S0` (made once per factor) updated by the low-rank formula: with `C`
-/// the columns `Delta` touches, `S1 = S0 + U V^T` (`U` those columns of
-/// `Delta`, `V` the unit columns at `C`), so `S1^-1 b = y - W (I + W_C)^-1
-/// y_C` with `y = S0^-1 b`, `W = S0^-1 U` and `W_C` its rows at `C`.
+/// positions): an LU of its own, or the LU of a block it differs from in
+/// few columns (a base: `S0`, or the last block that took an LU of its
+/// own, `DenseBases`) updated by the low-rank formula: with `B` the base,
+/// `C` the columns `S1 - B` touches, `S1 = B + U V^T` (`U` those columns of
+/// `S1 - B`, `V` the unit columns at `C`), so `S1^-1 b = y - W (I +
+/// W_C)^-1 y_C` with `y = B^-1 b`, `W = B^-1 U` and `W_C` its rows at `C`.
+/// The inner solves of an iteration change a few nodes' rows at a time:
+/// the first may take an LU of its own, the next update it.
 enum Dense {
-    Lu(PartialPivLu<f64>),
-    /// No change: `S0`'s LU.
-    Unchanged,
-    Updated {
-        w: Mat<f64>,
-        columns: Vec<usize>,
-        capacitance: PartialPivLu<f64>,
-    },
+    /// `S1` is a base (its own LU, or an unchanged one).
+    Lu(Arc<PartialPivLu<f64>>),
+    Updated(Box<Update>),
 }
 
-/// `Delta`'s columns, at most this fraction of the trailing set's, take the
-/// low-rank update: it costs about `2 c t^2 + c^3` flops (c columns of `W`
-/// and the capacitance), the LU of `S1` `2 t^3 / 3`; measured on Hertz at
-/// 1e5 unknowns (t = 545), the inner solves change 10 to 60 columns.
+/// The low-rank update of a base's LU (`Dense`).
+struct Update {
+    base: Arc<PartialPivLu<f64>>,
+    w: Mat<f64>,
+    columns: Vec<usize>,
+    capacitance: PartialPivLu<f64>,
+}
+
+/// A change of `S0` (sorted by column, then row; summed; no zeros).
+type Change = Vec<(usize, usize, f64)>;
+
+/// The bases of the dense solves on a kept factor (`Dense`): the LU of
+/// `S0`, made when first needed, and the last block that took an LU of its
+/// own, with its `Delta` (sorted by column, then row; summed; no zeros).
+#[derive(Default)]
+struct DenseBases {
+    s0: Option<Arc<PartialPivLu<f64>>>,
+    last: Option<(Change, Arc<PartialPivLu<f64>>)>,
+}
+
+/// The columns of a change, at most this fraction of the trailing set's,
+/// take the low-rank update: it costs about `2 c t^2 + c^3` flops (c
+/// columns of `W` and the capacitance), an LU `2 t^3 / 3`; measured on
+/// Hertz at 1e5 unknowns (t = 545), the inner solves change 10 to 60
+/// columns of `S0`.
 const UPDATED_COLUMNS: usize = 4;
 
-impl Dense {
-    /// The solver of `S0 + delta` (trailing positions, duplicates summed),
-    /// `s0_lu` the LU of `S0`, made here when first needed.
-    fn new(
-        s0: &Mat<f64>,
-        s0_lu: &mut Option<PartialPivLu<f64>>,
-        delta: &[(usize, usize, f64)],
-        t: usize,
-    ) -> Self {
-        let mut columns: Vec<usize> = delta.iter().map(|e| e.1).collect();
-        columns.sort_unstable();
-        columns.dedup();
-        let c = columns.len();
-        if c * UPDATED_COLUMNS > t {
-            let mut s1 = s0.clone();
-            for &(i, j, d) in delta {
-                s1[(i, j)] += d;
+/// `a - b` of two changes (sorted by column, then row; no zeros).
+fn difference(a: &[(usize, usize, f64)], b: &[(usize, usize, f64)]) -> Vec<(usize, usize, f64)> {
+    let key = |e: &(usize, usize, f64)| (e.1, e.0);
+    let (mut p, mut q) = (0, 0);
+    let mut out = Vec::with_capacity(a.len() + b.len());
+    while p < a.len() || q < b.len() {
+        let (i, j, d) = match (a.get(p), b.get(q)) {
+            (Some(x), Some(y)) if key(x) == key(y) => {
+                p += 1;
+                q += 1;
+                (x.0, x.1, x.2 - y.2)
             }
-            return Dense::Lu(s1.partial_piv_lu());
+            (Some(x), Some(y)) if key(x) < key(y) => {
+                p += 1;
+                *x
+            }
+            (Some(x), None) => {
+                p += 1;
+                *x
+            }
+            (_, Some(y)) => {
+                q += 1;
+                (y.0, y.1, -y.2)
+            }
+            (None, None) => break,
+        };
+        if d != 0.0 {
+            out.push((i, j, d));
         }
-        let lu0 = s0_lu.get_or_insert_with(|| s0.partial_piv_lu());
+    }
+    out
+}
+
+/// The columns a change touches, ascending.
+fn columns_of(delta: &[(usize, usize, f64)]) -> Vec<usize> {
+    let mut columns: Vec<usize> = delta.iter().map(|e| e.1).collect();
+    columns.dedup();
+    columns
+}
+
+impl Dense {
+    /// The solver of `S0 + delta` (trailing positions, duplicates summed)
+    /// from the bases (made or replaced here as needed).
+    fn new(s0: &Mat<f64>, bases: &mut DenseBases, delta: &[(usize, usize, f64)], t: usize) -> Self {
+        let delta = difference(&summed(delta.to_vec()), &[]);
+        let from_s0 = columns_of(&delta);
+        let from_last = (bases.last.as_ref()).map(|(d, _)| difference(&delta, d));
+        let (change, base) = match from_last {
+            Some(change) if columns_of(&change).len() < from_s0.len() => {
+                let lu = bases.last.as_ref().map(|(_, lu)| lu.clone());
+                (change, lu.expect("a last base"))
+            }
+            _ if from_s0.len() * UPDATED_COLUMNS > t => {
+                let mut s1 = s0.clone();
+                for &(i, j, d) in &delta {
+                    s1[(i, j)] += d;
+                }
+                let lu = Arc::new(s1.partial_piv_lu());
+                bases.last = Some((delta, lu.clone()));
+                return Dense::Lu(lu);
+            }
+            _ => {
+                let lu = bases
+                    .s0
+                    .get_or_insert_with(|| Arc::new(s0.partial_piv_lu()));
+                (delta.clone(), lu.clone())
+            }
+        };
+        let columns = columns_of(&change);
+        let c = columns.len();
         if c == 0 {
-            return Dense::Unchanged;
+            return Dense::Lu(base);
+        }
+        if c * UPDATED_COLUMNS > t {
+            // Too far from the last base as well: an LU of its own.
+            bases.last = None;
+            return Dense::new(s0, bases, &delta, t);
         }
         let mut w = Mat::<f64>::zeros(t, c);
-        for &(i, j, d) in delta {
-            let q = columns.binary_search(&j).expect("a column of delta");
+        for &(i, j, d) in &change {
+            let q = columns.binary_search(&j).expect("a column of the change");
             w[(i, q)] += d;
         }
-        lu0.solve_in_place(w.as_mut());
+        base.solve_in_place(w.as_mut());
         let capacitance = Mat::from_fn(c, c, |i, j| {
             w[(columns[i], j)] + if i == j { 1.0 } else { 0.0 }
         });
-        Dense::Updated {
+        Dense::Updated(Box::new(Update {
+            base,
             capacitance: capacitance.partial_piv_lu(),
             w,
             columns,
-        }
+        }))
     }
 
     /// `y` (the trailing positions' right-hand side) becomes `S1^-1 y`.
-    fn solve(&self, s0_lu: Option<&PartialPivLu<f64>>, y: &mut [f64]) {
+    fn solve(&self, y: &mut [f64]) {
         let t = y.len();
         match self {
             Dense::Lu(lu) => lu.solve_in_place(MatMut::from_column_major_slice_mut(y, t, 1)),
-            Dense::Unchanged => (s0_lu.expect("made for it"))
-                .solve_in_place(MatMut::from_column_major_slice_mut(y, t, 1)),
-            Dense::Updated {
-                w,
-                columns,
-                capacitance,
-            } => {
-                let lu0 = s0_lu.expect("made with the update");
-                lu0.solve_in_place(MatMut::from_column_major_slice_mut(y, t, 1));
+            Dense::Updated(u) => {
+                let Update {
+                    base,
+                    w,
+                    columns,
+                    capacitance,
+                } = &**u;
+                base.solve_in_place(MatMut::from_column_major_slice_mut(y, t, 1));
                 let mut z: Vec<f64> = columns.iter().map(|&j| y[j]).collect();
                 let c = z.len();
                 capacitance.solve_in_place(MatMut::from_column_major_slice_mut(&mut z, c, 1));
@@ -1341,7 +1405,6 @@ impl Dense {
 fn complete_trailing(
     f: &trailing::Factor,
     d_inv: &[f64],
-    s0_lu: Option<&PartialPivLu<f64>>,
     p: &Pending,
     pattern: &Pattern,
     k: &[f64],
@@ -1380,7 +1443,7 @@ fn complete_trailing(
     let r = residual(&x, &p.b);
     let mut y: Vec<f64> = f.fwd.iter().map(|&i| r[i]).collect();
     f.forward(&mut y);
-    p.dense.solve(s0_lu, &mut y[f.b..]);
+    p.dense.solve(&mut y[f.b..]);
     let Some(dx) = finish(&mut y) else {
         return false;
     };
@@ -1424,21 +1487,36 @@ struct TrailingWork {
     correction: f64,
     /// The last solve, deferred (`Augmented::solve_modified_watching`).
     pending: Option<Pending>,
-    /// The LU of the kept factor's `S0`, made by the first low-rank update
+    /// The dense LUs the trailing solves on the kept factor update
     /// (`Dense`).
-    s0_lu: Option<PartialPivLu<f64>>,
+    bases: DenseBases,
 }
 
-/// The length of `v` and a 64-bit FNV-1a hash of its bits, word by word:
-/// each word's step (xor, then multiplication by an odd constant) is a
-/// bijection of the state, so a change of any one entry always changes it,
-/// and more changes collide with probability 2^-64. One read of `v`, where
-/// a copy to compare with would write it once and read it twice.
+/// The length of `v` and a 64-bit FNV-1a hash of its bits, word by word
+/// in eight interleaved lanes (word `i` into lane `i % 8`), the lanes then
+/// hashed in turn: each word's step (xor, then multiplication by an odd
+/// constant) is a bijection of its lane's state, and so is each lane's step
+/// into the result, so a change of any one entry always changes it, and
+/// more changes collide with probability 2^-64. One read of `v`, where a
+/// copy to compare with would write it once and read it twice; the lanes
+/// keep the multiplications independent (one chain took 2.5 ms per solve
+/// for the 1.8e6 entries of the tangent at 1e5 unknowns).
 fn fingerprint(v: &[f64]) -> (usize, u64) {
-    let h = v.iter().fold(0xcbf2_9ce4_8422_2325u64, |h, x| {
-        (h ^ x.to_bits()).wrapping_mul(0x0000_0100_0000_01b3)
-    });
-    (v.len(), h)
+    const BASIS: u64 = 0xcbf2_9ce4_8422_2325;
+    const PRIME: u64 = 0x0000_0100_0000_01b3;
+    let step = |h: u64, x: u64| (h ^ x).wrapping_mul(PRIME);
+    let mut lanes = [BASIS; 8];
+    let chunks = v.chunks_exact(8);
+    let rest = chunks.remainder();
+    for c in chunks {
+        for (h, x) in lanes.iter_mut().zip(c) {
+            *h = step(*h, x.to_bits());
+        }
+    }
+    for (h, x) in lanes.iter_mut().zip(rest) {
+        *h = step(*h, x.to_bits());
+    }
+    (v.len(), lanes.into_iter().fold(BASIS, step))
 }
 
 /// The entries sorted by (column, row), duplicates summed.
@@ -1736,8 +1814,13 @@ fn trailing_dofs(slots: &[SlotKey], n_disp: usize, n: usize) -> Option<Vec<usize
         .collect();
     dofs.sort_unstable();
     dofs.dedup();
-    let t = (dofs.len() + n - n_disp) as f64;
-    (n > n_disp && t.powi(3) <= TRAILING_FLOPS_PER_UNKNOWN * n as f64).then_some(dofs)
+    (n > n_disp && trailing_fits(dofs.len() + n - n_disp, n)).then_some(dofs)
+}
+
+/// Whether a trailing set of `t` unknowns is small enough for its dense
+/// solves in a system of order `n` ([`TRAILING_FLOPS_PER_UNKNOWN`]).
+pub fn trailing_fits(t: usize, n: usize) -> bool {
+    (t as f64).powi(3) <= TRAILING_FLOPS_PER_UNKNOWN * n as f64
 }
 
 /// Numeric LDLT of `a` (lower triangle, no regularization) and the solve of

@@ -135,6 +135,13 @@ struct Increment {
     extra: Vec<(usize, usize, f64)>,
     /// Tie multipliers, total.
     lambda: Vec<f64>,
+    /// How far the prescribed motion moves a node or a rigid target in
+    /// this increment (`contact_slots`).
+    reach: f64,
+    /// The contact slots of this increment's solves without contact rows
+    /// (`contact_slots`): per multiplier slot, the free equations of its
+    /// node; made at the first such solve, empty when it takes `linear`.
+    slots: Option<Vec<Vec<usize>>>,
 }
 
 /// What one iteration's residual and contact update give its convergence
@@ -919,7 +926,8 @@ impl Solver {
         let rigid_motion = (poses.iter().zip(&self.state.rigid))
             .map(|(p, q)| (p[0] - q[0]).abs().max((p[1] - q[1]).abs()))
             .fold(0.0, f64::max);
-        let u_max = largest(&self.state.u) + largest(&dup) + rigid_motion;
+        let reach = largest(&dup) + rigid_motion;
+        let u_max = largest(&self.state.u) + reach;
         let n = self.model.free_dofs();
         let mut memory = self.state.contact.clone();
         pairs::begin_increment(&mut memory);
@@ -942,6 +950,8 @@ impl Solver {
             extra: Vec::new(),
             // Tie multipliers, total: their forces C^T lambda act as loads.
             lambda: self.state.ties.clone(),
+            reach,
+            slots: None,
         }
     }
 
@@ -1287,6 +1297,10 @@ impl Solver {
         let n = self.model.free_dofs();
         let contact = (eval.contact.as_ref()).filter(|c| c.neqc() > 0 || !c.k.is_empty());
         if contact.is_none() && inc.lambda.is_empty() {
+            if self.solve_in_contact_slots(inc)? {
+                inc.solves += 1;
+                return Ok(());
+            }
             if eval.need_k {
                 // One AMD for the tangent and the bordered systems' block
                 // where that block is the tangent's pattern (rigid targets;
@@ -1335,6 +1349,112 @@ impl Solver {
             self.factor_valid = false;
         }
         Ok(())
+    }
+
+    /// The contact nodes that may touch in this increment (`pairs::near_target`,
+    /// within its prescribed motion `Increment::reach`), as the multiplier
+    /// slots their rows would take: one per node, two with friction (a
+    /// sticking node's), each keyed by the node's free equations (the rows
+    /// against a rigid target act on the node alone). Empty when none may
+    /// touch, a target is a body, or the slots with their nodes' equations
+    /// are too many for the dense solves on the factor's trailing block
+    /// (`linsolve::trailing_fits`).
+    fn contact_slots(&self, inc: &Increment) -> Result<Vec<Vec<usize>>, String> {
+        let n = self.model.free_dofs();
+        let near = pairs::near_target(
+            &self.problem,
+            &inc.poses,
+            &self.state.u,
+            &inc.memory,
+            inc.reach,
+        )?;
+        let Some(near) = near else {
+            return Ok(Vec::new());
+        };
+        let mut slots = Vec::new();
+        let mut dofs = 0;
+        for (pair, near) in self.problem.contacts.iter().zip(&near) {
+            let per_node = if pair.mu_s > 0.0 { 2 } else { 1 };
+            for &k in near {
+                let node = pair.contactor[k];
+                let eqs: Vec<usize> = [2 * node, 2 * node + 1]
+                    .into_iter()
+                    .filter(|&d| self.model.eq[d] != PRESCRIBED)
+                    .map(|d| self.model.eq[d] as usize)
+                    .collect();
+                // A row acting on prescribed dofs alone (a sticking node's
+                // tangential row on a symmetry plane) is an identity row:
+                // its key is empty.
+                if eqs.len() < 2 {
+                    slots.push(Vec::new());
+                }
+                if eqs.is_empty() {
+                    continue;
+                }
+                dofs += eqs.len();
+                slots.extend(std::iter::repeat_n(eqs, per_node));
+            }
+        }
+        // A node in two pairs counts its equations twice: the set is
+        // overestimated, never under.
+        let t = dofs + slots.len();
+        if slots.is_empty() || !crate::linsolve::trailing_fits(t, n + slots.len()) {
+            return Ok(Vec::new());
+        }
+        Ok(slots)
+    }
+
+    /// A correction without contact rows (`inc.rhs` in, the correction
+    /// out) against rigid targets: solved on the LDLT factor of the tangent
+    /// bordered by the slots of the contact rows to come (`contact_slots`),
+    /// every slot empty (an identity row, its entries on its node zero),
+    /// their nodes and slots ordered last, so that the iterations with
+    /// contact rows solve on the same factor's trailing block (under a
+    /// constant tangent) or on its analysis: one symbolic analysis and one
+    /// factorization where the plain tangent (`linear`) and then the
+    /// contact system took two of each. False when this does not apply
+    /// (no slots, comparisons forcing LU or bordering, a failed solve):
+    /// `linear` solves then.
+    fn solve_in_contact_slots(&mut self, inc: &mut Increment) -> Result<bool, String> {
+        let augmented = &self.augmented;
+        if !self.rigid_targets
+            || self.problem.contacts.is_empty()
+            || augmented.force_lu
+            || augmented.border_only
+            || !augmented.slots
+        {
+            return Ok(false);
+        }
+        if inc.slots.is_none() {
+            inc.slots = Some(self.contact_slots(inc)?);
+        }
+        let slots = inc.slots.as_deref().unwrap_or_default();
+        if slots.is_empty() {
+            return Ok(false);
+        }
+        let n = self.model.free_dofs();
+        let extra = &mut inc.extra;
+        extra.clear();
+        for (m, eqs) in slots.iter().enumerate() {
+            for &q in eqs {
+                extra.push((n + m, q, 0.0));
+                extra.push((q, n + m, 0.0));
+            }
+            extra.push((n + m, n + m, 1.0));
+        }
+        let mut full = inc.rhs.clone();
+        full.resize(n + slots.len(), 0.0);
+        let (pattern, k) = (&self.model.pattern, &self.k);
+        let reused = self.k_constant
+            && (self.augmented).solve_on_trailing_block(pattern, k, extra, &mut full, None);
+        self.times.reused += usize::from(reused);
+        if !reused && self.augmented.solve(pattern, k, extra, &mut full).is_err() {
+            self.augmented.restart();
+            inc.slots = Some(Vec::new());
+            return Ok(false);
+        }
+        inc.rhs.copy_from_slice(&full[..n]);
+        Ok(true)
     }
 
     /// The correction with contact rows or ties: Eq. (18), `[K + K_c, C^T;
@@ -1507,6 +1627,7 @@ impl Solver {
         if !partial {
             return Ok(full);
         }
+
         let rhs = self.augmented.deferred_rhs();
         if (self.augmented).complete(&self.model.pattern, &self.k, &mut full) {
             return Ok(full);

@@ -540,6 +540,44 @@ pub(super) fn target_segments(
     }
 }
 
+/// Per pair, the contactor nodes (indices into `pair.contactor`) that may
+/// touch in an increment whose nodes and targets move by at most `reach`:
+/// those within `reach` of a segment of the target at `poses` (the nodes at
+/// `u`), and those the memory holds in contact. Rigid targets only (None
+/// for a pair against a body, whose segments move with the solution).
+pub fn near_target(
+    problem: &Problem,
+    poses: &[[f64; 3]],
+    u: &[f64],
+    memory: &[PairMemory],
+    reach: f64,
+) -> Result<Option<Vec<Vec<usize>>>, String> {
+    let mut out = Vec::with_capacity(problem.contacts.len());
+    for (p, pair) in problem.contacts.iter().enumerate() {
+        if !matches!(pair.target, Target::Rigid(_)) {
+            return Ok(None);
+        }
+        let segments = target_segments(problem, pair, u, poses)?;
+        let near = (pair.contactor.iter().enumerate())
+            .filter(|&(k, &n)| {
+                if memory[p].nodes[k].state != NodeState::Open {
+                    return true;
+                }
+                let x = position(problem, u, n);
+                let (lo, hi) = ([x.x - reach, x.y - reach], [x.x + reach, x.y + reach]);
+                segments.visit(lo, hi).any(|(_, s)| {
+                    let raw = s.seg.project(x);
+                    let miss = (-raw.beta()).max(raw.beta() - 1.0).max(0.0) * s.seg.length();
+                    miss.hypot(raw.normal_overlap()) <= reach
+                })
+            })
+            .map(|(k, _)| k)
+            .collect();
+        out.push(near);
+    }
+    Ok(Some(out))
+}
+
 /// The contact point of a node at `x` on target segment `seg`: the foot of the normal,
 /// when it falls on the segment to `BETA_TOLERANCE`; a foot just beyond an end is
 /// referred to that end node (beta clamped to [0, 1]). The normal overlap is the same

@@ -735,8 +735,10 @@ fn symmetry_test_matches_its_dense_definition() {
 
 /// The trailing block's dense solver of `S0 + Delta`: by the low-rank
 /// update of `S0`'s LU when `Delta` touches few columns (and by `S0`'s LU
-/// alone when it touches none), by its own LU otherwise; each against
-/// nalgebra's dense LU, on an unsymmetric, indefinite `S0`.
+/// alone when it touches none), by its own LU otherwise, and by the update
+/// of that LU when the next `Delta` differs from its in fewer columns than
+/// from `S0`; each against nalgebra's dense LU, on an unsymmetric,
+/// indefinite `S0`.
 #[test]
 fn trailing_dense_solver_matches_a_dense_solve() {
     let mut rng = Rng(63);
@@ -750,27 +752,42 @@ fn trailing_dense_solver_matches_a_dense_solve() {
             }
     });
     let b: Vec<f64> = (0..t).map(|_| rng.next()).collect();
-    let mut s0_lu = None;
-    for (columns, kind) in [
-        (0, "unchanged"),
-        (3, "updated"),
-        (10, "updated"),
-        (11, "lu"),
-    ] {
+    let mut bases = DenseBases::default();
+    let change = |columns: std::ops::Range<usize>, rng: &mut Rng| {
         let mut delta = Vec::new();
-        for q in 0..columns {
+        for q in columns {
             let j = (7 * q + 2) % t;
             for i in [j, (j + 5) % t, (3 * j + 1) % t] {
                 delta.push((i, j, 2.0 * rng.next()));
             }
         }
-        let dense = Dense::new(&s0, &mut s0_lu, &delta, t);
-        let got = match dense {
-            Dense::Lu(_) => "lu",
-            Dense::Unchanged => "unchanged",
-            Dense::Updated { .. } => "updated",
+        delta
+    };
+    let eleven = change(0..11, &mut rng);
+    let mut twelve = eleven.clone();
+    twelve.extend(change(11..12, &mut rng));
+    // The first of the eleven columns changed again.
+    twelve.push((2, 2, 0.5));
+    for (delta, kind) in [
+        (Vec::new(), "s0"),
+        (change(0..3, &mut rng), "updated s0"),
+        (change(0..10, &mut rng), "updated s0"),
+        (eleven, "own"),
+        (twelve, "updated last"),
+        (change(0..3, &mut rng), "updated s0"),
+    ] {
+        let dense = Dense::new(&s0, &mut bases, &delta, t);
+        let is = |base: &Arc<_>, of: Option<&Arc<_>>| of.is_some_and(|b| Arc::ptr_eq(base, b));
+        let last = bases.last.as_ref().map(|(_, lu)| lu);
+        let got = match &dense {
+            Dense::Lu(lu) if is(lu, bases.s0.as_ref()) => "s0",
+            Dense::Lu(lu) if is(lu, last) => "own",
+            Dense::Lu(_) => "unknown",
+            Dense::Updated(u) if is(&u.base, bases.s0.as_ref()) => "updated s0",
+            Dense::Updated(u) if is(&u.base, last) => "updated last",
+            Dense::Updated(_) => "updated unknown",
         };
-        assert_eq!(got, kind, "{columns} columns");
+        assert_eq!(got, kind, "{} entries", delta.len());
         let mut a = DMatrix::from_fn(t, t, |i, j| s0[(i, j)]);
         for &(i, j, d) in &delta {
             a[(i, j)] += d;
@@ -780,7 +797,7 @@ fn trailing_dense_solver_matches_a_dense_solve() {
             .solve(&DVector::from_column_slice(&b))
             .expect("regular");
         let mut x = b.clone();
-        dense.solve(s0_lu.as_ref(), &mut x);
+        dense.solve(&mut x);
         let error = (0..t)
             .map(|i| (x[i] - expected[i]).abs())
             .fold(0.0, f64::max);
