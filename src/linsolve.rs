@@ -1718,33 +1718,76 @@ fn is_symmetric(col_ptr: &[usize], row_idx: &[usize], values: &[f64]) -> bool {
     true
 }
 
-/// AMD of the leading `n_disp` block of `a`: (forward, inverse).
+/// AMD of the leading `n_disp` block of `a`: (forward, inverse). Made on
+/// the block's quotient graph of runs of consecutive columns with the same
+/// rows (a node's two displacement equations), each run then kept together
+/// in the order: the graph has a quarter of the entries, and AMD finds such
+/// runs itself only after it has paid for scanning them (3.9 ms of a 36 ms
+/// increment of Hertz at 1e4 unknowns).
 fn amd_of_block(
     a: SymbolicSparseColMatRef<'_, usize>,
     n_disp: usize,
 ) -> Result<(Vec<usize>, Vec<usize>), FaerError> {
-    // The displacement block (columns sorted, so the rows < n_disp lead).
-    let mut ptr = Vec::with_capacity(n_disp + 1);
+    // The displacement block's rows per column (sorted, so the rows <
+    // n_disp lead).
+    let rows = |j: usize| {
+        let rows = a.row_idx_of_col_raw(j);
+        &rows[..rows.partition_point(|&r| r < n_disp)]
+    };
+    // Runs of consecutive columns with the same rows.
+    let mut run_of = vec![0usize; n_disp];
+    let mut starts: Vec<usize> = Vec::new();
+    for j in 0..n_disp {
+        if j == 0 || rows(j) != rows(j - 1) {
+            starts.push(j);
+        }
+        run_of[j] = starts.len() - 1;
+    }
+    let runs = starts.len();
+    starts.push(n_disp);
+    // The graph of the runs: run g meets the runs of its first column's rows.
+    let mut ptr = Vec::with_capacity(runs + 1);
     let mut idx = Vec::new();
     ptr.push(0);
-    for j in 0..n_disp {
-        let rows = a.row_idx_of_col_raw(j);
-        let m = rows.partition_point(|&r| r < n_disp);
-        idx.extend_from_slice(&rows[..m]);
+    for g in 0..runs {
+        let from = idx.len();
+        for &r in rows(starts[g]) {
+            let h = run_of[r];
+            if idx.len() == from || idx[idx.len() - 1] != h {
+                idx.push(h);
+            }
+        }
+        idx[from..].sort_unstable();
+        let mut w = from;
+        for q in from..idx.len() {
+            if q == from || idx[q] != idx[w - 1] {
+                idx[w] = idx[q];
+                w += 1;
+            }
+        }
+        idx.truncate(w);
         ptr.push(idx.len());
     }
-    let block = SymbolicSparseColMatRef::new_checked(n_disp, n_disp, &ptr, None, &idx);
-    let mut fwd = vec![0usize; n_disp];
-    let mut inv = vec![0usize; n_disp];
-    let mut mem = MemBuffer::try_new(amd::order_scratch::<usize>(n_disp, idx.len()))
+    let graph = SymbolicSparseColMatRef::new_checked(runs, runs, &ptr, None, &idx);
+    let mut run_fwd = vec![0usize; runs];
+    let mut run_inv = vec![0usize; runs];
+    let mut mem = MemBuffer::try_new(amd::order_scratch::<usize>(runs, idx.len()))
         .map_err(|_| FaerError::OutOfMemory)?;
     amd::order(
-        &mut fwd,
-        &mut inv,
-        block,
+        &mut run_fwd,
+        &mut run_inv,
+        graph,
         amd::Control::default(),
         MemStack::new(&mut mem),
     )?;
+    let fwd: Vec<usize> = run_fwd
+        .iter()
+        .flat_map(|&g| starts[g]..starts[g + 1])
+        .collect();
+    let mut inv = vec![0usize; n_disp];
+    for (p, &j) in fwd.iter().enumerate() {
+        inv[j] = p;
+    }
     Ok((fwd, inv))
 }
 

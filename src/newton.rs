@@ -1355,10 +1355,13 @@ impl Solver {
     /// within its prescribed motion `Increment::reach`), as the multiplier
     /// slots their rows would take: one per node, two with friction (a
     /// sticking node's), each keyed by the node's free equations (the rows
-    /// against a rigid target act on the node alone). Empty when none may
-    /// touch, a target is a body, or the slots with their nodes' equations
-    /// are too many for the dense solves on the factor's trailing block
-    /// (`linsolve::trailing_fits`).
+    /// against a rigid target act on the node alone). The nearest nodes
+    /// first, while the slots with their nodes' equations stay few enough
+    /// for the dense solves on the factor's trailing block
+    /// (`linsolve::trailing_fits`); a node left out that touches gives the
+    /// contact system a pattern of its own (an analysis and a
+    /// factorization, as without the slots). Empty when no node may touch
+    /// or a target is a body.
     fn contact_slots(&self, inc: &Increment) -> Result<Vec<Vec<usize>>, String> {
         let n = self.model.free_dofs();
         let near = pairs::near_target(
@@ -1371,35 +1374,35 @@ impl Solver {
         let Some(near) = near else {
             return Ok(Vec::new());
         };
+        let mut nodes: Vec<(f64, usize, usize)> = (near.iter().enumerate())
+            .flat_map(|(p, near)| near.iter().map(move |&(k, d)| (d, p, k)))
+            .collect();
+        nodes.sort_by(|a, b| a.0.total_cmp(&b.0).then((a.1, a.2).cmp(&(b.1, b.2))));
         let mut slots = Vec::new();
         let mut dofs = 0;
-        for (pair, near) in self.problem.contacts.iter().zip(&near) {
+        for (_, p, k) in nodes {
+            let pair = &self.problem.contacts[p];
             let per_node = if pair.mu_s > 0.0 { 2 } else { 1 };
-            for &k in near {
-                let node = pair.contactor[k];
-                let eqs: Vec<usize> = [2 * node, 2 * node + 1]
-                    .into_iter()
-                    .filter(|&d| self.model.eq[d] != PRESCRIBED)
-                    .map(|d| self.model.eq[d] as usize)
-                    .collect();
-                // A row acting on prescribed dofs alone (a sticking node's
-                // tangential row on a symmetry plane) is an identity row:
-                // its key is empty.
-                if eqs.len() < 2 {
-                    slots.push(Vec::new());
-                }
-                if eqs.is_empty() {
-                    continue;
-                }
-                dofs += eqs.len();
-                slots.extend(std::iter::repeat_n(eqs, per_node));
+            let node = pair.contactor[k];
+            let eqs: Vec<usize> = [2 * node, 2 * node + 1]
+                .into_iter()
+                .filter(|&d| self.model.eq[d] != PRESCRIBED)
+                .map(|d| self.model.eq[d] as usize)
+                .collect();
+            // A row acting on prescribed dofs alone (a sticking node's
+            // tangential row on a symmetry plane) is an identity row: its
+            // key is empty.
+            let empty = usize::from(eqs.len() < 2);
+            let added = if eqs.is_empty() { 0 } else { per_node };
+            // A node in two pairs counts its equations twice: the set is
+            // overestimated, never under.
+            let (t, m) = (dofs + eqs.len(), slots.len() + empty + added);
+            if !crate::linsolve::trailing_fits(t + m, n + m) {
+                break;
             }
-        }
-        // A node in two pairs counts its equations twice: the set is
-        // overestimated, never under.
-        let t = dofs + slots.len();
-        if slots.is_empty() || !crate::linsolve::trailing_fits(t, n + slots.len()) {
-            return Ok(Vec::new());
+            dofs = t;
+            slots.extend(std::iter::repeat_n(Vec::new(), empty));
+            slots.extend(std::iter::repeat_n(eqs, added));
         }
         Ok(slots)
     }

@@ -305,10 +305,14 @@ fn hertz_press_in_one_increment_solves_on_the_trailing_block() {
     // Each of them deferred its interior until the linearised problem
     // accepted it (the contact nodes' motion is all it reads).
     assert_eq!(p.deferred, p.trailing);
-    // One LDLT factorization of the bordered system for the increment (the
-    // second iteration's system is the last inner solve's) and the
-    // predictor's LLT.
-    assert_eq!((p.ldlt, p.lu, p.factorizations), (1, 0, 2));
+    // One LDLT factorization for the increment: the predictor's, of the
+    // tangent bordered by the empty slots of the nodes within the press's
+    // motion of the flat, those nodes last; the first iteration's contact
+    // system and its inner solves on its trailing block (the second
+    // iteration's system is the last inner solve's). With the predictor
+    // on the tangent's own LLT, as before, there are two.
+    assert_eq!((p.ldlt, p.lu, p.factorizations), (1, 0, 1));
+    assert_eq!(p.reused, 1, "{}", p.summary());
     let h = common::hertz(&solver, 10.0, E_STAR);
     println!("{h}");
     // The bound, 1 % of p0, as on the shipped mesh: measured 6.4e-3

@@ -541,17 +541,18 @@ pub(super) fn target_segments(
 }
 
 /// Per pair, the contactor nodes (indices into `pair.contactor`) that may
-/// touch in an increment whose nodes and targets move by at most `reach`:
-/// those within `reach` of a segment of the target at `poses` (the nodes at
-/// `u`), and those the memory holds in contact. Rigid targets only (None
-/// for a pair against a body, whose segments move with the solution).
+/// touch in an increment whose nodes and targets move by at most `reach`,
+/// each with its distance from the target: those within `reach` of a
+/// segment of the target at `poses` (the nodes at `u`), and those the
+/// memory holds in contact (distance 0). Rigid targets only (None for a
+/// pair against a body, whose segments move with the solution).
 pub fn near_target(
     problem: &Problem,
     poses: &[[f64; 3]],
     u: &[f64],
     memory: &[PairMemory],
     reach: f64,
-) -> Result<Option<Vec<Vec<usize>>>, String> {
+) -> Result<Option<Vec<Vec<(usize, f64)>>>, String> {
     let mut out = Vec::with_capacity(problem.contacts.len());
     for (p, pair) in problem.contacts.iter().enumerate() {
         if !matches!(pair.target, Target::Rigid(_)) {
@@ -559,19 +560,21 @@ pub fn near_target(
         }
         let segments = target_segments(problem, pair, u, poses)?;
         let near = (pair.contactor.iter().enumerate())
-            .filter(|&(k, &n)| {
+            .filter_map(|(k, &n)| {
                 if memory[p].nodes[k].state != NodeState::Open {
-                    return true;
+                    return Some((k, 0.0));
                 }
                 let x = position(problem, u, n);
                 let (lo, hi) = ([x.x - reach, x.y - reach], [x.x + reach, x.y + reach]);
-                segments.visit(lo, hi).any(|(_, s)| {
-                    let raw = s.seg.project(x);
-                    let miss = (-raw.beta()).max(raw.beta() - 1.0).max(0.0) * s.seg.length();
-                    miss.hypot(raw.normal_overlap()) <= reach
-                })
+                let distance = (segments.visit(lo, hi))
+                    .map(|(_, s)| {
+                        let raw = s.seg.project(x);
+                        let miss = (-raw.beta()).max(raw.beta() - 1.0).max(0.0) * s.seg.length();
+                        miss.hypot(raw.normal_overlap())
+                    })
+                    .fold(f64::INFINITY, f64::min);
+                (distance <= reach).then_some((k, distance))
             })
-            .map(|(k, _)| k)
             .collect();
         out.push(near);
     }
