@@ -540,6 +540,9 @@ pub(super) fn target_segments(
     }
 }
 
+/// Per pair, contactor nodes with their distances (`near_target`).
+pub type NearNodes = Vec<Vec<(usize, f64)>>;
+
 /// Per pair, the contactor nodes (indices into `pair.contactor`) that may
 /// touch in an increment whose nodes and targets move by at most `reach`,
 /// each with its distance from the target: those within `reach` of a
@@ -552,7 +555,7 @@ pub fn near_target(
     u: &[f64],
     memory: &[PairMemory],
     reach: f64,
-) -> Result<Option<Vec<Vec<(usize, f64)>>>, String> {
+) -> Result<Option<NearNodes>, String> {
     let mut out = Vec::with_capacity(problem.contacts.len());
     for (p, pair) in problem.contacts.iter().enumerate() {
         if !matches!(pair.target, Target::Rigid(_)) {
