@@ -397,6 +397,14 @@ pub struct Augmented {
     /// Keep the multipliers in slots (`Analysis::slots`); when false, each
     /// contact set is a pattern of its own.
     pub slots: bool,
+    /// The system being solved has no entry between its displacements and
+    /// its multipliers (the tangent bordered by empty slots: a solve
+    /// without contact rows on the contact system's pattern). Its LDLT is
+    /// the tangent's own, and along a near-null direction of the tangent
+    /// LU would do no better: the step of refinement that exposes one
+    /// (`LDLT_REFINEMENT`) is left out, as the tangent's own LLT solve
+    /// (`LinearSolver`) has none.
+    decoupled: bool,
 }
 
 /// The factorization of the last system `solve` factored (LDLT: the
@@ -597,6 +605,8 @@ impl Augmented {
         } else {
             full.copy_from_slice(rhs);
         }
+        self.decoupled = n > n_disp
+            && (extra.iter()).all(|&(r, c, v)| v == 0.0 || (r >= n_disp) == (c >= n_disp));
         self.times.system += clock.elapsed();
         let split = self.solve_kept(pattern, k, n_disp, &mut full)?;
         // What the trailing solves compare their systems with: this one's
@@ -791,6 +801,7 @@ impl Augmented {
                     rhs,
                     &mut self.x,
                     &mut self.times,
+                    !self.decoupled,
                 ) {
                     rhs.copy_from_slice(&self.x);
                     self.ldlt += 1;
@@ -1868,7 +1879,10 @@ pub fn trailing_fits(t: usize, n: usize) -> bool {
 
 /// Numeric LDLT of `a` (lower triangle, no regularization) and the solve of
 /// `a x = b` into `x`. False when a pivot is zero, a value is not finite or
-/// the backward error exceeds [`LDLT_BACKWARD_ERROR`].
+/// the backward error exceeds [`LDLT_BACKWARD_ERROR`]; with `refine`, also
+/// when one step of refinement exposes a near-null direction
+/// ([`LDLT_REFINEMENT`]).
+#[allow(clippy::too_many_arguments)]
 fn solve_ldlt(
     symbolic: &SymbolicCholesky<usize>,
     mem: &mut MemBuffer,
@@ -1878,11 +1892,12 @@ fn solve_ldlt(
     b: &[f64],
     x: &mut Vec<f64>,
     times: &mut LinearTimes,
+    refine: bool,
 ) -> bool {
     let stack = MemStack::new(mem);
     let ldlt = factor_ldlt(symbolic, stack, l_values, a, times);
     let clock = Instant::now();
-    let done = ldlt.is_some_and(|ldlt| refined_ldlt_solve(ldlt, stack, n_disp, a, b, x));
+    let done = ldlt.is_some_and(|ldlt| refined_ldlt_solve(ldlt, stack, n_disp, a, b, x, refine));
     times.solve += clock.elapsed();
     done
 }
@@ -1897,8 +1912,11 @@ fn factor_ldlt<'a>(
     times: &mut LinearTimes,
 ) -> Option<faer::sparse::linalg::cholesky::LdltRef<'a, usize, f64>> {
     let clock = Instant::now();
-    l_values.clear();
-    l_values.resize(symbolic.len_val(), 0.0);
+    // faer zeroes the values itself: a buffer of another length is
+    // replaced by zeroed pages, not written twice.
+    if l_values.len() != symbolic.len_val() {
+        *l_values = vec![0.0; symbolic.len_val()];
+    }
     let ldlt = symbolic.factorize_numeric_ldlt(
         l_values,
         a,
@@ -1913,7 +1931,7 @@ fn factor_ldlt<'a>(
 }
 
 /// The solve of `a x = b` into `x` with the factor `ldlt` of `a`, checked
-/// and refined (`solve_ldlt`).
+/// and, with `refine`, refined (`solve_ldlt`).
 fn refined_ldlt_solve(
     ldlt: faer::sparse::linalg::cholesky::LdltRef<'_, usize, f64>,
     stack: &mut MemStack,
@@ -1921,6 +1939,7 @@ fn refined_ldlt_solve(
     a: SparseColMatRef<'_, usize, f64>,
     b: &[f64],
     x: &mut Vec<f64>,
+    refine: bool,
 ) -> bool {
     let n = b.len();
     x.clear();
@@ -1947,6 +1966,9 @@ fn refined_ldlt_solve(
     let denom = inf(&row_abs) * inf(x) + inf(b);
     if inf(&r) > LDLT_BACKWARD_ERROR * denom {
         return false;
+    }
+    if !refine {
+        return true;
     }
     // The normwise backward error hides a solve that went wrong along a
     // near-null direction of the stiffness (a body held by contact alone: a
