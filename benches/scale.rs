@@ -2,7 +2,7 @@
 //! 1e6 unknowns, and what one `doStep` of a small frictional FMU costs.
 //!
 //!     cargo bench --bench scale              # 1e3, 1e4 and 1e5 unknowns
-//!     cargo bench --bench scale -- --full    # and 1e6 (about 10 GB, minutes)
+//!     cargo bench --bench scale -- --full    # and 1e6 (about 3 GB, a minute)
 //!     cargo bench --bench scale -- --fmu     # part 2 alone (for a profiler)
 //!
 //! Part 1, the plane-strain Hertz press of scenes/hertz_plane_strain.toml

@@ -251,6 +251,60 @@ fn hertz_with_friction_solves_its_unsymmetric_systems_on_the_ldlt_of_the_tangent
     }
 }
 
+/// The frictional cylinder pressed in one increment: the predictor's
+/// factor holds two slots per node within the press's motion of the flat,
+/// and one with an empty key for the node on the symmetry plane (its
+/// sticking tangential row acts on its prescribed ux alone: an identity
+/// row), so every contact system of the increment, unsymmetric ones
+/// included, solves on that one factor and analysis; and the converged
+/// state keeps Coulomb's law at every node.
+#[test]
+fn frictional_press_in_one_increment_solves_on_the_predictors_factor() {
+    let problem = common::shipped_scene(
+        "hertz_plane_strain.toml",
+        &[
+            ("element = \"q8\"", "element = \"q4\""),
+            ("mu_s = 0.0", "mu_s = 0.3\nmu_d = 0.2"),
+            ("dt = 0.25", "dt = 1.0"),
+        ],
+    );
+    let mut solver = Solver::new(problem).unwrap();
+    let step = solver.advance(1.0, &mut |_, _| {}).unwrap();
+    assert!(step.converged);
+    let p = solver.phases();
+    println!("{}", p.summary());
+    // Without the empty-key slot the first contact system finds no slot
+    // for that row: an analysis and a factorization of its own (measured).
+    assert_eq!(
+        (p.factorizations, p.analyses, p.lu),
+        (1, 1, 0),
+        "{}",
+        p.summary()
+    );
+    assert_eq!(p.trailing, p.bordered, "{}", p.summary());
+    let pairs = solver.last_pairs().unwrap();
+    let pair = &pairs[0].1;
+    println!(
+        "Fn {:e} Ft {:e} stick/slip {}/{}",
+        pair.fn_, pair.ft, pair.n_stick, pair.n_slip
+    );
+    assert!(pair.n_stick > 0 && pair.n_slip > 0);
+    let n = &pair.nodes;
+    for k in 0..n.tn.len() {
+        let (tn, tt) = (n.tn[k], n.tt[k]);
+        let mu = match n.state[k] {
+            contact2d::results::NodeState::Slip => 0.2,
+            _ => 0.3,
+        };
+        // As in the four-increment test above: 1e-9 of tn is round-off.
+        assert!(
+            tt.abs() <= mu * tn.abs() * (1.0 + 1e-9) + 1e-9 * tn.abs().max(1.0),
+            "node {k}: tt {tt}, tn {tn}"
+        );
+        assert!(tn >= -1e-9 * pair.fn_.abs(), "node {k} in tension: tn {tn}");
+    }
+}
+
 /// The shipped Hertz cylinder in q4, in its four increments: the tangent is
 /// constant, so a Newton iteration whose contact rows changed on the last
 /// factor's trailing set alone solves there instead of factoring (at least
