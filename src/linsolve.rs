@@ -1118,32 +1118,7 @@ impl Augmented {
         }
         let extra1 = summed(in_slots(extra, n_disp, &analysis.slots, &slot_of));
         let mut delta: Vec<(usize, usize, f64)> = Vec::new();
-        let (mut p, mut q) = (0, 0);
-        while p < extra0.len() || q < extra1.len() {
-            let key = |e: &(usize, usize, f64)| (e.1, e.0);
-            let (i, j, d) = match (extra0.get(p), extra1.get(q)) {
-                (Some(a), Some(b)) if key(a) == key(b) => {
-                    p += 1;
-                    q += 1;
-                    (b.0, b.1, b.2 - a.2)
-                }
-                (Some(a), Some(b)) if key(a) < key(b) => {
-                    p += 1;
-                    (a.0, a.1, -a.2)
-                }
-                (Some(a), None) => {
-                    p += 1;
-                    (a.0, a.1, -a.2)
-                }
-                (_, Some(b)) => {
-                    q += 1;
-                    (b.0, b.1, b.2)
-                }
-                (None, None) => break,
-            };
-            if d == 0.0 {
-                continue;
-            }
+        for (i, j, d) in difference(&extra1, extra0) {
             let (pi, pj) = (f.inv[i], f.inv[j]);
             if pi < f.b || pj < f.b {
                 return false;

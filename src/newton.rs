@@ -1630,7 +1630,6 @@ impl Solver {
         if !partial {
             return Ok(full);
         }
-
         let rhs = self.augmented.deferred_rhs();
         if (self.augmented).complete(&self.model.pattern, &self.k, &mut full) {
             return Ok(full);

@@ -80,65 +80,123 @@ pub(super) fn backward_error(r: &[f64], norm_a: f64, x: &[f64], b: &[f64]) -> f6
     inf(r) / (norm_a * inf(x) + inf(b))
 }
 
-/// One multiplier of a bordered system: its row and its column over the
-/// displacement unknowns, and its diagonal entry.
-struct Multiplier {
-    row: Vec<(usize, f64)>,
-    column: Vec<(usize, f64)>,
-    diagonal: f64,
+/// The multipliers (unknowns `n_disp..`) of a bordered matrix: per
+/// multiplier its row and its column over the displacement unknowns, and
+/// its diagonal entry, in two flat lists (no allocation per multiplier: an
+/// inner solve of the capstan FMU reads some 500 of them).
+struct Multipliers {
+    /// Multiplier `m`'s row is `rows[row_at[m]..row_at[m + 1]]`.
+    row_at: Vec<usize>,
+    rows: Vec<(usize, f64)>,
+    /// Its column, likewise.
+    column_at: Vec<usize>,
+    columns: Vec<(usize, f64)>,
+    diagonal: Vec<f64>,
 }
 
-impl Multiplier {
+impl Multipliers {
+    /// The multipliers of `a`, whose first `n_disp` unknowns are
+    /// displacements.
+    fn of(a: Csc, n_disp: usize) -> Self {
+        let n = a.n();
+        let m = n - n_disp.min(n);
+        // The multipliers' rows lie at the end of the displacement columns
+        // (rows sorted): counted, then placed, column by column, so each
+        // row's entries come in column order.
+        let tail = |j: usize| {
+            let (p, q) = (a.col_ptr[j], a.col_ptr[j + 1]);
+            p + a.row_idx[p..q].partition_point(|&i| i < n_disp)..q
+        };
+        let mut row_at = vec![0usize; m + 1];
+        for j in 0..n_disp {
+            for p in tail(j) {
+                row_at[a.row_idx[p] - n_disp + 1] += 1;
+            }
+        }
+        for k in 0..m {
+            row_at[k + 1] += row_at[k];
+        }
+        let mut next = row_at.clone();
+        let mut rows = vec![(0usize, 0.0f64); row_at[m]];
+        for j in 0..n_disp {
+            for p in tail(j) {
+                let k = a.row_idx[p] - n_disp;
+                rows[next[k]] = (j, a.values[p]);
+                next[k] += 1;
+            }
+        }
+        let mut column_at = Vec::with_capacity(m + 1);
+        let mut columns = Vec::new();
+        let mut diagonal = vec![0.0; m];
+        column_at.push(0);
+        for k in 0..m {
+            for (i, v) in a.column(n_disp + k) {
+                if i < n_disp {
+                    columns.push((i, v));
+                } else if i == n_disp + k {
+                    diagonal[k] = v;
+                } else {
+                    // Multipliers are coupled only through the displacements.
+                    diagonal[k] = f64::NAN;
+                }
+            }
+            column_at.push(columns.len());
+        }
+        Multipliers {
+            row_at,
+            rows,
+            column_at,
+            columns,
+            diagonal,
+        }
+    }
+
+    fn len(&self) -> usize {
+        self.diagonal.len()
+    }
+
+    fn row(&self, m: usize) -> &[(usize, f64)] {
+        &self.rows[self.row_at[m]..self.row_at[m + 1]]
+    }
+
+    fn column(&self, m: usize) -> &[(usize, f64)] {
+        &self.columns[self.column_at[m]..self.column_at[m + 1]]
+    }
+
     /// An identity-like row of its own: no coupling to the displacements
     /// (an empty slot of a kept pattern, or a row on prescribed dofs
     /// alone), a nonzero diagonal. Its unknown is `h / diagonal` in any
     /// system it is part of: no change to border.
-    fn decoupled(&self) -> bool {
-        self.row.iter().chain(&self.column).all(|&(_, v)| v == 0.0)
-            && self.diagonal != 0.0
-            && self.diagonal.is_finite()
+    fn decoupled(&self, m: usize) -> bool {
+        let d = self.diagonal[m];
+        self.row(m)
+            .iter()
+            .chain(self.column(m))
+            .all(|&(_, v)| v == 0.0)
+            && d != 0.0
+            && d.is_finite()
     }
 
-    /// Bit-exact identity: a row the inner solves keep is rebuilt from the
-    /// same decision at the same iterate, entry for entry.
-    fn key(&self) -> Vec<u64> {
-        let mut key = Vec::with_capacity(2 * (self.row.len() + self.column.len()) + 3);
-        for &(i, v) in &self.row {
+    /// Bit-exact identity into `key`: a row the inner solves keep is
+    /// rebuilt from the same decision at the same iterate, entry for entry.
+    fn key_into(&self, m: usize, key: &mut Vec<u64>) {
+        key.clear();
+        for &(i, v) in self.row(m) {
             key.extend([i as u64, v.to_bits()]);
         }
         key.push(u64::MAX);
-        for &(i, v) in &self.column {
+        for &(i, v) in self.column(m) {
             key.extend([i as u64, v.to_bits()]);
         }
         key.push(u64::MAX);
-        key.push(self.diagonal.to_bits());
+        key.push(self.diagonal[m].to_bits());
+    }
+
+    fn key(&self, m: usize) -> Vec<u64> {
+        let mut key = Vec::new();
+        self.key_into(m, &mut key);
         key
     }
-}
-
-/// The multipliers (unknowns `n_disp..`) of a bordered matrix.
-fn multipliers(a: Csc, n_disp: usize) -> Vec<Multiplier> {
-    let n = a.n();
-    let mut out: Vec<Multiplier> = (n_disp..n)
-        .map(|_| Multiplier {
-            row: Vec::new(),
-            column: Vec::new(),
-            diagonal: 0.0,
-        })
-        .collect();
-    for j in 0..n {
-        for (i, v) in a.column(j) {
-            match (i >= n_disp, j >= n_disp) {
-                (true, false) => out[i - n_disp].row.push((j, v)),
-                (false, true) => out[j - n_disp].column.push((i, v)),
-                (true, true) if i == j => out[i - n_disp].diagonal = v,
-                // Multipliers are coupled only through the displacements.
-                (true, true) => out[i - n_disp].diagonal = f64::NAN,
-                (false, false) => {}
-            }
-        }
-    }
-    out
 }
 
 /// What distinguishes a column of `E` (for the kept `A0^-1 E`).
@@ -155,7 +213,7 @@ pub(super) struct Base {
     n: usize,
     n_disp: usize,
     keys: HashMap<Vec<u64>, Vec<usize>>,
-    /// Per multiplier of `A0`: decoupled (`Multiplier::decoupled`).
+    /// Per multiplier of `A0`: decoupled (`Multipliers::decoupled`).
     decoupled: Vec<bool>,
     /// The right-hand side `A0` was factored with and its solution: an
     /// inner solve whose right-hand side differs from it only where a
@@ -170,15 +228,15 @@ impl Base {
     pub(super) fn new(a0: Csc, n_disp: usize, b0: Vec<f64>, x0: Vec<f64>) -> Self {
         // Each key's multipliers in ascending order.
         let mut keys: HashMap<Vec<u64>, Vec<usize>> = HashMap::default();
-        let all = multipliers(a0, n_disp);
-        for (m, mult) in all.iter().enumerate() {
-            keys.entry(mult.key()).or_default().push(m);
+        let all = Multipliers::of(a0, n_disp);
+        for m in 0..all.len() {
+            keys.entry(all.key(m)).or_default().push(m);
         }
         Base {
             n: a0.n(),
             n_disp,
             keys,
-            decoupled: all.iter().map(Multiplier::decoupled).collect(),
+            decoupled: (0..all.len()).map(|m| all.decoupled(m)).collect(),
             b0,
             x0,
             solved: HashMap::default(),
@@ -247,13 +305,15 @@ pub(super) fn solve(
         }
     }
     // Multipliers: matched by key, released, added.
-    let new = multipliers(a1, nd);
+    let new = Multipliers::of(a1, nd);
     let mut matched: Vec<Option<usize>> = Vec::with_capacity(new.len());
     let mut used = vec![false; n0 - nd];
-    for mult in &new {
+    let mut key = Vec::new();
+    for m1 in 0..new.len() {
         // The first of A0's multipliers with the same key not taken yet.
+        new.key_into(m1, &mut key);
         let m0 =
-            (base.keys.get(&mult.key())).and_then(|list| list.iter().copied().find(|&m| !used[m]));
+            (base.keys.get(&key[..])).and_then(|list| list.iter().copied().find(|&m| !used[m]));
         if let Some(m) = m0 {
             used[m] = true;
         }
@@ -267,13 +327,13 @@ pub(super) fn solve(
     let unmatched = |m: &usize| matched[*m].is_none();
     let added: Vec<usize> = (0..new.len())
         .filter(unmatched)
-        .filter(|&m| !new[m].decoupled())
+        .filter(|&m| !new.decoupled(m))
         .collect();
     let direct: Vec<usize> = (0..new.len())
         .filter(unmatched)
-        .filter(|&m| new[m].decoupled())
+        .filter(|&m| new.decoupled(m))
         .collect();
-    changes.extend(added.iter().map(|&m| Change::Added(new[m].key())));
+    changes.extend(added.iter().map(|&m| Change::Added(new.key(m))));
     let mut delta: Vec<usize> = delta_rows.keys().copied().collect();
     delta.sort_unstable();
     changes.extend(delta.iter().map(|&i| Change::Displacement(i)));
@@ -284,7 +344,7 @@ pub(super) fn solve(
     if r > max_rank {
         return Err(NotBordered::TooMany);
     }
-    if new.iter().any(|m| m.diagonal.is_nan()) {
+    if new.diagonal.iter().any(|d| d.is_nan()) {
         return Err(NotBordered::Unsound);
     }
     // The columns of E, and A0^-1 E for those not solved yet.
@@ -303,7 +363,7 @@ pub(super) fn solve(
         let mut e = column_of(c);
         if let Change::Added(_) = c {
             let m = *added_iter.next().expect("one per added row");
-            for &(i, v) in &new[m].column {
+            for &(i, v) in new.column(m) {
                 e[i] = v;
             }
         }
@@ -329,8 +389,8 @@ pub(super) fn solve(
     let f_dot = |q: usize, v: &[f64]| -> f64 {
         match &changes[q] {
             Change::Released(m) => v[nd + m],
-            Change::Added(_) => new[added[q - released]]
-                .row
+            Change::Added(_) => new
+                .row(added[q - released])
                 .iter()
                 .map(|&(j, c)| c * v[j])
                 .sum(),
@@ -340,7 +400,7 @@ pub(super) fn solve(
     let d_of = |q: usize| -> f64 {
         match &changes[q] {
             Change::Released(_) => 0.0,
-            Change::Added(_) => new[added[q - released]].diagonal,
+            Change::Added(_) => new.diagonal[added[q - released]],
             Change::Displacement(_) => -1.0,
         }
     };
@@ -421,7 +481,7 @@ pub(super) fn solve(
             x1[nd + m1] = y[released + q];
         }
         for &m1 in &direct {
-            x1[nd + m1] = b1[nd + m1] / new[m1].diagonal;
+            x1[nd + m1] = b1[nd + m1] / new.diagonal[m1];
         }
         Some(x1)
     };
