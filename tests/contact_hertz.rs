@@ -234,12 +234,18 @@ fn hertz_with_friction_solves_its_unsymmetric_systems_on_the_ldlt_of_the_tangent
     );
     assert!((pair.ft / 5.260279e2 - 1.0).abs() < 1e-6, "Ft {}", pair.ft);
     assert_eq!((pair.n_stick, pair.n_slip), (15, 7));
+    assert_coulomb(pair, [0.3, 0.2]);
+}
+
+/// Coulomb's law at every node of a converged pair (`mu` = [mu_s, mu_d]),
+/// and no node in tension.
+fn assert_coulomb(pair: &contact2d::results::PairResult, [mu_s, mu_d]: [f64; 2]) {
     let n = &pair.nodes;
     for k in 0..n.tn.len() {
         let (tn, tt) = (n.tn[k], n.tt[k]);
         let mu = match n.state[k] {
-            contact2d::results::NodeState::Slip => 0.2,
-            _ => 0.3,
+            contact2d::results::NodeState::Slip => mu_d,
+            _ => mu_s,
         };
         // A sliding node carries exactly mu_d tn, recovered from converged
         // forces (|r|/F below 1e-13): 1e-9 of tn is round-off room, and an
@@ -248,6 +254,7 @@ fn hertz_with_friction_solves_its_unsymmetric_systems_on_the_ldlt_of_the_tangent
             tt.abs() <= mu * tn.abs() * (1.0 + 1e-9) + 1e-9 * tn.abs().max(1.0),
             "node {k}: tt {tt}, tn {tn}"
         );
+        assert!(tn >= -1e-9 * pair.fn_.abs(), "node {k} in tension: tn {tn}");
     }
 }
 
@@ -289,20 +296,7 @@ fn frictional_press_in_one_increment_solves_on_the_predictors_factor() {
         pair.fn_, pair.ft, pair.n_stick, pair.n_slip
     );
     assert!(pair.n_stick > 0 && pair.n_slip > 0);
-    let n = &pair.nodes;
-    for k in 0..n.tn.len() {
-        let (tn, tt) = (n.tn[k], n.tt[k]);
-        let mu = match n.state[k] {
-            contact2d::results::NodeState::Slip => 0.2,
-            _ => 0.3,
-        };
-        // As in the four-increment test above: 1e-9 of tn is round-off.
-        assert!(
-            tt.abs() <= mu * tn.abs() * (1.0 + 1e-9) + 1e-9 * tn.abs().max(1.0),
-            "node {k}: tt {tt}, tn {tn}"
-        );
-        assert!(tn >= -1e-9 * pair.fn_.abs(), "node {k} in tension: tn {tn}");
-    }
+    assert_coulomb(pair, [0.3, 0.2]);
 }
 
 /// The shipped Hertz cylinder in q4, in its four increments: the tangent is
