@@ -1485,8 +1485,9 @@ struct TrailingWork {
 /// into the result, so a change of any one entry always changes it, and
 /// more changes collide with probability 2^-64. One read of `v`, where a
 /// copy to compare with would write it once and read it twice; the lanes
-/// keep the multiplications independent (one chain took 2.5 ms per solve
-/// for the 1.8e6 entries of the tangent at 1e5 unknowns).
+/// keep the multiplications independent (for the 1.8e6 entries of the
+/// tangent at 1e5 unknowns one chain took 3 ms per solve, the lanes take
+/// 1.9 ms, what a plain sum of them takes).
 fn fingerprint(v: &[f64]) -> (usize, u64) {
     const BASIS: u64 = 0xcbf2_9ce4_8422_2325;
     const PRIME: u64 = 0x0000_0100_0000_01b3;
@@ -1708,8 +1709,9 @@ fn is_symmetric(col_ptr: &[usize], row_idx: &[usize], values: &[f64]) -> bool {
 /// the block's quotient graph of runs of consecutive columns with the same
 /// rows (a node's two displacement equations), each run then kept together
 /// in the order: the graph has a quarter of the entries, and AMD finds such
-/// runs itself only after it has paid for scanning them (3.9 ms of a 36 ms
-/// increment of Hertz at 1e4 unknowns).
+/// runs itself only after it has paid for scanning them (Hertz q4: 3.9 ms
+/// to 2.1 ms at 1e4 unknowns, 42 ms to 23 ms at 1e5; the fill moves either
+/// way with AMD's ties, docs/contact.md section 8).
 fn amd_of_block(
     a: SymbolicSparseColMatRef<'_, usize>,
     n_disp: usize,
