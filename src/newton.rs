@@ -135,8 +135,8 @@ struct Increment {
     extra: Vec<(usize, usize, f64)>,
     /// Tie multipliers, total.
     lambda: Vec<f64>,
-    /// How far the prescribed motion moves a node or a rigid target in
-    /// this increment (`contact_slots`).
+    /// How far the prescribed motion moves a node in this increment
+    /// (`contact_slots`).
     reach: f64,
     /// The contact slots of this increment's solves without contact rows
     /// (`contact_slots`): per multiplier slot, the free equations of its
@@ -926,8 +926,11 @@ impl Solver {
         let rigid_motion = (poses.iter().zip(&self.state.rigid))
             .map(|(p, q)| (p[0] - q[0]).abs().max((p[1] - q[1]).abs()))
             .fold(0.0, f64::max);
-        let reach = largest(&dup) + rigid_motion;
-        let u_max = largest(&self.state.u) + reach;
+        let u_max = largest(&self.state.u) + largest(&dup) + rigid_motion;
+        // The targets are at their poses at t already (the contact of
+        // every iteration is found there): what may close the gap is the
+        // nodes' own motion.
+        let reach = largest(&dup);
         let n = self.model.free_dofs();
         let mut memory = self.state.contact.clone();
         pairs::begin_increment(&mut memory);
