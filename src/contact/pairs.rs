@@ -544,11 +544,12 @@ pub(super) fn target_segments(
 pub type NearNodes = Vec<Vec<(usize, f64)>>;
 
 /// Per pair, the contactor nodes (indices into `pair.contactor`) that may
-/// touch in an increment whose nodes and targets move by at most `reach`,
-/// each with its distance from the target: those within `reach` of a
-/// segment of the target at `poses` (the nodes at `u`), and those the
-/// memory holds in contact (distance 0). Rigid targets only (None for a
-/// pair against a body, whose segments move with the solution).
+/// touch in an increment whose nodes move by at most `reach`, each with its
+/// distance from the target: those within `reach` of a segment of the
+/// target at `poses` (where the increment takes it), the nodes at `u`
+/// (where it starts), and those the memory holds in contact (distance 0).
+/// Rigid targets only (None for a pair against a body, whose segments move
+/// with the solution).
 pub fn near_target(
     problem: &Problem,
     poses: &[[f64; 3]],
