@@ -346,8 +346,9 @@ fn in_slots(
 /// failure the pattern stays on LU.
 #[derive(Default)]
 pub struct Augmented {
-    col_ptr: Vec<usize>,
-    row_idx: Vec<usize>,
+    /// Column pointers and row indices for the next system's pattern (the
+    /// system's own are its analysis's, `Analysis::mat`).
+    spare: [Vec<usize>; 2],
     values: Vec<f64>,
     analysis: Option<Analysis>,
     /// Values of the LDLT factor.
@@ -546,34 +547,32 @@ impl Augmented {
             } else {
                 &mut *extra
             };
-            let old_ptr = std::mem::take(&mut self.col_ptr);
-            let old_idx = std::mem::take(&mut self.row_idx);
+            let [mut col_ptr, mut row_idx] = std::mem::take(&mut self.spare);
             bordered(
                 pattern,
                 k,
                 extra_now,
                 order,
-                [&mut self.col_ptr, &mut self.row_idx],
+                [&mut col_ptr, &mut row_idx],
                 &mut self.values,
             );
-            let same = old_ptr == self.col_ptr && old_idx == self.row_idx;
+            let same =
+                kept.is_some_and(|a| a.mat.col_ptr() == col_ptr && a.mat.row_idx() == row_idx);
             // Without slots, the kept analysis holds while the pattern does.
             let unslotted = keys.is_none() && kept.is_some();
             if (reuse || unslotted) && same {
+                self.spare = [col_ptr, row_idx];
                 break slot_of;
             }
             if reuse {
                 // The slots fit but the displacement block changed.
+                self.spare = [col_ptr, row_idx];
                 fresh = true;
                 continue;
             }
-            let mat = SymbolicSparseColMat::new_checked(
-                order,
-                order,
-                self.col_ptr.clone(),
-                None,
-                self.row_idx.clone(),
-            );
+            // The arrays move into the analysis (at 1e6 unknowns a copy of
+            // them took 0.4 s).
+            let mat = SymbolicSparseColMat::new_checked(order, order, col_ptr, None, row_idx);
             self.analysis = Some(Analysis {
                 mat,
                 n_disp,
@@ -595,7 +594,7 @@ impl Augmented {
         }
         self.last_slots.clone_from(&slot_of);
         // The right-hand side in the slots' order (an empty slot's 0).
-        let order = self.col_ptr.len() - 1;
+        let order = self.analysis.as_ref().map_or(n, |a| a.mat.nrows());
         let mut full = vec![0.0; order];
         if keys.is_some() {
             full[..n_disp].copy_from_slice(&rhs[..n_disp]);
@@ -681,7 +680,7 @@ impl Augmented {
         let analysis = self.analysis.as_mut().expect("set above");
         let symmetric = !self.force_lu
             && !analysis.ldlt_failed
-            && is_symmetric(&self.col_ptr, &self.row_idx, &self.values);
+            && is_symmetric(analysis.mat.col_ptr(), analysis.mat.row_idx(), &self.values);
         let split_dofs = (!symmetric
             && !self.force_lu
             && self.slots
@@ -710,8 +709,8 @@ impl Augmented {
                 in_t[d] = true;
             }
             in_t[n_disp..].fill(true);
-            let same = col_ptr == self.col_ptr
-                && row_idx == self.row_idx
+            let same = col_ptr == analysis.mat.col_ptr()
+                && row_idx == analysis.mat.row_idx()
                 && (0..n).all(|j| {
                     (col_ptr[j]..col_ptr[j + 1])
                         .all(|q| values[q] == self.values[q] || (in_t[j] && in_t[row_idx[q]]))
@@ -854,10 +853,12 @@ impl Augmented {
         Ok(false)
     }
 
+    /// The last system `solve` built (its pattern is its analysis's).
     fn csc(&self) -> bordering::Csc<'_> {
+        let mat = &self.analysis.as_ref().expect("a system built").mat;
         bordering::Csc {
-            col_ptr: &self.col_ptr,
-            row_idx: &self.row_idx,
+            col_ptr: mat.col_ptr(),
+            row_idx: mat.row_idx(),
             values: &self.values,
         }
     }
@@ -913,13 +914,16 @@ impl Augmented {
                 row_idx: &row_idx,
                 values: &values,
             };
+            let analysis = self.analysis.as_ref();
+            let Some(mat) = analysis.map(|a| &a.mat) else {
+                return false;
+            };
             let a0 = bordering::Csc {
-                col_ptr: &self.col_ptr,
-                row_idx: &self.row_idx,
+                col_ptr: mat.col_ptr(),
+                row_idx: mat.row_idx(),
                 values: &self.values,
             };
             let l_values = &self.l_values;
-            let analysis = self.analysis.as_ref();
             let columns = &mut self.columns;
             let outcome = match kept {
                 Kept::Ldlt(base, _) => {
@@ -1100,7 +1104,7 @@ impl Augmented {
         else {
             return false;
         };
-        let order = self.col_ptr.len() - 1;
+        let order = analysis.mat.nrows();
         let TrailingWork {
             k0,
             k_rows,
