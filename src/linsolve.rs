@@ -629,10 +629,7 @@ impl Augmented {
             // The system itself on the factor's trailing block; should that
             // fail, by LU.
             let mut x = rhs.to_vec();
-            let clock = Instant::now();
-            let solved = self.solve_trailing(pattern, k, extra, &mut x, None);
-            self.times.solve += clock.elapsed();
-            if solved {
+            if self.solve_on_trailing_block(pattern, k, extra, &mut x, None) {
                 rhs.copy_from_slice(&x);
                 self.ldlt += 1;
                 self.last = Some(Method::Ldlt);
@@ -897,12 +894,10 @@ impl Augmented {
         max_rank: usize,
         watch: Option<&[usize]>,
     ) -> bool {
-        let clock = Instant::now();
-        self.trailing_work.pending = None;
-        if self.solve_trailing(pattern, k, extra, rhs, watch) {
-            self.times.solve += clock.elapsed();
+        if self.solve_on_trailing_block(pattern, k, extra, rhs, watch) {
             return true;
         }
+        let clock = Instant::now();
         let mut border = || -> bool {
             let Some(kept) = self.kept.as_mut() else {
                 return false;
@@ -982,36 +977,15 @@ impl Augmented {
 }
 
 impl Augmented {
-    /// `solve_modified` on the trailing block of the kept LDLT factor
-    /// (`trailing`), refined once against the system and accepted below
-    /// the factored solves' backward error. False when the factor has no
-    /// trailing set, a multiplier finds no slot of the kept pattern, or the
-    /// system differs from the factored one outside the trailing set.
-    fn solve_trailing(
-        &mut self,
-        pattern: &Pattern,
-        k: &[f64],
-        extra: &[(usize, usize, f64)],
-        rhs: &mut [f64],
-        watch: Option<&[usize]>,
-    ) -> bool {
-        let mut work = std::mem::take(&mut self.trailing_work);
-        let done = self.trailing_into(pattern, k, extra, rhs, &mut work, watch);
-        self.trailing_work = work;
-        if done {
-            self.bordered += 1;
-            self.columns += 2;
-            self.trailing_solves += 1;
-            self.deferred_solves += usize::from(self.trailing_work.pending.is_some());
-        }
-        done
-    }
-
-    /// `solve_modified_watching` on the trailing block alone (never
-    /// bordering): for a Newton iteration's first solve, whose tangent is
-    /// the kept factor's (a constant tangent) and whose contact rows moved
-    /// within the trailing set, the last factor serves as it serves the
-    /// inner solves.
+    /// `solve_modified_watching` on the trailing block of the kept LDLT
+    /// factor alone (`trailing`; never bordering), refined once against the
+    /// system and accepted below the factored solves' backward error: the
+    /// inner solves, a Newton iteration's first solve whose tangent is the
+    /// kept factor's (a constant tangent) and whose contact rows moved
+    /// within the trailing set, and a system split off its tangent's LDLT
+    /// (`solve_kept`). False when the factor has no trailing set, a
+    /// multiplier finds no slot of the kept pattern, or the system differs
+    /// from the factored one outside the trailing set.
     pub fn solve_on_trailing_block(
         &mut self,
         pattern: &Pattern,
@@ -1022,7 +996,15 @@ impl Augmented {
     ) -> bool {
         let clock = Instant::now();
         self.trailing_work.pending = None;
-        let done = self.solve_trailing(pattern, k, extra, rhs, watch);
+        let mut work = std::mem::take(&mut self.trailing_work);
+        let done = self.trailing_into(pattern, k, extra, rhs, &mut work, watch);
+        self.trailing_work = work;
+        if done {
+            self.bordered += 1;
+            self.columns += 2;
+            self.trailing_solves += 1;
+            self.deferred_solves += usize::from(self.trailing_work.pending.is_some());
+        }
         self.times.solve += clock.elapsed();
         done
     }
@@ -1074,7 +1056,7 @@ impl Augmented {
         done
     }
 
-    /// `solve_trailing` with its buffers.
+    /// `solve_on_trailing_block` with its buffers.
     fn trailing_into(
         &self,
         pattern: &Pattern,

@@ -200,13 +200,7 @@ fn hertz_sphere_mno_and_total_lagrangian_every_load_step() {
 /// along the target, each sticking node no more than mu_s.
 #[test]
 fn hertz_with_friction_solves_its_unsymmetric_systems_on_the_ldlt_of_the_tangent() {
-    let problem = common::shipped_scene(
-        "hertz_plane_strain.toml",
-        &[
-            ("element = \"q8\"", "element = \"q4\""),
-            ("mu_s = 0.0", "mu_s = 0.3\nmu_d = 0.2"),
-        ],
-    );
+    let problem = hertz_q4(&[("mu_s = 0.0", "mu_s = 0.3\nmu_d = 0.2")]);
     let mut solver = Solver::new(problem).unwrap();
     for k in 1..=4 {
         let step = solver.advance(0.25 * k as f64, &mut |_, _| {}).unwrap();
@@ -267,14 +261,10 @@ fn assert_coulomb(pair: &contact2d::results::PairResult, [mu_s, mu_d]: [f64; 2])
 /// state keeps Coulomb's law at every node.
 #[test]
 fn frictional_press_in_one_increment_solves_on_the_predictors_factor() {
-    let problem = common::shipped_scene(
-        "hertz_plane_strain.toml",
-        &[
-            ("element = \"q8\"", "element = \"q4\""),
-            ("mu_s = 0.0", "mu_s = 0.3\nmu_d = 0.2"),
-            ("dt = 0.25", "dt = 1.0"),
-        ],
-    );
+    let problem = hertz_q4(&[
+        ("mu_s = 0.0", "mu_s = 0.3\nmu_d = 0.2"),
+        ("dt = 0.25", "dt = 1.0"),
+    ]);
     let mut solver = Solver::new(problem).unwrap();
     let step = solver.advance(1.0, &mut |_, _| {}).unwrap();
     assert!(step.converged);
@@ -306,10 +296,7 @@ fn frictional_press_in_one_increment_solves_on_the_predictors_factor() {
 /// zone stops growing), and the press still meets Hertz.
 #[test]
 fn hertz_press_reuses_the_factor_across_iterations() {
-    let problem = common::shipped_scene(
-        "hertz_plane_strain.toml",
-        &[("element = \"q8\"", "element = \"q4\"")],
-    );
+    let problem = hertz_q4(&[]);
     let mut solver = Solver::new(problem).unwrap();
     for k in 1..=4 {
         let step = solver.advance(0.25 * k as f64, &mut |_, _| {}).unwrap();
@@ -334,13 +321,7 @@ fn hertz_press_reuses_the_factor_across_iterations() {
 /// section 8), and the tractions are Hertz's to what the mesh gives.
 #[test]
 fn hertz_press_in_one_increment_solves_on_the_trailing_block() {
-    let problem = common::shipped_scene(
-        "hertz_plane_strain.toml",
-        &[
-            ("element = \"q8\"", "element = \"q4\""),
-            ("dt = 0.25", "dt = 1.0"),
-        ],
-    );
+    let problem = hertz_q4(&[("dt = 0.25", "dt = 1.0")]);
     let mut solver = Solver::new(problem).unwrap();
     let step = solver.advance(1.0, &mut |_, _| {}).unwrap();
     assert!(step.converged);
@@ -366,4 +347,11 @@ fn hertz_press_in_one_increment_solves_on_the_trailing_block() {
     // The bound, 1 % of p0, as on the shipped mesh: measured 6.4e-3
     // with these 60 divisions in 4-node elements (8-node: 4.2e-3).
     assert!(h.rms <= 0.01, "RMS {:.3e}", h.rms);
+}
+
+/// The shipped Hertz scene in 4-node elements, with `replace` applied too.
+fn hertz_q4(replace: &[(&str, &str)]) -> contact2d::problem::Problem {
+    let mut all = vec![("element = \"q8\"", "element = \"q4\"")];
+    all.extend_from_slice(replace);
+    common::shipped_scene("hertz_plane_strain.toml", &all)
 }
