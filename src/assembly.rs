@@ -3,7 +3,7 @@
 //! assembly only adds numbers into fixed slots.
 
 use crate::element::{face_shape, gauss_1d};
-use crate::kinematics::{ElementData, ElementError, ElementOutput, integrate};
+use crate::kinematics::{ElementData, ElementError, ElementOutput, integrate, reference_geometry};
 use crate::material::{self, MaterialLaw, Voigt};
 use crate::mesh::face_local_nodes;
 use crate::problem::{AnalysisKind, Distribution, Kinematics, Problem};
@@ -45,6 +45,11 @@ pub struct Model {
     pub symmetric: bool,
     /// True when the tangent never changes (linear kinematics and laws, no follower load).
     pub constant_tangent: bool,
+    /// Each element's `kinematics::reference_geometry` from
+    /// `geometry_offset[e]` (`usize::MAX`: not kept, its reference
+    /// Jacobian is bad and the integration says so).
+    geometry: Vec<f64>,
+    geometry_offset: Vec<usize>,
 }
 
 /// Work buffers of one assembly, sized once.
@@ -192,6 +197,22 @@ impl Model {
                 }
             }
         }
+        let mut geometry = Vec::new();
+        let mut geometry_offset = Vec::with_capacity(mesh.elements.len());
+        let mut x0 = Vec::with_capacity(8);
+        for (e, el) in mesh.elements.iter().enumerate() {
+            let start = geometry.len();
+            x0.clear();
+            x0.extend(el.nodes.iter().map(|&nd| mesh.nodes[nd]));
+            let kept = reference_geometry(problem.analysis, el.kind, e, &x0, &mut geometry);
+            if kept.is_ok() {
+                geometry_offset.push(start);
+            } else {
+                geometry.truncate(start);
+                geometry_offset.push(usize::MAX);
+            }
+        }
+        geometry_offset.push(geometry.len());
         let follower = problem.pressures.iter().any(|p| p.follower);
         let tl = problem.kinematics == Kinematics::TotalLagrangian;
         let linear_laws = laws.iter().all(|l| l.is_linear());
@@ -214,7 +235,24 @@ impl Model {
             scatter_offset,
             symmetric: !(tl && follower),
             constant_tangent: !tl && linear_laws,
+            geometry,
+            geometry_offset,
         }
+    }
+
+    /// Element `e`'s kept reference geometry.
+    fn geometry_of(&self, e: usize) -> Option<&[f64]> {
+        let start = self.geometry_offset[e];
+        if start == usize::MAX {
+            return None;
+        }
+        // The next kept element's start, or the end.
+        let end = self.geometry_offset[e + 1..]
+            .iter()
+            .copied()
+            .find(|&o| o != usize::MAX)
+            .expect("the list ends with its length");
+        Some(&self.geometry[start..end])
     }
 
     pub fn free_dofs(&self) -> usize {
@@ -317,6 +355,7 @@ impl Model {
                 } else {
                     body_force[b]
                 },
+                geometry: self.geometry_of(e),
             };
             integrate(
                 self.analysis,

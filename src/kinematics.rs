@@ -39,6 +39,8 @@ pub struct ElementData<'a> {
     pub initial_stress: Voigt,
     /// Body force per unit reference volume.
     pub body_force: [f64; 2],
+    /// The element's `reference_geometry`, when kept; computed otherwise.
+    pub geometry: Option<&'a [f64]>,
 }
 
 /// Geometry of one Gauss point in the reference configuration.
@@ -53,27 +55,29 @@ struct Point {
 }
 
 fn point(
-    d: &ElementData,
+    kind: ElementKind,
+    index: usize,
+    x0: &[[f64; 2]],
     xi: [f64; 2],
     w: f64,
     analysis: AnalysisKind,
 ) -> Result<Point, ElementError> {
-    let nn = d.kind.node_count();
-    let s = shape(d.kind, xi[0], xi[1]);
+    let nn = kind.node_count();
+    let s = shape(kind, xi[0], xi[1]);
     let mut j = [[0.0; 2]; 2]; // j[i][k] = dX_i / dxi_k
     let mut r = 0.0;
     for a in 0..nn {
         for i in 0..2 {
             for k in 0..2 {
-                j[i][k] += d.x0[a][i] * s.dn[a][k];
+                j[i][k] += x0[a][i] * s.dn[a][k];
             }
         }
-        r += s.n[a] * d.x0[a][0];
+        r += s.n[a] * x0[a][0];
     }
     let det = j[0][0] * j[1][1] - j[0][1] * j[1][0];
     if det <= 0.0 || !det.is_finite() {
         return Err(ElementError::BadJacobian {
-            element: d.index,
+            element: index,
             det,
         });
     }
@@ -94,7 +98,7 @@ fn point(
         AnalysisKind::Axisymmetric => {
             if r <= 0.0 {
                 return Err(ElementError::BadJacobian {
-                    element: d.index,
+                    element: index,
                     det: r,
                 });
             }
@@ -107,6 +111,52 @@ fn point(
         r,
         dv: det * w * factor,
     })
+}
+
+impl Point {
+    /// Numbers per Gauss point in `reference_geometry`'s list: N, dN/dX,
+    /// the radius and the volume weight.
+    fn stride(nn: usize) -> usize {
+        3 * nn + 2
+    }
+
+    fn write(&self, nn: usize, out: &mut Vec<f64>) {
+        out.extend_from_slice(&self.n[..nn]);
+        out.extend(self.g[..nn].iter().flatten());
+        out.extend([self.r, self.dv]);
+    }
+
+    fn read(list: &[f64], nn: usize) -> Point {
+        let mut p = Point {
+            n: [0.0; MAX_NODES],
+            g: [[0.0; 2]; MAX_NODES],
+            r: list[3 * nn],
+            dv: list[3 * nn + 1],
+        };
+        p.n[..nn].copy_from_slice(&list[..nn]);
+        for a in 0..nn {
+            p.g[a] = [list[nn + 2 * a], list[nn + 2 * a + 1]];
+        }
+        p
+    }
+}
+
+/// The reference geometry of an element's Gauss points (N, dN/dX, the
+/// radius, the volume weight), appended to `out`: the mesh fixes it, so
+/// the assembly computes it once (`ElementData::geometry`) instead of at
+/// every residual. Bit for bit what `integrate` computes without it.
+pub fn reference_geometry(
+    analysis: AnalysisKind,
+    kind: ElementKind,
+    index: usize,
+    x0: &[[f64; 2]],
+    out: &mut Vec<f64>,
+) -> Result<(), ElementError> {
+    let nn = kind.node_count();
+    for (xi, w) in gauss_points(kind).iter() {
+        point(kind, index, x0, xi, w, analysis)?.write(nn, out);
+    }
+    Ok(())
 }
 
 /// Result of integrating one element.
@@ -141,7 +191,13 @@ pub fn integrate(
     out.cauchy = [0.0; 4];
     let mut volume = 0.0;
     for (gp, (xi, w)) in gauss_points(d.kind).iter().enumerate() {
-        let p = point(d, xi, w, analysis)?;
+        let p = match d.geometry {
+            Some(list) => {
+                let stride = Point::stride(nn);
+                Point::read(&list[gp * stride..(gp + 1) * stride], nn)
+            }
+            None => point(d.kind, d.index, d.x0, xi, w, analysis)?,
+        };
         // Displacement gradient h[i][j] = du_i/dX_j and radial displacement.
         let mut h = [[0.0; 2]; 2];
         let mut ur = 0.0;
@@ -301,5 +357,83 @@ impl ElementOutput {
 impl Default for ElementOutput {
     fn default() -> Self {
         Self::new()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::material::build;
+    use crate::problem::MaterialSpec;
+
+    /// A distorted element of `kind` (counter-clockwise, x > 0), its corner
+    /// nodes first, then the midside ones (Q8).
+    fn element(kind: ElementKind) -> Vec<[f64; 2]> {
+        let corners = [[1.0, 0.1], [2.3, 0.0], [2.1, 1.2], [0.9, 1.0]];
+        let mut x: Vec<[f64; 2]> = corners.to_vec();
+        if kind == ElementKind::Q8 {
+            for a in 0..4 {
+                let (p, q) = (corners[a], corners[(a + 1) % 4]);
+                // Off the chord, so the element's sides are curved.
+                x.push([0.5 * (p[0] + q[0]) + 0.03, 0.5 * (p[1] + q[1]) - 0.02]);
+            }
+        }
+        x
+    }
+
+    #[test]
+    fn kept_reference_geometry_integrates_bit_for_bit() {
+        let analyses = [
+            AnalysisKind::PlaneStrain { thickness: 1.5 },
+            AnalysisKind::Axisymmetric,
+        ];
+        let kinematics = [Kinematics::SmallStrain, Kinematics::TotalLagrangian];
+        for kind in [ElementKind::Q4, ElementKind::Q8] {
+            let x0 = element(kind);
+            let u: Vec<[f64; 2]> = (0..x0.len())
+                .map(|a| [0.01 * a as f64, -0.02 + 0.005 * (a * a) as f64])
+                .collect();
+            for analysis in analyses {
+                let law = build(&MaterialSpec::LinearElastic { e: 200.0, nu: 0.3 }, analysis);
+                let mut kept = Vec::new();
+                reference_geometry(analysis, kind, 0, &x0, &mut kept).unwrap();
+                assert_eq!(kept.len(), gauss_points(kind).len() * (3 * x0.len() + 2));
+                for kin in kinematics {
+                    let run = |geometry: Option<&[f64]>| {
+                        let mut data = ElementData {
+                            index: 0,
+                            kind,
+                            x0: &x0,
+                            u: &u,
+                            law: &*law,
+                            history: &mut [],
+                            initial_stress: [1.0, -2.0, 0.5, 0.25],
+                            body_force: [0.3, -0.7],
+                            geometry,
+                        };
+                        let mut out = ElementOutput::new();
+                        integrate(analysis, kin, &mut data, true, &mut out).unwrap();
+                        out
+                    };
+                    let (a, b) = (run(Some(&kept)), run(None));
+                    let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+                    assert_eq!(bits(&a.f), bits(&b.f), "{kind:?} {analysis:?} {kin:?}");
+                    assert_eq!(bits(a.k.as_flattened()), bits(b.k.as_flattened()));
+                    assert_eq!(bits(&a.cauchy), bits(&b.cauchy));
+                    assert!(a.f.iter().any(|&v| v != 0.0));
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn a_bad_reference_jacobian_is_not_kept() {
+        // Clockwise: the reference Jacobian is negative at every point.
+        let mut x0 = element(ElementKind::Q4);
+        x0.reverse();
+        let mut kept = vec![7.0];
+        let analysis = AnalysisKind::PlaneStrain { thickness: 1.0 };
+        let err = reference_geometry(analysis, ElementKind::Q4, 3, &x0, &mut kept).unwrap_err();
+        assert!(matches!(err, ElementError::BadJacobian { element: 3, .. }));
     }
 }
