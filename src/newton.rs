@@ -1169,6 +1169,11 @@ impl Solver {
         let (t, it) = (step.t, step.it);
         let pred = if it == 0 { Some((step.dup, kdu)) } else { None };
         let assemble_k = need_k && !self.k_constant;
+        if assemble_k {
+            // Said before K is written: an assembly that fails half way
+            // has changed it too.
+            self.augmented.new_tangent();
+        }
         let k = if assemble_k {
             Some(&mut self.k[..])
         } else {

@@ -606,6 +606,54 @@ fn trailing_solves_match_the_dense_system() {
     check(&mut extra, &rhs(n_disp + kept.len(), &mut Rng(13)), false);
 }
 
+/// A caller that counts its tangent's changes (`new_tangent`) spares the
+/// trailing solves the tangent's fingerprint while it holds, and a changed
+/// tangent it reports is never solved on the old factor: whatever the
+/// fingerprint would say, the count decides for the reported change.
+#[test]
+fn a_counted_tangent_change_leaves_the_trailing_block() {
+    let mut rng = Rng(41);
+    let (p, k) = q4(12, 10, true);
+    let rows = contact_rows(12, 10, 6, &mut rng);
+    let n_disp = p.n;
+    let mut aug = Augmented::with_slots(true);
+    aug.new_tangent();
+    let mut x = rhs(n_disp + rows.len(), &mut Rng(3));
+    aug.solve(&p, &k, &mut border(n_disp, &rows), &mut x)
+        .unwrap();
+    let kept: Rows = [0, 2, 4, 5].map(|i| rows[i].clone()).to_vec();
+    let b = rhs(n_disp + kept.len(), &mut Rng(11));
+    let mut solve = |aug: &mut Augmented, k: &[f64]| {
+        let mut x = b.clone();
+        let before = aug.trailing_solves;
+        let done = aug.solve_modified(&p, k, &mut border(n_disp, &kept), &mut x, 16);
+        let a = dense(&p, k, &border(n_disp, &kept), b.len());
+        (
+            aug.trailing_solves - before,
+            done.then(|| residual(&a, &x, &b)),
+        )
+    };
+    // The same tangent, counted: on the trailing block, without reading
+    // the tangent.
+    let (trailing, r) = solve(&mut aug, &k);
+    assert_eq!(trailing, 1);
+    assert!(r.unwrap() < 1e-10);
+    assert_eq!(aug.trailing_work.fingerprints, 0);
+    // A tangent entry changed far from the contact rows, the change
+    // reported: not on the trailing block (bordered, or not at all), and
+    // whatever solved it solved the new system.
+    let mut k1 = k.clone();
+    let inner = p.col_ptr[2 * (5 * 12 + 6)];
+    k1[inner] *= 1.25;
+    aug.new_tangent();
+    let (trailing, r) = solve(&mut aug, &k1);
+    assert_eq!(trailing, 0);
+    assert_eq!(aug.trailing_work.fingerprints, 1);
+    if let Some(r) = r {
+        assert!(r < 1e-10, "residual {r:e}");
+    }
+}
+
 /// A deferred inner solve on the trailing block (`solve_modified_watching`)
 /// gives the multipliers and the watched unknowns as the whole solve does,
 /// leaves interior unknowns it did not need unsolved (NaN), and `complete`
