@@ -623,7 +623,7 @@ fn a_counted_tangent_change_leaves_the_trailing_block() {
         .unwrap();
     let kept: Rows = [0, 2, 4, 5].map(|i| rows[i].clone()).to_vec();
     let b = rhs(n_disp + kept.len(), &mut Rng(11));
-    let mut solve = |aug: &mut Augmented, k: &[f64]| {
+    let solve = |aug: &mut Augmented, k: &[f64]| {
         let mut x = b.clone();
         let before = aug.trailing_solves;
         let done = aug.solve_modified(&p, k, &mut border(n_disp, &kept), &mut x, 16);
