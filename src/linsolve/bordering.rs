@@ -47,6 +47,13 @@ impl Csc<'_> {
             .zip(self.values[range].iter().copied())
     }
 
+    /// Column `j`'s rows below `nd` and their values.
+    fn displacement_part(&self, j: usize, nd: usize) -> (&[usize], &[f64]) {
+        let (p, q) = (self.col_ptr[j], self.col_ptr[j + 1]);
+        let end = p + self.row_idx[p..q].partition_point(|&i| i < nd);
+        (&self.row_idx[p..end], &self.values[p..end])
+    }
+
     /// `b - A x`.
     fn residual(&self, x: &[f64], b: &[f64]) -> Vec<f64> {
         let mut r = b.to_vec();
@@ -272,6 +279,13 @@ pub(super) fn solve(
     // The changed displacement rows: Delta = A1 - A0 on the displacements.
     let mut delta_rows: HashMap<usize, Vec<(usize, f64)>> = HashMap::default();
     for j in 0..nd {
+        // Most columns are the tangent's alone in both (rows sorted: the
+        // displacement rows come first): equal slices, no change.
+        let (r0, v0) = a0.displacement_part(j, nd);
+        let (r1, v1) = a1.displacement_part(j, nd);
+        if r0 == r1 && v0 == v1 {
+            continue;
+        }
         let mut c0 = a0.column(j).filter(|e| e.0 < nd).peekable();
         let mut c1 = a1.column(j).filter(|e| e.0 < nd).peekable();
         loop {
