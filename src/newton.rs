@@ -364,6 +364,8 @@ impl Solver {
             }
         }
         let model = Model::new(&problem, &is_prescribed);
+        let mut augmented = Augmented::with_slots(rigid_targets);
+        augmented.symmetric_tangent = model.symmetric;
         let mut contact_eqs: Vec<usize> = (problem.contacts.iter())
             .filter(|_| rigid_targets)
             .flat_map(|p| &p.contactor)
@@ -426,7 +428,7 @@ impl Solver {
             k: vec![0.0; nnz],
             k_constant: false,
             factor_valid: false,
-            augmented: Augmented::with_slots(rigid_targets),
+            augmented,
             rigid_targets,
             contact_eqs,
             contact: None,

@@ -278,6 +278,51 @@ fn unsymmetric_system_takes_lu() {
     assert!(residual(&dense(&p, &k, &extra, n), &x, &b) < 1e-10);
 }
 
+/// A caller's symmetric tangent (`symmetric_tangent`): the system's
+/// symmetry is judged on the entries beside it, as the whole matrix judges
+/// it, and a wrong claim (an unsymmetric tangent) still solves, by LU.
+#[test]
+fn a_symmetric_tangent_is_judged_by_the_entries_beside_it() {
+    let mut rng = Rng(9);
+    let (p, k) = q4(10, 10, true);
+    let rows = contact_rows(10, 10, 4, &mut rng);
+    let n = p.n + rows.len();
+    let b = rhs(n, &mut rng);
+    let claimed = |k: &[f64], extra: &[(usize, usize, f64)]| {
+        let mut aug = Augmented::with_slots(false);
+        aug.symmetric_tangent = true;
+        let mut x = b.clone();
+        aug.solve(&p, k, &mut extra.to_vec(), &mut x).unwrap();
+        assert!(residual(&dense(&p, k, extra, n), &x, &b) < 1e-10);
+        (aug.method(), aug.factorizations)
+    };
+    let mut extra = border(p.n, &rows);
+    let (ldlt, lu) = (Some(Method::Ldlt), Some(Method::Lu));
+    assert_eq!(claimed(&k, &extra), (ldlt, 1));
+    // A sliding-like entry without its transpose, above and below the
+    // tolerance (1e-12 of the largest entry), and one split in two
+    // duplicates that sum to its transpose's value.
+    // Judged unsymmetric: straight to LU, one factorization.
+    extra.push((0, 1, 0.25));
+    assert_eq!(claimed(&k, &extra), (lu, 1));
+    extra.pop();
+    extra.push((0, 1, 1e-14));
+    assert_eq!(claimed(&k, &extra), (ldlt, 1));
+    extra.pop();
+    extra.extend([(0, 1, 0.125), (1, 0, 0.25), (0, 1, 0.125)]);
+    assert_eq!(claimed(&k, &extra), (ldlt, 1));
+    // The claim wrong: a tangent entry without its transpose's value. The
+    // LDLT fails its backward error, and LU solves (two factorizations).
+    let mut k1 = k.clone();
+    let q = p.col_ptr[1]
+        + p.row_idx[p.col_ptr[1]..p.col_ptr[2]]
+            .iter()
+            .position(|&i| i == 0)
+            .unwrap();
+    k1[q] += 0.25;
+    assert_eq!(claimed(&k1, &border(p.n, &rows)), (lu, 2));
+}
+
 /// The kept LU factor of an unsymmetric bordered system solves any number
 /// of right-hand sides as a dense LU does, and refuses one of the wrong
 /// length.
