@@ -177,8 +177,25 @@ pub fn integrate(
     tangent: bool,
     out: &mut ElementOutput,
 ) -> Result<(), ElementError> {
-    let nn = d.kind.node_count();
-    let nd = 2 * nn;
+    // The node count a constant of each kind's copy, its loops unrolled:
+    // the same operations in the same order (Hertz q4 at 1e4 unknowns, the
+    // increment's three assemblies: 6.5-7.6 ms to 5.5-6.3 ms).
+    match d.kind {
+        ElementKind::Q4 => integrate_kind::<4>(analysis, kinematics, d, tangent, out),
+        ElementKind::Q8 => integrate_kind::<8>(analysis, kinematics, d, tangent, out),
+    }
+}
+
+fn integrate_kind<const NN: usize>(
+    analysis: AnalysisKind,
+    kinematics: Kinematics,
+    d: &mut ElementData,
+    tangent: bool,
+    out: &mut ElementOutput,
+) -> Result<(), ElementError> {
+    debug_assert_eq!(d.kind.node_count(), NN);
+    let nn = NN;
+    let nd = 2 * NN;
     let axi = matches!(analysis, AnalysisKind::Axisymmetric);
     let tl = kinematics == Kinematics::TotalLagrangian;
     let hl = d.law.history_len();
