@@ -27,9 +27,11 @@
 //! reaches): the winding machine's capstan (examples/winding_machine/
 //! capstan.toml) at 128 strip elements (516 unknowns), its tight end drawn
 //! by `pull.uy` one doStep at a time until the strip slides over the
-//! whole wrap, then held: per doStep the median and largest wall time, the
-//! Newton iterations, and the time per iteration; for the drawn steps the
-//! phase split and the solves an iteration is made of.
+//! whole wrap, then held, five times over on fresh instances: per doStep
+//! the median and largest wall time, the Newton iterations, and the time
+//! per iteration (and its median and spread over the runs); for the drawn
+//! steps of the last run the phase split and the solves an iteration is
+//! made of.
 //!
 //! Nothing is asserted here (timings are not tests); tests/stress.rs and
 //! tests/contact_hertz.rs assert the iterations and the accuracy.
@@ -105,6 +107,9 @@ fn hertz(div: usize, friction: bool) {
     );
 }
 
+/// Runs of the FMU sequence (`capstan_fmu`).
+const RUNS: usize = 5;
+
 fn capstan_fmu() {
     use contact2d::fmi::instance::{Instance, Status};
     use contact2d::fmi::variables::variables;
@@ -122,57 +127,80 @@ fn capstan_fmu() {
     let vr = |name: &str| vars.iter().find(|v| v.name == name).unwrap().vr;
     let (pull, iterations, n_stick) = (vr("pull.uy"), vr("solver.iterations"), vr("wrap.n_stick"));
 
-    let mut inst = Instance::new("bench", &path, &guid, false, Box::new(|_, _, _| {})).unwrap();
-    assert_eq!(inst.enter_initialization(), Status::Ok);
-    assert_eq!(inst.exit_initialization(), Status::Ok);
     let h = 0.05;
     let (mut moving, mut held) = (Vec::new(), Vec::new());
-    let mut t = 0.0;
-    let mut uy = 0.0;
-    let mut sliding_at = None;
     let mut drawn_phases = None;
-    for k in 0..80 {
-        // Drawn by 0.05 mm per step until the strip slides over the whole
-        // wrap and ten steps more; then held for as many steps.
-        let moving_phase = sliding_at.is_none_or(|s| k < s + 10);
-        if !moving_phase && drawn_phases.is_none() {
-            drawn_phases = inst.phases();
+    // The sequence five times over, each on a fresh instance: the ten drawn
+    // steps of one run take some 0.13 s, and one run's figure varies by
+    // 5-10 % on this machine; the median run is printed with the spread.
+    let mut per_run = Vec::new();
+    let mut last_its = 0.0;
+    for _run in 0..RUNS {
+        let mut inst = Instance::new("bench", &path, &guid, false, Box::new(|_, _, _| {})).unwrap();
+        assert_eq!(inst.enter_initialization(), Status::Ok);
+        assert_eq!(inst.exit_initialization(), Status::Ok);
+        let first = moving.len();
+        let mut t = 0.0;
+        let mut uy = 0.0;
+        let mut sliding_at = None;
+        drawn_phases = None;
+        for k in 0..80 {
+            // Drawn by 0.05 mm per step until the strip slides over the whole
+            // wrap and ten steps more; then held for as many steps.
+            let moving_phase = sliding_at.is_none_or(|s| k < s + 10);
+            if !moving_phase && drawn_phases.is_none() {
+                drawn_phases = inst.phases();
+            }
+            if moving_phase {
+                uy -= 0.05;
+            }
+            assert_eq!(inst.set_real(&[pull], &[uy]), Status::Ok);
+            let clock = Instant::now();
+            let status = inst.do_step(t, h);
+            let wall = clock.elapsed().as_secs_f64();
+            assert_eq!(status, Status::Ok, "doStep at t = {t}");
+            t += h;
+            let mut out = [0; 2];
+            assert_eq!(
+                inst.get_integer(&[iterations, n_stick], &mut out),
+                Status::Ok
+            );
+            if sliding_at.is_none() && out[1] == 0 {
+                sliding_at = Some(k);
+            }
+            let record = (wall, f64::from(out[0]));
+            if moving_phase {
+                moving.push(record);
+            } else {
+                held.push(record);
+            }
         }
-        if moving_phase {
-            uy -= 0.05;
-        }
-        assert_eq!(inst.set_real(&[pull], &[uy]), Status::Ok);
-        let clock = Instant::now();
-        let status = inst.do_step(t, h);
-        let wall = clock.elapsed().as_secs_f64();
-        assert_eq!(status, Status::Ok, "doStep at t = {t}");
-        t += h;
-        let mut out = [0; 2];
-        assert_eq!(
-            inst.get_integer(&[iterations, n_stick], &mut out),
-            Status::Ok
-        );
-        if sliding_at.is_none() && out[1] == 0 {
-            sliding_at = Some(k);
-        }
-        let record = (wall, f64::from(out[0]));
-        if moving_phase {
-            moving.push(record);
-        } else {
-            held.push(record);
-        }
+        let run: &[(f64, f64)] = &moving[first..];
+        let its: f64 = run.iter().map(|s| s.1).sum();
+        per_run.push(1e3 * run.iter().map(|s| s.0).sum::<f64>() / its.max(1.0));
+        last_its = its;
     }
+    per_run.sort_by(f64::total_cmp);
     println!(
         "capstan FMU (examples/winding_machine/capstan.toml at 128 elements, {} unknowns), doStep h = {h}:",
         2 * problem.mesh.nodes.len()
     );
     report("drawn by 0.05 mm", &moving);
     report("held", &held);
+    println!(
+        "  drawn, ms per iteration in each of {RUNS} runs: median {:.3}, {:.3} .. {:.3}",
+        per_run[RUNS / 2],
+        per_run[0],
+        per_run[RUNS - 1]
+    );
     if let Some(p) = drawn_phases {
-        println!("  drawn steps by phase (%): {}", p.summary());
+        println!(
+            "  drawn steps of the last run by phase (%): {}",
+            p.summary()
+        );
         // What an iteration is made of: its solves (the first factors or
-        // reuses, the inner ones border or factor again).
-        let its: f64 = moving.iter().map(|s| s.1).sum();
+        // reuses, the inner ones border or factor again), in the last run.
+        let its = last_its;
         if its > 0.0 {
             println!(
                 "  per drawn iteration: {:.1} solves ({:.1} factored, {:.1} bordered)",
