@@ -31,14 +31,21 @@ const INNER_FLIPS: usize = 1;
 /// Rows and displacement entries by which an inner solve's system of order
 /// n may differ from the iteration's factored one and still be solved with
 /// its factorization (`Augmented::solve_modified`); beyond, it is factored.
-/// A bordered solve of rank r costs about r + 4 triangular solves and a
-/// dense r x r Schur complement formed against n entries per column, r^2 n;
-/// a 2D mesh's sparse factorization costs about n^1.5: bordering pays while
-/// r stays below about sqrt(n). Measured on the capstan at 516 unknowns
-/// (LU: the strip is held by contact alone), a limit of 256 made its inner
-/// solves border at up to 1 ms each against 0.37 ms for a factorization.
+/// A bordered solve of rank r costs a triangular solve per change not seen
+/// before in the iteration and two more, passes over the system's entries,
+/// and a dense r x r Schur complement (its LU r^3 / 3) applied to n entries
+/// per change; a 2D mesh's sparse factorization costs about n^1.5. The
+/// limit grows as sqrt(n), from 48: on the capstan FMU at 516 unknowns
+/// (LU: the strip is held by contact alone; a factorization of its
+/// 650-770 unknowns takes about 0.35 ms with its system) a limit of 28
+/// took 2.5 ms per Newton iteration, 48 2.4 ms, 64 2.5 ms, 96 2.7 ms, and
+/// 256 4.7 ms (bordered solves of 1 ms); over the stress suite's 48
+/// capstan cases of 130 to 7177 unknowns, 48 against sqrt(n) changed no
+/// median iteration count, took 1 fewer at most in one, fewer solves, and
+/// the 29 cases whose factorizations it changed (25 to 9 on the coarsest)
+/// 5-20 % less time but one (+5 %).
 fn max_bordered(n: usize) -> usize {
-    ((n as f64).sqrt().ceil() as usize).min(256)
+    ((n as f64).sqrt().ceil() as usize).clamp(48, 256)
 }
 
 /// An iterate is still settling while the correction that reached it is
