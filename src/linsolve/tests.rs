@@ -652,9 +652,9 @@ fn trailing_solves_match_the_dense_system() {
 }
 
 /// A caller that counts its tangent's changes (`new_tangent`) spares the
-/// trailing solves the tangent's fingerprint while it holds, and a changed
-/// tangent it reports is never solved on the old factor: whatever the
-/// fingerprint would say, the count decides for the reported change.
+/// trailing solves the tangent's fingerprint while it holds; a change it
+/// reports brings the fingerprint back, and the changed tangent is not
+/// solved on the old factor's trailing block.
 #[test]
 fn a_counted_tangent_change_leaves_the_trailing_block() {
     let mut rng = Rng(41);
