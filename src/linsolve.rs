@@ -411,9 +411,9 @@ pub struct Augmented {
     tangent: Option<u64>,
     /// The caller's tangents are symmetric (to round-off, as
     /// `is_symmetric` judges): a system is then symmetric when its entries
-    /// beside the tangent are (`asymmetry`), and `solve` does not sweep
-    /// the whole matrix for it (0.8 ms of a 35 ms Hertz increment at 1e4
-    /// unknowns). A wrong claim costs time alone: the LDLT's backward
+    /// beside the tangent are (`asymmetry`), and where those are few
+    /// `solve` does not sweep the whole matrix for it (0.8 ms of a 35 ms
+    /// Hertz increment at 1e4 unknowns). A wrong claim costs time alone: the LDLT's backward
     /// error is taken against the whole stored system, and LU follows.
     pub symmetric_tangent: bool,
     /// With `symmetric_tangent`, the system's `asymmetry`.
@@ -630,8 +630,14 @@ impl Augmented {
         self.decoupled = n > n_disp
             && (extra.iter()).all(|&(r, c, v)| v == 0.0 || (r >= n_disp) == (c >= n_disp));
         // (The slots permute rows and columns alike: the entries' symmetry
-        // is theirs in any order.)
-        self.extra_asymmetry = self.symmetric_tangent.then(|| asymmetry(extra));
+        // is theirs in any order.) Sorting the entries costs some 30 steps
+        // each, the sweep of the whole matrix one per entry, or less when
+        // it stops at the first unsymmetric one: the sort only where the
+        // entries are few beside the tangent's (Hertz at 1e4, 500 against
+        // 180,000; not the capstan FMU's 500-860 against 9,000, where the
+        // sort took 23 us and the sweep stops at a friction column).
+        self.extra_asymmetry =
+            (self.symmetric_tangent && 32 * extra.len() < k.len()).then(|| asymmetry(extra));
         self.times.system += clock.elapsed();
         let split = self.solve_kept(pattern, k, n_disp, &mut full)?;
         // What the trailing solves compare their systems with: this one's
