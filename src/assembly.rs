@@ -2,10 +2,12 @@
 //! freedom and the element-to-pattern scatter map are built once; each
 //! assembly only adds numbers into fixed slots.
 
-use crate::element::{face_shape, gauss_1d, gauss_points};
-use crate::kinematics::{ElementData, ElementError, ElementOutput, integrate, reference_geometry};
+use crate::element::{face_shape, gauss_1d};
+use crate::kinematics::{
+    ElementData, ElementError, ElementOutput, geometry_len, integrate, reference_geometry,
+};
 use crate::material::{self, MaterialLaw, Voigt};
-use crate::mesh::face_local_nodes;
+use crate::mesh::{ElementKind, face_local_nodes};
 use crate::problem::{AnalysisKind, Distribution, Kinematics, Problem};
 use std::f64::consts::PI;
 
@@ -46,8 +48,9 @@ pub struct Model {
     /// True when the tangent never changes (linear kinematics and laws, no follower load).
     pub constant_tangent: bool,
     /// Each element's `kinematics::reference_geometry` from
-    /// `geometry_offset[e]` (`usize::MAX`: not kept, its reference
-    /// Jacobian is bad and the integration says so).
+    /// `geometry_offset[e]` (`usize::MAX`: not kept, beyond
+    /// `GEOMETRY_LIMIT` or its reference Jacobian bad, which the
+    /// integration then says).
     geometry: Vec<f64>,
     geometry_offset: Vec<usize>,
 }
@@ -205,9 +208,7 @@ impl Model {
             }
         }
         // The reference geometry's numbers: kept up to GEOMETRY_LIMIT.
-        let size: usize = (mesh.elements.iter())
-            .map(|el| gauss_points(el.kind).len() * (3 * el.kind.node_count() + 2))
-            .sum();
+        let size: usize = mesh.elements.iter().map(|el| geometry_len(el.kind)).sum();
         let keep = size <= GEOMETRY_LIMIT;
         let mut geometry = Vec::with_capacity(if keep { size } else { 0 });
         let mut geometry_offset = Vec::with_capacity(mesh.elements.len());
@@ -228,7 +229,6 @@ impl Model {
                 geometry_offset.push(usize::MAX);
             }
         }
-        geometry_offset.push(geometry.len());
         let follower = problem.pressures.iter().any(|p| p.follower);
         let tl = problem.kinematics == Kinematics::TotalLagrangian;
         let linear_laws = laws.iter().all(|l| l.is_linear());
@@ -256,19 +256,10 @@ impl Model {
         }
     }
 
-    /// Element `e`'s kept reference geometry.
-    fn geometry_of(&self, e: usize) -> Option<&[f64]> {
+    /// Element `e`'s kept reference geometry (`kind` its kind).
+    fn geometry_of(&self, e: usize, kind: ElementKind) -> Option<&[f64]> {
         let start = self.geometry_offset[e];
-        if start == usize::MAX {
-            return None;
-        }
-        // The next kept element's start, or the end.
-        let end = self.geometry_offset[e + 1..]
-            .iter()
-            .copied()
-            .find(|&o| o != usize::MAX)
-            .expect("the list ends with its length");
-        Some(&self.geometry[start..end])
+        (start != usize::MAX).then(|| &self.geometry[start..start + geometry_len(kind)])
     }
 
     pub fn free_dofs(&self) -> usize {
@@ -371,7 +362,7 @@ impl Model {
                 } else {
                     body_force[b]
                 },
-                geometry: self.geometry_of(e),
+                geometry: self.geometry_of(e, el.kind),
             };
             integrate(
                 self.analysis,

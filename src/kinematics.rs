@@ -141,6 +141,11 @@ impl Point {
     }
 }
 
+/// The length of an element's `reference_geometry`.
+pub fn geometry_len(kind: ElementKind) -> usize {
+    gauss_points(kind).len() * Point::stride(kind.node_count())
+}
+
 /// The reference geometry of an element's Gauss points (N, dN/dX, the
 /// radius, the volume weight), appended to `out`: the mesh fixes it, so
 /// the assembly computes it once (`ElementData::geometry`) instead of at
@@ -414,6 +419,7 @@ mod tests {
                 let law = build(&MaterialSpec::LinearElastic { e: 200.0, nu: 0.3 }, analysis);
                 let mut kept = Vec::new();
                 reference_geometry(analysis, kind, 0, &x0, &mut kept).unwrap();
+                assert_eq!(kept.len(), geometry_len(kind));
                 assert_eq!(kept.len(), gauss_points(kind).len() * (3 * x0.len() + 2));
                 for kin in kinematics {
                     let run = |geometry: Option<&[f64]>| {

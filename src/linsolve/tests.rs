@@ -299,10 +299,10 @@ fn a_symmetric_tangent_is_judged_by_the_entries_beside_it() {
     let mut extra = border(p.n, &rows);
     let (ldlt, lu) = (Some(Method::Ldlt), Some(Method::Lu));
     assert_eq!(claimed(&k, &extra), (ldlt, 1));
-    // A sliding-like entry without its transpose, above and below the
-    // tolerance (1e-12 of the largest entry), and one split in two
-    // duplicates that sum to its transpose's value.
-    // Judged unsymmetric: straight to LU, one factorization.
+    // A sliding-like entry without its transpose, above the tolerance (1e-12
+    // of the largest entry: judged unsymmetric, straight to LU, one
+    // factorization) and below it, and one split in two duplicates that sum
+    // to its transpose's value.
     extra.push((0, 1, 0.25));
     assert_eq!(claimed(&k, &extra), (lu, 1));
     extra.pop();
