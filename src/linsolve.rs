@@ -795,7 +795,7 @@ impl Augmented {
                     // for a right-hand side 0 (`bordering::Base`).
                     self.split_values = std::mem::replace(&mut self.values, values);
                     let zeros = vec![0.0; n];
-                    let base = bordering::Base::new(self.csc(), n_disp, zeros.clone(), zeros);
+                    let base = bordering::Base::new(n, n_disp, zeros.clone(), zeros);
                     self.kept = Some(Kept::Ldlt(base, Some(schur)));
                     return Ok(true);
                 }
@@ -847,7 +847,7 @@ impl Augmented {
                         .flatten()
                         .map(|f| (f.schur(), f.d_inv()));
                     self.times.solve += clock.elapsed();
-                    let base = bordering::Base::new(self.csc(), n_disp, b, rhs.to_vec());
+                    let base = bordering::Base::new(n, n_disp, b, rhs.to_vec());
                     self.kept = Some(Kept::Ldlt(base, schur));
                     return Ok(false);
                 }
@@ -884,19 +884,9 @@ impl Augmented {
         }
         self.lu += 1;
         self.last = Some(Method::Lu);
-        let base = bordering::Base::new(self.csc(), n_disp, b, rhs.to_vec());
+        let base = bordering::Base::new(n, n_disp, b, rhs.to_vec());
         self.kept = Some(Kept::Lu(Box::new(f), base));
         Ok(false)
-    }
-
-    /// The last system `solve` built (its pattern is its analysis's).
-    fn csc(&self) -> bordering::Csc<'_> {
-        let mat = &self.analysis.as_ref().expect("a system built").mat;
-        bordering::Csc {
-            col_ptr: mat.col_ptr(),
-            row_idx: mat.row_idx(),
-            values: &self.values,
-        }
     }
 
     /// Solves `A x = rhs` in place, A given as in `solve`, without

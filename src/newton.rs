@@ -1312,7 +1312,7 @@ impl Solver {
         log: &mut dyn FnMut(LogCategory, &str),
     ) -> Result<(), String> {
         let n = self.model.free_dofs();
-        let contact = (eval.contact.as_ref()).filter(|c| c.neqc() > 0 || !c.k.is_empty());
+        let contact = (eval.contact).filter(|c| c.neqc() > 0 || !c.k.is_empty());
         if contact.is_none() && inc.lambda.is_empty() {
             if self.solve_in_contact_slots(inc)? {
                 inc.solves += 1;
@@ -1488,7 +1488,7 @@ impl Solver {
     fn constrained_correction(
         &mut self,
         step: &Step,
-        contact: Option<&ContactSystem>,
+        contact: Option<ContactSystem>,
         rhs_base: Option<&[f64]>,
         rhs: &[f64],
         memory: &mut Vec<PairMemory>,
@@ -1503,7 +1503,7 @@ impl Solver {
         // stick/slip state otherwise than this iterate did (a slip
         // front crossing a stick zone): its rows change, the
         // tangent and the out-of-balance forces do not.
-        let mut system: Option<ContactSystem> = contact.cloned();
+        let mut system: Option<ContactSystem> = contact;
         let mut rhs_now = rhs.to_vec();
         let mut inner = 0usize;
         let mut seen: Vec<u64> = Vec::new();
@@ -1622,7 +1622,7 @@ impl Solver {
             let deferred = (self.augmented.deferred_rhs())
                 .filter(|_| partial)
                 .map(|b| (b, extra.clone()));
-            kept = Some((full.clone(), memory.clone(), system.clone(), deferred));
+            let states = memory.clone();
             let rebuilt = self.contact_update(step, Some((sys, &switched)), memory, flips, log)?;
             rhs_now.copy_from_slice(rhs_base);
             for &(d, f) in &rebuilt.force {
@@ -1630,7 +1630,7 @@ impl Solver {
                     rhs_now[self.model.eq[d] as usize] += f;
                 }
             }
-            system = Some(rebuilt);
+            kept = Some((full, states, system.replace(rebuilt), deferred));
         };
         Ok((full, system))
     }

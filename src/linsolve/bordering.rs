@@ -219,9 +219,10 @@ enum Change {
 pub(super) struct Base {
     n: usize,
     n_disp: usize,
-    keys: HashMap<Vec<u64>, Vec<usize>>,
-    /// Per multiplier of `A0`: decoupled (`Multipliers::decoupled`).
-    decoupled: Vec<bool>,
+    /// `A0`'s multipliers by key, and per multiplier whether it is
+    /// decoupled (`Multipliers::decoupled`): indexed by the first bordered
+    /// solve (most factorizations of a Newton iteration have none).
+    index: Option<MultiplierIndex>,
     /// The right-hand side `A0` was factored with and its solution: an
     /// inner solve whose right-hand side differs from it only where a
     /// kept column `A0^-1 e_i` is (a released multiplier, a changed
@@ -231,19 +232,34 @@ pub(super) struct Base {
     solved: HashMap<Change, Vec<f64>>,
 }
 
-impl Base {
-    pub(super) fn new(a0: Csc, n_disp: usize, b0: Vec<f64>, x0: Vec<f64>) -> Self {
+struct MultiplierIndex {
+    keys: HashMap<Vec<u64>, Vec<usize>>,
+    decoupled: Vec<bool>,
+}
+
+impl MultiplierIndex {
+    fn of(a0: Csc, n_disp: usize) -> Self {
         // Each key's multipliers in ascending order.
         let mut keys: HashMap<Vec<u64>, Vec<usize>> = HashMap::default();
         let all = Multipliers::of(a0, n_disp);
         for m in 0..all.len() {
             keys.entry(all.key(m)).or_default().push(m);
         }
-        Base {
-            n: a0.n(),
-            n_disp,
+        MultiplierIndex {
             keys,
             decoupled: (0..all.len()).map(|m| all.decoupled(m)).collect(),
+        }
+    }
+}
+
+impl Base {
+    /// The base of `a0` (of order `n`), factored with `b0` and solved to
+    /// `x0`.
+    pub(super) fn new(n: usize, n_disp: usize, b0: Vec<f64>, x0: Vec<f64>) -> Self {
+        Base {
+            n,
+            n_disp,
+            index: None,
             b0,
             x0,
             solved: HashMap::default(),
@@ -273,6 +289,12 @@ pub(super) fn solve(
 ) -> Result<usize, NotBordered> {
     let (n0, nd) = (base.n, base.n_disp);
     let n1 = a1.n();
+    if a0.n() != n0 {
+        return Err(NotBordered::Unsound);
+    }
+    let index = &*base
+        .index
+        .get_or_insert_with(|| MultiplierIndex::of(a0, nd));
     if nd > n1 {
         return Err(NotBordered::Unsound);
     }
@@ -327,7 +349,7 @@ pub(super) fn solve(
         // The first of A0's multipliers with the same key not taken yet.
         new.key_into(m1, &mut key);
         let m0 =
-            (base.keys.get(&key[..])).and_then(|list| list.iter().copied().find(|&m| !used[m]));
+            (index.keys.get(&key[..])).and_then(|list| list.iter().copied().find(|&m| !used[m]));
         if let Some(m) = m0 {
             used[m] = true;
         }
@@ -336,7 +358,7 @@ pub(super) fn solve(
     // A decoupled multiplier of A0 left out is no change (its unknown was
     // alone); a decoupled one of A1 not in A0 is solved alone (`direct`).
     let mut changes: Vec<Change> = Vec::new();
-    let left_out = (0..n0 - nd).filter(|&m| !used[m] && !base.decoupled[m]);
+    let left_out = (0..n0 - nd).filter(|&m| !used[m] && !index.decoupled[m]);
     changes.extend(left_out.map(Change::Released));
     let unmatched = |m: &usize| matched[*m].is_none();
     let added: Vec<usize> = (0..new.len())
@@ -352,7 +374,7 @@ pub(super) fn solve(
     delta.sort_unstable();
     changes.extend(delta.iter().map(|&i| Change::Displacement(i)));
     let released = (0..n0 - nd)
-        .filter(|&m| !used[m] && !base.decoupled[m])
+        .filter(|&m| !used[m] && !index.decoupled[m])
         .count();
     let r = changes.len();
     if r > max_rank {
