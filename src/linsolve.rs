@@ -383,6 +383,10 @@ pub struct Augmented {
     pub trailing_solves: usize,
     /// Of those, the deferred ones (`solve_modified_watching`).
     pub deferred_solves: usize,
+    /// Bordered solves that read their system from the tangent and its
+    /// entries beside it (`bordering::Split`: the tangent counted the
+    /// factored system's, `new_tangent`).
+    pub split_solves: usize,
     trailing_work: TrailingWork,
     /// Right-hand sides those solves solved with the kept factor (columns
     /// of `A0^-1 E`, right-hand sides, refinements).
@@ -515,6 +519,7 @@ impl Augmented {
         // and the pattern is the same; else a new analysis, its slots the
         // old ones and the new keys (while they stay few), else the keys.
         let mut fresh = false;
+        let mut extra0 = Vec::new();
         let slot_of = loop {
             let kept = self
                 .analysis
@@ -579,6 +584,12 @@ impl Augmented {
                 [&mut col_ptr, &mut row_idx],
                 &mut self.values,
             );
+            // What the inner solves border it with on the same tangent
+            // (`bordering::Split`).
+            if self.tangent.is_some() {
+                extra0.clear();
+                extra0.extend_from_slice(extra_now);
+            }
             let same =
                 kept.is_some_and(|a| a.mat.col_ptr() == col_ptr && a.mat.row_idx() == row_idx);
             // Without slots, the kept analysis holds while the pattern does.
@@ -639,7 +650,7 @@ impl Augmented {
         self.extra_asymmetry =
             (self.symmetric_tangent && 32 * extra.len() < k.len()).then(|| asymmetry(extra));
         self.times.system += clock.elapsed();
-        let split = self.solve_kept(pattern, k, n_disp, &mut full)?;
+        let split = self.solve_kept(pattern, k, n_disp, &mut full, &extra0)?;
         // What the trailing solves compare their systems with: this one's
         // tangent and its entries beside it, in the slots (with `split`,
         // the factored system's: every slot empty).
@@ -673,7 +684,7 @@ impl Augmented {
             }
             self.kept = None;
             std::mem::swap(&mut self.values, &mut self.split_values);
-            self.solve_kept(pattern, k, n_disp, &mut full)?;
+            self.solve_kept(pattern, k, n_disp, &mut full, &extra0)?;
         }
         if keys.is_some() {
             rhs[..n_disp].copy_from_slice(&full[..n_disp]);
@@ -701,7 +712,13 @@ impl Augmented {
         k: &[f64],
         n_disp: usize,
         rhs: &mut [f64],
+        extra0: &[(usize, usize, f64)],
     ) -> Result<bool, LinearError> {
+        let tangent = self.tangent;
+        let on_tangent = |base: bordering::Base, extra0: &[(usize, usize, f64)]| match tangent {
+            Some(t) => base.on_tangent(t, extra0.to_vec()),
+            None => base,
+        };
         let clock = Instant::now();
         self.trailing_work.forward = None;
         self.trailing_work.bases = DenseBases::default();
@@ -796,6 +813,7 @@ impl Augmented {
                     self.split_values = std::mem::replace(&mut self.values, values);
                     let zeros = vec![0.0; n];
                     let base = bordering::Base::new(n, n_disp, zeros.clone(), zeros);
+                    let base = on_tangent(base, &base_extra);
                     self.kept = Some(Kept::Ldlt(base, Some(schur)));
                     return Ok(true);
                 }
@@ -848,6 +866,7 @@ impl Augmented {
                         .map(|f| (f.schur(), f.d_inv()));
                     self.times.solve += clock.elapsed();
                     let base = bordering::Base::new(n, n_disp, b, rhs.to_vec());
+                    let base = on_tangent(base, extra0);
                     self.kept = Some(Kept::Ldlt(base, schur));
                     return Ok(false);
                 }
@@ -856,7 +875,7 @@ impl Augmented {
                 // still hold (a body held by contact alone): as for an
                 // unsymmetric system, before LU.
                 if self.slots && !self.border_only && !analysis.split_failed {
-                    return self.solve_kept(pattern, k, n_disp, rhs);
+                    return self.solve_kept(pattern, k, n_disp, rhs, extra0);
                 }
             }
         }
@@ -885,6 +904,7 @@ impl Augmented {
         self.lu += 1;
         self.last = Some(Method::Lu);
         let base = bordering::Base::new(n, n_disp, b, rhs.to_vec());
+        let base = on_tangent(base, extra0);
         self.kept = Some(Kept::Lu(Box::new(f), base));
         Ok(false)
     }
@@ -932,11 +952,31 @@ impl Augmented {
                 return false;
             };
             let n = rhs.len();
-            let (col_ptr, row_idx, values) = bordered_new(pattern, k, extra, n);
-            let a1 = bordering::Csc {
-                col_ptr: &col_ptr,
-                row_idx: &row_idx,
-                values: &values,
+            let base = match kept {
+                Kept::Ldlt(base, _) | Kept::Lu(_, base) => &*base,
+            };
+            // On the factored system's tangent the system is read from its
+            // entries beside it; else built whole.
+            let built;
+            let a1 = if base.splits(self.tangent) && pattern.n <= n {
+                extra.sort_unstable_by_key(|&(r, c, _)| (c, r));
+                let nd = pattern.n;
+                bordering::System::Split(bordering::Split {
+                    k: bordering::Csc {
+                        col_ptr: &pattern.col_ptr[..=nd],
+                        row_idx: &pattern.row_idx,
+                        values: k,
+                    },
+                    extra,
+                    n,
+                })
+            } else {
+                built = bordered_new(pattern, k, extra, n);
+                bordering::System::Built(bordering::Csc {
+                    col_ptr: &built.0,
+                    row_idx: &built.1,
+                    values: &built.2,
+                })
             };
             let analysis = self.analysis.as_ref();
             let Some(mat) = analysis.map(|a| &a.mat) else {
@@ -994,6 +1034,7 @@ impl Augmented {
             match outcome {
                 Ok(_) => {
                     self.bordered += 1;
+                    self.split_solves += usize::from(matches!(a1, bordering::System::Split(_)));
                     true
                 }
                 Err(_) => false,

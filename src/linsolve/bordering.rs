@@ -54,6 +54,14 @@ impl Csc<'_> {
         (&self.row_idx[p..end], &self.values[p..end])
     }
 
+    /// Entry `(i, j)` (0 outside the pattern).
+    fn entry(&self, i: usize, j: usize) -> f64 {
+        let (p, q) = (self.col_ptr[j], self.col_ptr[j + 1]);
+        self.row_idx[p..q]
+            .binary_search(&i)
+            .map_or(0.0, |at| self.values[p + at])
+    }
+
     /// `b - A x`.
     fn residual(&self, x: &[f64], b: &[f64]) -> Vec<f64> {
         let mut r = b.to_vec();
@@ -75,6 +83,135 @@ impl Csc<'_> {
         }
         inf(&rows)
     }
+}
+
+/// A matrix given as the tangent `k` (order `n_disp`, both triangles, rows
+/// sorted) and the entries beside it `extra` (row, column, value; sorted
+/// by column, then row; duplicates are summed), of order `n`: what the
+/// inner solves hand over, read without building its CSC form (a copy of
+/// the whole tangent per inner solve).
+#[derive(Clone, Copy)]
+pub(super) struct Split<'a> {
+    pub k: Csc<'a>,
+    pub extra: &'a [(usize, usize, f64)],
+    pub n: usize,
+}
+
+impl Split<'_> {
+    /// `b - A x`.
+    fn residual(&self, x: &[f64], b: &[f64]) -> Vec<f64> {
+        let mut r = b.to_vec();
+        for (j, &xj) in x.iter().enumerate().take(self.k.n()) {
+            for (i, v) in self.k.column(j) {
+                r[i] -= v * xj;
+            }
+        }
+        for &(i, j, v) in self.extra {
+            r[i] -= v * x[j];
+        }
+        r
+    }
+
+    /// `|A|_inf` from the tangent's row sums of magnitudes `k_rows`
+    /// (`row_magnitudes`): a row with an entry beside the tangent has it
+    /// summed into the tangent's own entry there.
+    fn norm_inf(&self, k_rows: &[f64]) -> f64 {
+        let nd = self.k.n();
+        let mut rows = k_rows.to_vec();
+        rows.resize(self.n, 0.0);
+        for (i, j, v) in summed(self.extra) {
+            if i < nd && j < nd {
+                let kij = self.k.entry(i, j);
+                rows[i] += (kij + v).abs() - kij.abs();
+            } else {
+                rows[i] += v.abs();
+            }
+        }
+        inf(&rows)
+    }
+}
+
+/// The entries of a list sorted by (column, row), duplicates summed in
+/// their order (as `linsolve::bordered` sums them).
+fn summed(list: &[(usize, usize, f64)]) -> impl Iterator<Item = (usize, usize, f64)> + '_ {
+    let mut at = 0;
+    std::iter::from_fn(move || {
+        let &(r, c, mut v) = list.get(at)?;
+        at += 1;
+        while let Some(&(r2, c2, v2)) = list.get(at)
+            && (r2, c2) == (r, c)
+        {
+            v += v2;
+            at += 1;
+        }
+        Some((r, c, v))
+    })
+}
+
+/// The row sums of the magnitudes of `k`.
+fn row_magnitudes(k: Csc) -> Vec<f64> {
+    let mut rows = vec![0.0f64; k.n()];
+    for j in 0..k.n() {
+        for (i, v) in k.column(j) {
+            rows[i] += v.abs();
+        }
+    }
+    rows
+}
+
+/// The changed displacement rows `Delta = A1 - A0` of two systems on the
+/// same tangent, from their entries beside it (sorted as `Split` has
+/// them): per row its (column, change), columns ascending.
+fn split_delta(
+    extra0: &[(usize, usize, f64)],
+    extra1: &[(usize, usize, f64)],
+    nd: usize,
+) -> HashMap<usize, Vec<(usize, f64)>> {
+    let disp = |e: &(usize, usize, f64)| e.0 < nd && e.1 < nd;
+    let mut c0 = summed(extra0).filter(disp).peekable();
+    let mut c1 = summed(extra1).filter(disp).peekable();
+    let mut delta_rows: HashMap<usize, Vec<(usize, f64)>> = HashMap::default();
+    loop {
+        let key = |e: &(usize, usize, f64)| (e.1, e.0);
+        let (i, j, d) = match (c0.peek().copied(), c1.peek().copied()) {
+            (None, None) => break,
+            (Some(e0), None) => {
+                c0.next();
+                (e0.0, e0.1, -e0.2)
+            }
+            (None, Some(e1)) => {
+                c1.next();
+                e1
+            }
+            (Some(e0), Some(e1)) => match key(&e0).cmp(&key(&e1)) {
+                std::cmp::Ordering::Less => {
+                    c0.next();
+                    (e0.0, e0.1, -e0.2)
+                }
+                std::cmp::Ordering::Greater => {
+                    c1.next();
+                    e1
+                }
+                std::cmp::Ordering::Equal => {
+                    c0.next();
+                    c1.next();
+                    (e0.0, e0.1, e1.2 - e0.2)
+                }
+            },
+        };
+        if d != 0.0 {
+            delta_rows.entry(i).or_default().push((j, d));
+        }
+    }
+    delta_rows
+}
+
+/// The matrix of a bordered solve: built, or split (`Split`) when it is on
+/// the factored system's tangent.
+#[derive(Clone, Copy)]
+pub(super) enum System<'a> {
+    Built(Csc<'a>),
+    Split(Split<'a>),
 }
 
 fn inf(v: &[f64]) -> f64 {
@@ -158,6 +295,55 @@ impl Multipliers {
         }
     }
 
+    /// The multipliers of a `Split` system, as `of` finds them in its
+    /// CSC form.
+    fn of_entries(a: Split) -> Self {
+        let nd = a.k.n();
+        let m = a.n - nd.min(a.n);
+        let mut row_at = vec![0usize; m + 1];
+        for (r, c, _) in summed(a.extra) {
+            if r >= nd && c < nd {
+                row_at[r - nd + 1] += 1;
+            }
+        }
+        for k in 0..m {
+            row_at[k + 1] += row_at[k];
+        }
+        let mut next = row_at.clone();
+        let mut rows = vec![(0usize, 0.0f64); row_at[m]];
+        let mut column_at = vec![0usize; m + 1];
+        let mut columns = Vec::new();
+        let mut diagonal = vec![0.0; m];
+        for (r, c, v) in summed(a.extra) {
+            if c < nd {
+                if r >= nd {
+                    rows[next[r - nd]] = (c, v);
+                    next[r - nd] += 1;
+                }
+                continue;
+            }
+            let k = c - nd;
+            if r < nd {
+                columns.push((r, v));
+                column_at[k + 1] = columns.len();
+            } else if r == c {
+                diagonal[k] = v;
+            } else {
+                diagonal[k] = f64::NAN;
+            }
+        }
+        for k in 0..m {
+            column_at[k + 1] = column_at[k + 1].max(column_at[k]);
+        }
+        Multipliers {
+            row_at,
+            rows,
+            column_at,
+            columns,
+            diagonal,
+        }
+    }
+
     fn len(&self) -> usize {
         self.diagonal.len()
     }
@@ -230,6 +416,15 @@ pub(super) struct Base {
     b0: Vec<f64>,
     x0: Vec<f64>,
     solved: HashMap<Change, Vec<f64>>,
+    /// The entries beside the tangent `A0` was built from (sorted as
+    /// `Split` has them) and the caller's count of its tangent then
+    /// (`Augmented::new_tangent`): a system on the same tangent is bordered
+    /// as a `Split`.
+    extra0: Option<Vec<(usize, usize, f64)>>,
+    tangent: Option<u64>,
+    /// The tangent's row sums of magnitudes (`row_magnitudes`), made by the
+    /// first `Split` solve.
+    k_rows: Option<Vec<f64>>,
 }
 
 struct MultiplierIndex {
@@ -263,7 +458,24 @@ impl Base {
             b0,
             x0,
             solved: HashMap::default(),
+            extra0: None,
+            tangent: None,
+            k_rows: None,
         }
+    }
+
+    /// `A0` is the tangent counted `tangent` (`Augmented::new_tangent`)
+    /// and the entries `extra0` beside it (sorted by column, then row).
+    pub(super) fn on_tangent(mut self, tangent: u64, extra0: Vec<(usize, usize, f64)>) -> Self {
+        self.tangent = Some(tangent);
+        self.extra0 = Some(extra0);
+        self
+    }
+
+    /// Whether a system on the tangent counted `tangent` is bordered as a
+    /// `Split`.
+    pub(super) fn splits(&self, tangent: Option<u64>) -> bool {
+        tangent.is_some() && self.tangent == tangent && self.extra0.is_some()
     }
 }
 
@@ -276,29 +488,9 @@ pub(super) enum NotBordered {
     Unsound,
 }
 
-/// Solves `A1 x = rhs` (in place) with `A0`'s factorization, `solve0`
-/// solving `A0 X = B` in place for `k` columns (column-major, `A0`'s order
-/// each). Returns the number of changes bordered.
-pub(super) fn solve(
-    base: &mut Base,
-    a0: Csc,
-    a1: Csc,
-    rhs: &mut [f64],
-    max_rank: usize,
-    solve0: &mut dyn FnMut(&mut [f64], usize) -> bool,
-) -> Result<usize, NotBordered> {
-    let (n0, nd) = (base.n, base.n_disp);
-    let n1 = a1.n();
-    if a0.n() != n0 {
-        return Err(NotBordered::Unsound);
-    }
-    let index = &*base
-        .index
-        .get_or_insert_with(|| MultiplierIndex::of(a0, nd));
-    if nd > n1 {
-        return Err(NotBordered::Unsound);
-    }
-    // The changed displacement rows: Delta = A1 - A0 on the displacements.
+/// The changed displacement rows `Delta = A1 - A0` of two built systems:
+/// per row its (column, change), columns ascending.
+fn built_delta(a0: Csc, a1: Csc, nd: usize) -> HashMap<usize, Vec<(usize, f64)>> {
     let mut delta_rows: HashMap<usize, Vec<(usize, f64)>> = HashMap::default();
     for j in 0..nd {
         // Most columns are the tangent's alone in both (rows sorted: the
@@ -340,8 +532,49 @@ pub(super) fn solve(
             }
         }
     }
+    delta_rows
+}
+
+/// Solves `A1 x = rhs` (in place) with `A0`'s factorization, `solve0`
+/// solving `A0 X = B` in place for `k` columns (column-major, `A0`'s order
+/// each). Returns the number of changes bordered.
+pub(super) fn solve(
+    base: &mut Base,
+    a0: Csc,
+    a1: System,
+    rhs: &mut [f64],
+    max_rank: usize,
+    solve0: &mut dyn FnMut(&mut [f64], usize) -> bool,
+) -> Result<usize, NotBordered> {
+    let (n0, nd) = (base.n, base.n_disp);
+    let n1 = match a1 {
+        System::Built(a) => a.n(),
+        System::Split(a) => a.n,
+    };
+    if a0.n() != n0 {
+        return Err(NotBordered::Unsound);
+    }
+    let index = &*base
+        .index
+        .get_or_insert_with(|| MultiplierIndex::of(a0, nd));
+    if nd > n1 {
+        return Err(NotBordered::Unsound);
+    }
+    // The changed displacement rows: Delta = A1 - A0 on the displacements.
+    let delta_rows = match a1 {
+        System::Built(a1) => built_delta(a0, a1, nd),
+        System::Split(a1) => {
+            let Some(extra0) = base.extra0.as_deref().filter(|_| a1.k.n() == nd) else {
+                return Err(NotBordered::Unsound);
+            };
+            split_delta(extra0, a1.extra, nd)
+        }
+    };
     // Multipliers: matched by key, released, added.
-    let new = Multipliers::of(a1, nd);
+    let new = match a1 {
+        System::Built(a1) => Multipliers::of(a1, nd),
+        System::Split(a1) => Multipliers::of_entries(a1),
+    };
     let mut matched: Vec<Option<usize>> = Vec::with_capacity(new.len());
     let mut used = vec![false; n0 - nd];
     let mut key = Vec::new();
@@ -530,13 +763,20 @@ pub(super) fn solve(
     // that norm, dominated by the tangent's entries times the multipliers,
     // does not.)
     let b = rhs.to_vec();
-    let norm_a = a1.norm_inf();
+    let norm_a = match a1 {
+        System::Built(a1) => a1.norm_inf(),
+        System::Split(a1) => a1.norm_inf(base.k_rows.get_or_insert_with(|| row_magnitudes(a1.k))),
+    };
+    let residual = |x: &[f64]| match a1 {
+        System::Built(a1) => a1.residual(x, &b),
+        System::Split(a1) => a1.residual(x, &b),
+    };
     let mut x = apply(&b, true).ok_or(NotBordered::Unsound)?;
-    let dx = apply(&a1.residual(&x, &b), false).ok_or(NotBordered::Unsound)?;
+    let dx = apply(&residual(&x), false).ok_or(NotBordered::Unsound)?;
     for (xi, di) in x.iter_mut().zip(&dx) {
         *xi += di;
     }
-    let backward = backward_error(&a1.residual(&x, &b), norm_a, &x, &b);
+    let backward = backward_error(&residual(&x), norm_a, &x, &b);
     // (NaN fails too.)
     if backward.is_nan() || backward > super::LDLT_BACKWARD_ERROR {
         return Err(NotBordered::Unsound);

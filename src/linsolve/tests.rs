@@ -496,12 +496,18 @@ fn bordered_solves_match_the_dense_system() {
     let rows = contact_rows(9, 8, 6, &mut rng);
     let kept_rows: Rows = vec![rows[0].clone(), rows[2].clone(), rows[4].clone()];
     let (n_disp, top) = (p.n, 2 * (7 * 9) + 1);
-    for (slots, force_lu) in [(false, false), (true, false), (false, true), (true, true)] {
+    let cases = [(false, false), (true, false), (false, true), (true, true)];
+    // Each case twice: the systems built whole, and (the caller counting
+    // its tangent, `new_tangent`) read from the entries beside it.
+    for ((slots, force_lu), counted) in cases.into_iter().flat_map(|c| [(c, false), (c, true)]) {
         let mut aug = Augmented {
             force_lu,
             border_only: true,
             ..Augmented::with_slots(slots)
         };
+        if counted {
+            aug.new_tangent();
+        }
         // The factored system: rows 0..5 (and, with slots, row 5 seen once
         // before, so that its slot is empty now).
         if slots {
@@ -582,6 +588,33 @@ fn bordered_solves_match_the_dense_system() {
         assert!(aug.solve_modified(&p, &k, &mut extra, &mut x, 16));
         let r = residual(&a, &x, &b);
         assert!(r < 1e-10, "slots {slots}, LU {force_lu}: residual {r:e}");
+        // Tangent entries beside K in the factored system and in the
+        // bordered one, at the same places and elsewhere (a sliding
+        // gradient against a deformable target): their difference alone
+        // is the change.
+        // (At a dof of its own: the contact rows hold `top`'s node, and a
+        // change there moves its multiplier alone.)
+        let scale = k.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        let mid = n_disp / 2;
+        let mut extra = border(n_disp, base);
+        extra.extend([(mid, mid, 0.3 * scale), (mid, mid + 1, -0.1 * scale)]);
+        let mut x = rhs(n_disp + base.len(), &mut Rng(7));
+        aug.solve(&p, &k, &mut extra, &mut x).unwrap();
+        let mut extra = border(n_disp, base);
+        extra.extend([
+            (mid, mid, 0.2 * scale),
+            (mid, mid, 0.1 * scale),
+            (mid + 1, mid, 0.05 * scale),
+        ]);
+        let b = rhs(n_disp + base.len(), &mut Rng(8));
+        let a = dense(&p, &k, &extra, b.len());
+        let mut x = b.clone();
+        assert!(aug.solve_modified(&p, &k, &mut extra, &mut x, 16));
+        let r = residual(&a, &x, &b);
+        assert!(r < 1e-10, "slots {slots}, LU {force_lu}: residual {r:e}");
+        assert_eq!(aug.bordered, 5, "slots {slots}, LU {force_lu}");
+        let split = if counted { 5 } else { 0 };
+        assert_eq!(aug.split_solves, split, "slots {slots}, LU {force_lu}");
     }
 }
 
