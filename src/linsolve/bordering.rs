@@ -298,10 +298,15 @@ impl Multipliers {
     /// The multipliers of a `Split` system, as `of` finds them in its
     /// CSC form.
     fn of_entries(a: Split) -> Self {
-        let nd = a.k.n();
-        let m = a.n - nd.min(a.n);
+        Self::of_list(a.extra, a.k.n(), a.n)
+    }
+
+    /// The multipliers of the order-`n` matrix whose entries beside its
+    /// tangent (of order `nd`) are `extra` (sorted as `Split` has them).
+    fn of_list(extra: &[(usize, usize, f64)], nd: usize, n: usize) -> Self {
+        let m = n - nd.min(n);
         let mut row_at = vec![0usize; m + 1];
-        for (r, c, _) in summed(a.extra) {
+        for (r, c, _) in summed(extra) {
             if r >= nd && c < nd {
                 row_at[r - nd + 1] += 1;
             }
@@ -314,7 +319,7 @@ impl Multipliers {
         let mut column_at = vec![0usize; m + 1];
         let mut columns = Vec::new();
         let mut diagonal = vec![0.0; m];
-        for (r, c, v) in summed(a.extra) {
+        for (r, c, v) in summed(extra) {
             if c < nd {
                 if r >= nd {
                     rows[next[r - nd]] = (c, v);
@@ -433,10 +438,16 @@ struct MultiplierIndex {
 }
 
 impl MultiplierIndex {
-    fn of(a0: Csc, n_disp: usize) -> Self {
+    /// From `a0`, or from its entries beside the tangent when they are
+    /// kept (`Base::on_tangent`; the same multipliers, without a pass over
+    /// the whole matrix).
+    fn of(a0: Csc, n_disp: usize, extra0: Option<&[(usize, usize, f64)]>) -> Self {
         // Each key's multipliers in ascending order.
         let mut keys: HashMap<Vec<u64>, Vec<usize>> = HashMap::default();
-        let all = Multipliers::of(a0, n_disp);
+        let all = match extra0 {
+            Some(extra0) => Multipliers::of_list(extra0, n_disp, a0.n()),
+            None => Multipliers::of(a0, n_disp),
+        };
         for m in 0..all.len() {
             keys.entry(all.key(m)).or_default().push(m);
         }
@@ -556,7 +567,7 @@ pub(super) fn solve(
     }
     let index = &*base
         .index
-        .get_or_insert_with(|| MultiplierIndex::of(a0, nd));
+        .get_or_insert_with(|| MultiplierIndex::of(a0, nd, base.extra0.as_deref()));
     if nd > n1 {
         return Err(NotBordered::Unsound);
     }
