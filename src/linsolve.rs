@@ -1586,20 +1586,19 @@ fn summed(mut e: Vec<(usize, usize, f64)>) -> Vec<(usize, usize, f64)> {
     out
 }
 
-/// Sorts entries (row, column, value) by column, then row, stably (equal
-/// places keep their order): by counting the columns where the entries
-/// are many beside the largest column (an inner solve of the capstan FMU
-/// sorts 500-860 entries over some 700 columns: 12 us by comparisons),
-/// else by merging. For the bordered solves' `Split` systems; `bordered`
-/// keeps its unstable sort, whose order of duplicates its factored
-/// systems' round-off has (a stable one moved the buried pipe's soil
-/// reaction by 2.5e-3 of the scene's largest output). Against a rigid
-/// target, the systems the inner solves border, no place has two
-/// nonzero entries, so both orders sum alike.
+/// Sorts entries (row, column, value) by column, then row, as
+/// `sort_unstable_by_key` does: by counting the columns where the entries
+/// are many beside the largest column and no place holds two (then the
+/// order is the one order; an inner solve of the capstan FMU sorts its
+/// 500-860 entries over some 700 columns, 12 us by comparisons), else by
+/// comparisons (two entries at one place are summed in the order that
+/// sort leaves them, which the factored systems' round-off has: another
+/// order moved the buried pipe's soil reaction by 2.5e-3 of the scene's
+/// largest output).
 fn sort_by_column(extra: &mut [(usize, usize, f64)]) {
     let columns = extra.iter().map(|e| e.1 + 1).max().unwrap_or(0);
     if columns > 8 * extra.len() {
-        extra.sort_by_key(|&(r, c, _)| (c, r));
+        extra.sort_unstable_by_key(|&(r, c, _)| (c, r));
         return;
     }
     let mut start = vec![0usize; columns + 1];
@@ -1616,9 +1615,16 @@ fn sort_by_column(extra: &mut [(usize, usize, f64)]) {
         next[e.1] += 1;
     }
     for c in 0..columns {
-        sorted[start[c]..start[c + 1]].sort_by_key(|e| e.0);
+        sorted[start[c]..start[c + 1]].sort_unstable_by_key(|e| e.0);
     }
-    extra.copy_from_slice(&sorted);
+    if sorted
+        .windows(2)
+        .any(|w| (w[0].0, w[0].1) == (w[1].0, w[1].1))
+    {
+        extra.sort_unstable_by_key(|&(r, c, _)| (c, r));
+    } else {
+        extra.copy_from_slice(&sorted);
+    }
 }
 
 /// The CSC form (both triangles, rows sorted) of the order-`n` matrix made
@@ -1632,7 +1638,7 @@ fn bordered(
     [col_ptr, row_idx]: [&mut Vec<usize>; 2],
     values: &mut Vec<f64>,
 ) {
-    extra.sort_unstable_by_key(|&(r, c, _)| (c, r));
+    sort_by_column(extra);
     col_ptr.clear();
     row_idx.clear();
     values.clear();
