@@ -2023,9 +2023,9 @@ mod tests {
         let m = 300.0;
         let c = ContactSystem {
             rows: vec![pairs::Row {
-                dofs: vec![(0, nx), (1, ny), (2, -nx), (3, -ny)],
+                dofs: pairs::Entries::from_slice(&[(0, nx), (1, ny), (2, -nx), (3, -ny)]),
                 rhs: 0.0,
-                column: Vec::new(),
+                column: pairs::Entries::default(),
             }],
             groups: vec![(0, 0..1)],
             ..Default::default()

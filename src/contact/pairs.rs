@@ -121,11 +121,53 @@ pub fn begin_increment(memory: &mut [PairMemory]) {
 /// the right-hand side).
 #[derive(Clone, Debug)]
 pub struct Row {
-    pub dofs: Vec<(usize, f64)>,
+    pub dofs: Entries,
     pub rhs: f64,
     /// The multiplier's column in the displacement rows when it differs
     /// from the row (a sliding node's friction); empty: the row itself.
-    pub column: Vec<(usize, f64)>,
+    pub column: Entries,
+}
+
+/// A row's entries (dof, coefficient), held in place: a contact row acts
+/// on its node and at most a target segment's two nodes. The contact
+/// system is rebuilt at every inner solve, and two allocations per row
+/// were a tenth of that.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Entries {
+    len: usize,
+    at: [(usize, f64); Entries::MAX],
+}
+
+impl Entries {
+    pub const MAX: usize = 6;
+
+    /// The entries of `list` (at most `MAX`).
+    pub fn from_slice(list: &[(usize, f64)]) -> Self {
+        assert!(
+            list.len() <= Self::MAX,
+            "a contact row of {} entries",
+            list.len()
+        );
+        let mut e = Entries::default();
+        e.at[..list.len()].copy_from_slice(list);
+        e.len = list.len();
+        e
+    }
+}
+
+impl std::ops::Deref for Entries {
+    type Target = [(usize, f64)];
+    fn deref(&self) -> &[(usize, f64)] {
+        &self.at[..self.len]
+    }
+}
+
+impl<'a> IntoIterator for &'a Entries {
+    type Item = &'a (usize, f64);
+    type IntoIter = std::slice::Iter<'a, (usize, f64)>;
+    fn into_iter(self) -> Self::IntoIter {
+        self.iter()
+    }
 }
 
 impl Row {
@@ -1767,10 +1809,15 @@ pub(super) fn add_rows(
         dofs[2..].copy_from_slice(&[Some(2 * a), Some(2 * a + 1), Some(2 * b), Some(2 * b + 1)]);
     }
     let first_row = out.rows.len();
-    let entries = |v: &dyn Fn(usize) -> f64| -> Vec<(usize, f64)> {
-        (0..6)
-            .filter_map(|l| dofs[l].map(|dof| (dof, v(l))))
-            .collect()
+    let entries = |v: &dyn Fn(usize) -> f64| -> Entries {
+        let mut e = Entries::default();
+        for (l, dof) in dofs.iter().enumerate() {
+            if let Some(dof) = *dof {
+                e.at[e.len] = (dof, v(l));
+                e.len += 1;
+            }
+        }
+        e
     };
     if held {
         let c = cp.sticking(lambda);
@@ -1783,7 +1830,7 @@ pub(super) fn add_rows(
             out.rows.push(Row {
                 dofs: entries(&|l| c.k_ul[(l, row)]),
                 rhs: c.delta_c[row],
-                column: Vec::new(),
+                column: Entries::default(),
             });
         }
         out.max_overlap = out.max_overlap.max(cp.overlap().norm());
@@ -1810,7 +1857,7 @@ pub(super) fn add_rows(
             let v = cp.relative_motion().transpose() * (seg.normal() + friction * seg.tangent());
             entries(&|l| v[l])
         } else {
-            Vec::new()
+            Entries::default()
         };
         out.rows.push(Row {
             dofs: entries(&|l| c.k_ul[l]),
