@@ -395,6 +395,37 @@ impl Multipliers {
         self.key_into(m, &mut key);
         key
     }
+
+    /// A hash of `key_into`'s words, without building them.
+    fn key_hash(&self, m: usize) -> u64 {
+        use std::hash::Hasher;
+        let mut h = rustc_hash::FxHasher::default();
+        for &(i, v) in self.row(m) {
+            h.write_u64(i as u64);
+            h.write_u64(v.to_bits());
+        }
+        h.write_u64(u64::MAX);
+        for &(i, v) in self.column(m) {
+            h.write_u64(i as u64);
+            h.write_u64(v.to_bits());
+        }
+        h.write_u64(u64::MAX);
+        h.write_u64(self.diagonal[m].to_bits());
+        h.finish()
+    }
+
+    /// Whether multiplier `m` has `other`'s multiplier `k`'s key.
+    fn same_key(&self, m: usize, other: &Multipliers, k: usize) -> bool {
+        fn same(a: &[(usize, f64)], b: &[(usize, f64)]) -> bool {
+            a.len() == b.len()
+                && a.iter()
+                    .zip(b)
+                    .all(|(x, y)| x.0 == y.0 && x.1.to_bits() == y.1.to_bits())
+        }
+        same(self.row(m), other.row(k))
+            && same(self.column(m), other.column(k))
+            && self.diagonal[m].to_bits() == other.diagonal[k].to_bits()
+    }
 }
 
 /// What distinguishes a column of `E` (for the kept `A0^-1 E`).
@@ -433,7 +464,10 @@ pub(super) struct Base {
 }
 
 struct MultiplierIndex {
-    keys: HashMap<Vec<u64>, Vec<usize>>,
+    /// `A0`'s multipliers, and by the hash of their keys
+    /// (`Multipliers::key_hash`) their indices, ascending.
+    all: Multipliers,
+    keys: HashMap<u64, Vec<usize>>,
     decoupled: Vec<bool>,
 }
 
@@ -443,17 +477,18 @@ impl MultiplierIndex {
     /// the whole matrix).
     fn of(a0: Csc, n_disp: usize, extra0: Option<&[(usize, usize, f64)]>) -> Self {
         // Each key's multipliers in ascending order.
-        let mut keys: HashMap<Vec<u64>, Vec<usize>> = HashMap::default();
+        let mut keys: HashMap<u64, Vec<usize>> = HashMap::default();
         let all = match extra0 {
             Some(extra0) => Multipliers::of_list(extra0, n_disp, a0.n()),
             None => Multipliers::of(a0, n_disp),
         };
         for m in 0..all.len() {
-            keys.entry(all.key(m)).or_default().push(m);
+            keys.entry(all.key_hash(m)).or_default().push(m);
         }
         MultiplierIndex {
-            keys,
             decoupled: (0..all.len()).map(|m| all.decoupled(m)).collect(),
+            keys,
+            all,
         }
     }
 }
@@ -588,12 +623,11 @@ pub(super) fn solve(
     };
     let mut matched: Vec<Option<usize>> = Vec::with_capacity(new.len());
     let mut used = vec![false; n0 - nd];
-    let mut key = Vec::new();
     for m1 in 0..new.len() {
         // The first of A0's multipliers with the same key not taken yet.
-        new.key_into(m1, &mut key);
-        let m0 =
-            (index.keys.get(&key[..])).and_then(|list| list.iter().copied().find(|&m| !used[m]));
+        let m0 = (index.keys.get(&new.key_hash(m1))).and_then(|list| {
+            (list.iter().copied()).find(|&m| !used[m] && index.all.same_key(m, &new, m1))
+        });
         if let Some(m) = m0 {
             used[m] = true;
         }
