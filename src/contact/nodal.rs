@@ -108,7 +108,9 @@ pub(super) fn update_pair(
     if matches!(plan, Plan::Decide) {
         count_changes(pair, mem, &decisions, counters, log, out)?;
     }
-    let result = rows_and_results(at, &view, mem, &decisions, out)?;
+    // An inner solve's system serves its rows alone: no report.
+    let report = matches!(plan, Plan::Decide);
+    let result = rows_and_results(at, &view, mem, &decisions, out, report)?;
     out.decisions.push(decisions);
     out.active.push(view.active);
     Ok(result)
@@ -284,13 +286,16 @@ fn count_changes(
 /// Constraint rows and reported results: each node's memory after its
 /// decision (`remember`), the rows of Eq. (18) of each node in contact
 /// (`pairs::add_rows`, a sliding node's friction in its multiplier's
-/// column), and the pair's forces, states and tractions.
+/// column), and, with `report`, the pair's forces, states and tractions
+/// and the rigid targets' reactions (`ContactSystem::rigid`); without, an
+/// empty result.
 fn rows_and_results(
     at: &Iterate,
     view: &PairIterate,
     mem: &mut PairMemory,
     decisions: &[Decision],
     out: &mut ContactSystem,
+    report_results: bool,
 ) -> Result<PairResult, String> {
     let pair = view.pair;
     let mut report = Report::new(pair.contactor.len());
@@ -312,10 +317,17 @@ fn rows_and_results(
                 friction,
                 out,
             );
-            let f = view.contact_force(k);
-            node_force = report.contact(at, pair, k, f, cp, &mut out.rigid);
+            if report_results {
+                let f = view.contact_force(k);
+                node_force = report.contact(at, pair, k, f, cp, &mut out.rigid);
+            }
         }
-        report.node(view.x[k], d.state, node_force);
+        if report_results {
+            report.node(view.x[k], d.state, node_force);
+        }
+    }
+    if !report_results {
+        return Ok(PairResult::default());
     }
     // Lumped: each node's traction has the sign of its own force, which the
     // decisions above read (the consistent recovery of Eq. 26 spreads a
