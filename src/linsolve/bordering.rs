@@ -674,16 +674,18 @@ pub(super) fn solve(
     let mut added_iter = added.iter();
     let mut pending: Vec<(Change, Vec<f64>)> = Vec::new();
     for c in &changes {
+        let m =
+            matches!(c, Change::Added(_)).then(|| *added_iter.next().expect("one per added row"));
+        if base.solved.contains_key(c) {
+            continue;
+        }
         let mut e = column_of(c);
-        if let Change::Added(_) = c {
-            let m = *added_iter.next().expect("one per added row");
+        if let Some(m) = m {
             for &(i, v) in new.column(m) {
                 e[i] = v;
             }
         }
-        if !base.solved.contains_key(c) {
-            pending.push((c.clone(), e));
-        }
+        pending.push((c.clone(), e));
     }
     if !pending.is_empty() {
         let k = pending.len();
