@@ -202,6 +202,9 @@ pub struct Phases {
     /// Of those, the ones whose interior waited until an inner solve was
     /// accepted (`linsolve::Augmented::deferred_solves`).
     pub deferred: usize,
+    /// Of the bordered, those that read their system from the tangent and
+    /// the entries beside it (`linsolve::Augmented::split_solves`).
+    pub split_solves: usize,
     /// Newton iterations whose first solve took the last factor's trailing
     /// block instead of a factorization (a constant tangent, its contact
     /// rows changed on the trailing set alone).
@@ -233,7 +236,7 @@ impl Phases {
     /// `split` and the counts, one line (the CLI's `-v` and the benchmark).
     pub fn summary(&self) -> String {
         format!(
-            "{}; {} factorizations ({} LDLT, {} LU), {} bordered solves ({} on the trailing block, {} deferred, {} first of an iteration), {} symbolic analyses",
+            "{}; {} factorizations ({} LDLT, {} LU), {} bordered solves ({} on the trailing block, {} deferred, {} split, {} first of an iteration), {} symbolic analyses",
             self.split(),
             self.factorizations,
             self.ldlt,
@@ -241,6 +244,7 @@ impl Phases {
             self.bordered,
             self.trailing,
             self.deferred,
+            self.split_solves,
             self.reused,
             self.analyses
         )
@@ -502,6 +506,7 @@ impl Solver {
             bordered: self.augmented.bordered,
             trailing: self.augmented.trailing_solves,
             deferred: self.augmented.deferred_solves,
+            split_solves: self.augmented.split_solves,
             reused: self.times.reused,
             tangents: self.times.tangents,
         }
