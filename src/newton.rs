@@ -327,6 +327,9 @@ pub struct Solver {
     /// The last increment failed at its first solve because nothing held
     /// a body (`correction`).
     free_at_first_solve: bool,
+    /// The free nodes' search candidates of the inner solves' decisions
+    /// (`pairs::SearchCache`), for the increment.
+    search_cache: pairs::SearchCache,
     /// Nodes the inner solves opened or closed since `advance` last reset
     /// it (an increment they did not touch gains nothing from the fallback).
     inner_flips: usize,
@@ -450,6 +453,7 @@ impl Solver {
             sensitivity_factorizations: 0,
             iterate_opens: false,
             inner_flips: 0,
+            search_cache: pairs::SearchCache::default(),
             times: SolverTimes::default(),
             close_touching: false,
             free_at_first_solve: false,
@@ -898,6 +902,7 @@ impl Solver {
         // depends on its start state alone (a restored state continues bit
         // for bit).
         self.augmented.restart();
+        self.search_cache = pairs::SearchCache::default();
         let mut inc = self.predictor(t, from);
         for it in 0..=max_iterations {
             let eval = self.evaluate(&mut inc, it, log)?;
@@ -1672,7 +1677,7 @@ impl Solver {
     /// its solution `full` goes and the out-of-balance force it leaves at
     /// each dof (K du = r_c - C^T x - r).
     fn linearised_states(
-        &self,
+        &mut self,
         step: &Step,
         sys: &ContactSystem,
         full: &[f64],
@@ -1709,6 +1714,7 @@ impl Solver {
             sys,
             step.tolerance,
             step.settling || step.it == 0,
+            &mut self.search_cache,
         )
     }
 

@@ -647,6 +647,7 @@ pub(super) fn predict_pair(
     decisions: &[Decision],
     held: Option<&[bool]>,
     tolerance: [f64; 2],
+    (p, cache): (usize, &mut pairs::SearchCache),
 ) -> Result<Vec<(usize, Forced)>, String> {
     let frictionless = pair.mu_s == 0.0 && pair.mu_d == 0.0;
     let [force_tolerance, length_tolerance] = tolerance;
@@ -662,7 +663,7 @@ pub(super) fn predict_pair(
             // A free node the solve moves into the target closes.
             let x = pairs::position(problem, u_now, pair.contactor[k]);
             let reach = 2.0 * h + (x_new[k] - x).norm();
-            if let Some((j, cp)) = pairs::search(&segments, x_new[k], reach, false)
+            if let Some((j, cp)) = cache.search((p, k), &segments, x_new[k], reach)
                 && cp.normal_overlap() > length_tolerance
             {
                 let overlap = cp.normal_overlap();

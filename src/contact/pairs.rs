@@ -329,6 +329,61 @@ pub fn rigid_points(problem: &Problem, r: usize, pose: [f64; 3]) -> (Vec<[f64; 2
 /// A target's segments, shared: a rigid target's are kept per pose.
 pub(super) type Segments = Arc<TargetSet>;
 
+/// The candidates of the free nodes' searches in the linearised problem's
+/// decisions (`predict`), kept across an iteration's inner solves: per
+/// pair and node, a box twice the search's and the target's candidates in
+/// it. A later search whose box lies inside, on the same target segments,
+/// reads them (a superset of its own, each filtered by its box again, so
+/// it finds what a fresh search finds) instead of the grid (the
+/// capstan's free strip ends, 4 % of the FMU's time).
+#[derive(Default)]
+pub struct SearchCache(HashMap<(usize, usize), CachedBox>);
+
+struct CachedBox {
+    /// Held, so that the segments cannot be replaced at the same address.
+    segments: Segments,
+    lo: [f64; 2],
+    hi: [f64; 2],
+    candidates: Vec<u32>,
+}
+
+impl SearchCache {
+    /// `search` for node `k` of pair `p`.
+    pub(super) fn search(
+        &mut self,
+        (p, k): (usize, usize),
+        segments: &Segments,
+        x: Vector2<f64>,
+        reach: f64,
+    ) -> Option<(usize, ContactPoint)> {
+        let (lo, hi) = ([x.x - reach, x.y - reach], [x.x + reach, x.y + reach]);
+        let inside = |c: &CachedBox| {
+            Arc::ptr_eq(&c.segments, segments)
+                && (0..2).all(|a| c.lo[a] <= lo[a] && hi[a] <= c.hi[a])
+        };
+        if !(lo.iter().chain(&hi)).all(|v| v.is_finite()) {
+            return search(segments, x, reach, false);
+        }
+        if !self.0.get(&(p, k)).is_some_and(inside) {
+            let wide = 2.0 * reach;
+            let (lo, hi) = ([x.x - wide, x.y - wide], [x.x + wide, x.y + wide]);
+            let candidates = segments.candidates(lo, hi);
+            let segments = Arc::clone(segments);
+            (self.0).insert(
+                (p, k),
+                CachedBox {
+                    segments,
+                    lo,
+                    hi,
+                    candidates,
+                },
+            );
+        }
+        let cached = &self.0[&(p, k)];
+        search_among(segments, &cached.candidates, x, reach, false)
+    }
+}
+
 /// A target's segments with a uniform grid over their boxes, so that a
 /// search near a point visits the segments near it instead of all of them:
 /// the capstan's drum has 5120 chords against 129 contactor nodes, and the
@@ -370,7 +425,7 @@ impl TargetSet {
 
     /// The indices, ascending, of the segments whose boxes meet the box
     /// `[lo, hi]` (and maybe a few more near it).
-    fn candidates(&self, lo: [f64; 2], hi: [f64; 2]) -> Vec<u32> {
+    pub(super) fn candidates(&self, lo: [f64; 2], hi: [f64; 2]) -> Vec<u32> {
         match &self.grid {
             Some(g) => g.candidates(lo, hi, self.list.len()),
             None => (0..self.list.len() as u32).collect(),
@@ -675,10 +730,25 @@ pub(super) fn search(
     reach: f64,
     touching: bool,
 ) -> Option<(usize, ContactPoint)> {
+    let (lo, hi) = ([x.x - reach, x.y - reach], [x.x + reach, x.y + reach]);
+    search_among(segments, &segments.candidates(lo, hi), x, reach, touching)
+}
+
+/// `search` over `candidates` (ascending), any that hold those
+/// `TargetSet::candidates` gives for its box.
+fn search_among(
+    segments: &TargetSet,
+    candidates: &[u32],
+    x: Vector2<f64>,
+    reach: f64,
+    touching: bool,
+) -> Option<(usize, ContactPoint)> {
     let mut best: Option<(usize, ContactPoint)> = None;
     let mut wedge: Option<(usize, ContactPoint, f64)> = None;
-    let (lo, hi) = ([x.x - reach, x.y - reach], [x.x + reach, x.y + reach]);
-    for (j, s) in segments.visit(lo, hi) {
+    for (j, s) in candidates
+        .iter()
+        .map(|&j| (j as usize, &segments[j as usize]))
+    {
         if x.x < s.lo[0] - reach
             || x.x > s.hi[0] + reach
             || x.y < s.lo[1] - reach
@@ -934,6 +1004,7 @@ pub fn predict(
     system: &ContactSystem,
     tolerance: [f64; 2],
     settling: bool,
+    cache: &mut SearchCache,
 ) -> Result<Option<Switched>, String> {
     if system.decisions.len() != problem.contacts.len() {
         return Ok(None);
@@ -954,6 +1025,7 @@ pub fn predict(
             &system.decisions[p],
             settling.then_some(&system.active[p][..]),
             tolerance,
+            (p, cache),
         )?);
     }
     let switched = Switched(out);
@@ -2155,6 +2227,62 @@ mod tests {
         // Within its overlap of the end it is held at the end.
         let (_, cp) = search(&flat, Vector2::new(-0.005, -0.01), 1.0, false).unwrap();
         assert_eq!(cp.beta(), 1.0);
+    }
+
+    /// A node's searches through the cache (`SearchCache`) find what fresh
+    /// searches find, while the node wanders in small and large steps about
+    /// the capstan's drum with reaches that grow and shrink, and when the
+    /// segments are another set (a new pose): its candidates are read again.
+    #[test]
+    fn cached_searches_find_what_fresh_searches_find() {
+        let arc = |shift: f64| -> Vec<TargetSegment> {
+            (0..2000)
+                .map(|k| {
+                    let at = |k: usize| {
+                        let a = -0.4 + 3.9 * k as f64 / 2000.0;
+                        [100.0 * a.cos() + shift, 100.0 * a.sin()]
+                    };
+                    seg(at(k), at(k + 1))
+                })
+                .collect()
+        };
+        let sets = [
+            Arc::new(TargetSet::new(arc(0.0))),
+            Arc::new(TargetSet::new(arc(0.5))),
+        ];
+        let mut state = 777u64;
+        let mut random = move || {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let mut cache = SearchCache::default();
+        let mut x = Vector2::new(99.5, 3.0);
+        let (mut hits, mut found) = (0, 0);
+        for step in 0..4000 {
+            let big = random() < 0.05;
+            let d = if big { 3.0 } else { 0.02 };
+            x += Vector2::new(d * (2.0 * random() - 1.0), d * (2.0 * random() - 1.0));
+            let reach = [0.5, 1.0, 2.0, 5.0][(4.0 * random()) as usize % 4];
+            let segments = &sets[usize::from(step % 500 >= 250)];
+            let before = cache.0.get(&(0, 7)).map(|c| c.candidates.len());
+            let cached = cache.search((0, 7), segments, x, reach);
+            hits += usize::from(
+                before.is_some() && cache.0[&(0, 7)].candidates.len() == before.unwrap(),
+            );
+            found += usize::from(cached.is_some());
+            assert_eq!(
+                cached,
+                search(segments, x, reach, false),
+                "at {x:?}, reach {reach}"
+            );
+        }
+        // Both paths taken, and contacts found as well as not.
+        assert!(
+            hits > 1000 && found > 100 && found < 3900,
+            "{hits} hits, {found} found"
+        );
     }
 
     /// The grid only narrows the candidates: `search`, `follow` and the
