@@ -15,6 +15,7 @@ use faer::sparse::linalg::amd;
 use faer::sparse::linalg::cholesky::{
     CholeskySymbolicParams, SymbolicCholesky, SymmetricOrdering, factorize_symbolic_cholesky,
 };
+use faer::sparse::linalg::lu::{LuRef, NumericLu, SymbolicLu as LuSymbolic};
 use faer::sparse::linalg::solvers::{Lu, SymbolicLu};
 use faer::sparse::{FaerError, SparseColMatRef, SymbolicSparseColMat, SymbolicSparseColMatRef};
 use faer::{Conj, Mat, MatMut, Par, Side};
@@ -238,7 +239,8 @@ struct Analysis {
     /// An unsymmetric system of this pattern failed on the tangent's LDLT
     /// with every slot empty (`Augmented::solve_kept`): LU for the rest.
     split_failed: bool,
-    lu: Option<SymbolicLu<usize>>,
+    /// LU's symbolic analysis and its factorization's workspace.
+    lu: Option<(LuSymbolic<usize>, MemBuffer)>,
     /// Unknowns of the trailing set eliminated last by the LDLT analysis
     /// (`trailing`), 0 without one.
     trailing: usize,
@@ -383,6 +385,10 @@ pub struct Augmented {
     pub trailing_solves: usize,
     /// Of those, the deferred ones (`solve_modified_watching`).
     pub deferred_solves: usize,
+    /// The numeric LU factor of the last system `solve` factored by LU
+    /// (`Kept::Lu`), its arrays kept for the next.
+    lu_numeric: NumericLu<usize, f64>,
+    lu_order: usize,
     /// Bordered solves that read their system from the tangent and its
     /// entries beside it (`bordering::Split`: the tangent counted the
     /// factored system's, `new_tangent`).
@@ -431,7 +437,8 @@ enum Kept {
     /// With the Schur complement onto the trailing set when the analysis
     /// has one (`trailing`).
     Ldlt(bordering::Base, Option<(faer::Mat<f64>, Vec<f64>)>),
-    Lu(Box<Lu<usize, f64>>, bordering::Base),
+    /// The factor is `Augmented::lu_numeric` on its analysis's symbolic.
+    Lu(bordering::Base),
 }
 
 /// Largest normwise backward error `|b - A x|_inf / (|A|_inf |x|_inf +
@@ -883,20 +890,42 @@ impl Augmented {
         if analysis.lu.is_none() {
             let clock = Instant::now();
             self.analyses += 1;
-            let lu = SymbolicLu::try_new(analysis.mat.as_ref())
+            let lu = faer::sparse::linalg::lu::factorize_symbolic_lu(
+                analysis.mat.as_ref(),
+                Default::default(),
+            )
+            .map_err(|e| LinearError::Factorization(format!("{e:?}")))?;
+            let req = lu.factorize_numeric_lu_scratch::<f64>(Par::Seq, Default::default());
+            let mem = MemBuffer::try_new(req)
                 .map_err(|e| LinearError::Factorization(format!("{e:?}")))?;
-            analysis.lu = Some(lu);
+            analysis.lu = Some((lu, mem));
+            self.lu_order = usize::MAX;
             self.times.symbolic += clock.elapsed();
         }
         let clock = Instant::now();
-        let lu = analysis.lu.clone().expect("set above");
+        let (lu, mem) = analysis.lu.as_mut().expect("set above");
         let mat = SparseColMatRef::new(analysis.mat.as_ref(), &self.values);
         self.factorizations += 1;
-        let f = Lu::try_new_with_symbolic(lu, mat)
+        // Into the kept factor's arrays (the last factor is replaced: the
+        // kept system is this one from here on), on the same analysis:
+        // faer keeps the column pointers of a larger factor it refills.
+        self.kept = None;
+        if self.lu_order != n {
+            self.lu_numeric = NumericLu::new();
+            self.lu_order = n;
+        }
+        let f = lu
+            .factorize_numeric_lu(
+                &mut self.lu_numeric,
+                mat,
+                Par::Seq,
+                MemStack::new(mem),
+                Default::default(),
+            )
             .map_err(|e| LinearError::Factorization(format!("{e:?}")))?;
         self.times.numeric += clock.elapsed();
         let clock = Instant::now();
-        f.solve_in_place(MatMut::from_column_major_slice_mut(rhs, n, 1));
+        lu_solve(f, rhs, 1);
         self.times.solve += clock.elapsed();
         if rhs.iter().any(|v| !v.is_finite()) {
             return Err(LinearError::NonFinite);
@@ -905,7 +934,7 @@ impl Augmented {
         self.last = Some(Method::Lu);
         let base = bordering::Base::new(n, n_disp, b, rhs.to_vec());
         let base = on_tangent(base, extra0);
-        self.kept = Some(Kept::Lu(Box::new(f), base));
+        self.kept = Some(Kept::Lu(base));
         Ok(false)
     }
 
@@ -953,7 +982,7 @@ impl Augmented {
             };
             let n = rhs.len();
             let base = match kept {
-                Kept::Ldlt(base, _) | Kept::Lu(_, base) => &*base,
+                Kept::Ldlt(base, _) | Kept::Lu(base) => &*base,
             };
             // On the factored system's tangent the system is read from its
             // entries beside it; else built whole.
@@ -1021,11 +1050,14 @@ impl Augmented {
                     };
                     bordering::solve(base, a0, a1, rhs, max_rank, &mut solve0)
                 }
-                Kept::Lu(lu, base) => {
-                    let rows = a0.col_ptr.len() - 1;
+                Kept::Lu(base) => {
+                    let Some((symbolic, _)) = analysis.and_then(|a| a.lu.as_ref()) else {
+                        return false;
+                    };
+                    let numeric = &self.lu_numeric;
                     let mut solve0 = |block: &mut [f64], cols: usize| {
                         *columns += cols;
-                        lu.solve_in_place(MatMut::from_column_major_slice_mut(block, rows, cols));
+                        lu_solve(LuRef::new_unchecked(symbolic, numeric), block, cols);
                         true
                     };
                     bordering::solve(base, a0, a1, rhs, max_rank, &mut solve0)
@@ -1584,6 +1616,19 @@ fn summed(mut e: Vec<(usize, usize, f64)>) -> Vec<(usize, usize, f64)> {
         }
     }
     out
+}
+
+/// Solves `A X = B` in place with the LU factor `f`, `B` of `cols`
+/// columns (column-major).
+fn lu_solve(f: LuRef<'_, usize, f64>, b: &mut [f64], cols: usize) {
+    let rows = f.symbolic().nrows();
+    let req = f.symbolic().solve_in_place_scratch::<f64>(cols, Par::Seq);
+    f.solve_in_place_with_conj(
+        Conj::No,
+        MatMut::from_column_major_slice_mut(b, rows, cols),
+        Par::Seq,
+        MemStack::new(&mut MemBuffer::new(req)),
+    );
 }
 
 /// Sorts entries (row, column, value) by column, then row, as

@@ -1066,10 +1066,21 @@ fn timing_ldlt_against_lu() {
                 .unwrap();
         });
         let a_lu = lu.analysis.as_ref().unwrap();
-        let sym_lu = a_lu.lu.clone().unwrap();
+        let sym_lu = &a_lu.lu.as_ref().unwrap().0;
         let mat_lu = SparseColMatRef::new(a_lu.mat.as_ref(), &lu.values);
+        let mut numeric = NumericLu::new();
+        let req = sym_lu.factorize_numeric_lu_scratch::<f64>(Par::Seq, Default::default());
+        let mut mem_lu = MemBuffer::new(req);
         let num_lu = best(reps, &mut || {
-            Lu::try_new_with_symbolic(sym_lu.clone(), mat_lu).unwrap();
+            sym_lu
+                .factorize_numeric_lu(
+                    &mut numeric,
+                    mat_lu,
+                    Par::Seq,
+                    MemStack::new(&mut mem_lu),
+                    Default::default(),
+                )
+                .unwrap();
         });
         // Reference: LLT of K alone (the notes' table).
         let ks =
