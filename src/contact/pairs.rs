@@ -2229,6 +2229,18 @@ mod tests {
         assert_eq!(cp.beta(), 1.0);
     }
 
+    /// Numbers uniform in [0, 1) from `seed` (a linear congruential
+    /// generator: the tests' points and reaches, the same at every run).
+    fn uniform(seed: u64) -> impl FnMut() -> f64 {
+        let mut state = seed;
+        move || {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        }
+    }
+
     /// A node's searches through the cache (`SearchCache`) find what fresh
     /// searches find, while the node wanders in small and large steps about
     /// the capstan's drum with reaches that grow and shrink, and when the
@@ -2250,13 +2262,7 @@ mod tests {
             Arc::new(TargetSet::new(arc(0.0))),
             Arc::new(TargetSet::new(arc(0.5))),
         ];
-        let mut state = 777u64;
-        let mut random = move || {
-            state = state
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (state >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut random = uniform(777);
         let mut cache = SearchCache::default();
         let mut x = Vector2::new(99.5, 3.0);
         let (mut hits, mut found) = (0, 0);
@@ -2309,13 +2315,7 @@ mod tests {
                 seg([k as f64 * 0.1, y(k)], [(k + 1) as f64 * 0.1, y(k + 1)])
             })
             .collect();
-        let mut state = 12345u64;
-        let mut random = move || {
-            state = state
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (state >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut random = uniform(12345);
         for (list, centre, size) in [
             (arc, [0.0, 0.0], 110.0),
             (wall, [1.0, 32.0], 40.0),
