@@ -75,13 +75,7 @@ impl Csc<'_> {
 
     /// `|A|_inf`, the largest row sum of magnitudes.
     fn norm_inf(&self) -> f64 {
-        let mut rows = vec![0.0f64; self.n()];
-        for j in 0..self.n() {
-            for (i, v) in self.column(j) {
-                rows[i] += v.abs();
-            }
-        }
-        inf(&rows)
+        inf(&row_magnitudes(*self))
     }
 }
 
@@ -240,65 +234,22 @@ struct Multipliers {
 
 impl Multipliers {
     /// The multipliers of `a`, whose first `n_disp` unknowns are
-    /// displacements.
+    /// displacements: its entries outside the displacement block, in
+    /// column order (a CSC form has no duplicates), as `of_list` reads them.
     fn of(a: Csc, n_disp: usize) -> Self {
         let n = a.n();
-        let m = n - n_disp.min(n);
-        // The multipliers' rows lie at the end of the displacement columns
-        // (rows sorted): counted, then placed, column by column, so each
-        // row's entries come in column order.
-        let tail = |j: usize| {
+        let mut entries = Vec::new();
+        for j in 0..n {
             let (p, q) = (a.col_ptr[j], a.col_ptr[j + 1]);
-            p + a.row_idx[p..q].partition_point(|&i| i < n_disp)..q
-        };
-        let mut row_at = vec![0usize; m + 1];
-        for j in 0..n_disp {
-            for p in tail(j) {
-                row_at[a.row_idx[p] - n_disp + 1] += 1;
-            }
+            // Rows sorted: a displacement column's multiplier rows last.
+            let from = if j < n_disp {
+                p + a.row_idx[p..q].partition_point(|&i| i < n_disp)
+            } else {
+                p
+            };
+            entries.extend((from..q).map(|t| (a.row_idx[t], j, a.values[t])));
         }
-        for k in 0..m {
-            row_at[k + 1] += row_at[k];
-        }
-        let mut next = row_at.clone();
-        let mut rows = vec![(0usize, 0.0f64); row_at[m]];
-        for j in 0..n_disp {
-            for p in tail(j) {
-                let k = a.row_idx[p] - n_disp;
-                rows[next[k]] = (j, a.values[p]);
-                next[k] += 1;
-            }
-        }
-        let mut column_at = Vec::with_capacity(m + 1);
-        let mut columns = Vec::new();
-        let mut diagonal = vec![0.0; m];
-        column_at.push(0);
-        for k in 0..m {
-            for (i, v) in a.column(n_disp + k) {
-                if i < n_disp {
-                    columns.push((i, v));
-                } else if i == n_disp + k {
-                    diagonal[k] = v;
-                } else {
-                    // Multipliers are coupled only through the displacements.
-                    diagonal[k] = f64::NAN;
-                }
-            }
-            column_at.push(columns.len());
-        }
-        Multipliers {
-            row_at,
-            rows,
-            column_at,
-            columns,
-            diagonal,
-        }
-    }
-
-    /// The multipliers of a `Split` system, as `of` finds them in its
-    /// CSC form.
-    fn of_entries(a: Split) -> Self {
-        Self::of_list(a.extra, a.k.n(), a.n)
+        Self::of_list(&entries, n_disp, n)
     }
 
     /// The multipliers of the order-`n` matrix whose entries beside its
@@ -619,7 +570,7 @@ pub(super) fn solve(
     // Multipliers: matched by key, released, added.
     let new = match a1 {
         System::Built(a1) => Multipliers::of(a1, nd),
-        System::Split(a1) => Multipliers::of_entries(a1),
+        System::Split(a1) => Multipliers::of_list(a1.extra, a1.k.n(), a1.n),
     };
     let mut matched: Vec<Option<usize>> = Vec::with_capacity(new.len());
     let mut used = vec![false; n0 - nd];
