@@ -1602,9 +1602,6 @@ impl Solver {
             let Some((sys, rhs_base)) = system.as_ref().zip(rhs_base).filter(|_| more) else {
                 break self.finish_inner(partial, full, extra)?;
             };
-            if std::env::var_os("C2D_DEBUG").is_some() {
-                eprintln!("PREDICT t={t} it={it} inner={inner}");
-            }
             let clock = Instant::now();
             let predicted = self.linearised_states(step, sys, &full, memory);
             self.times.contact += clock.elapsed();

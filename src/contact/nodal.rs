@@ -705,12 +705,6 @@ pub(super) fn predict_pair(
                 let slip =
                     t.dot(&(seg.seg.project(x_new[k]).point() - anchor.seg.point_at(beta_a)));
                 if d.slip_sign * slip < -length_tolerance {
-                    if std::env::var_os("C2D_DEBUG").is_some() {
-                        eprintln!(
-                            "  node {k} sign {} slip {slip:.3e} tol {length_tolerance:.3e} q {q:.4e} pn {p_n:.4e}",
-                            d.slip_sign
-                        );
-                    }
                     out.push((k, Forced::Stick));
                 }
             }
