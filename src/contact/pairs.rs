@@ -330,7 +330,7 @@ pub fn rigid_points(problem: &Problem, r: usize, pose: [f64; 3]) -> (Vec<[f64; 2
 pub(super) type Segments = Arc<TargetSet>;
 
 /// The candidates of the free nodes' searches in the linearised problem's
-/// decisions (`predict`), kept across an iteration's inner solves: per
+/// decisions (`predict`), kept across an increment's inner solves: per
 /// pair and node, a box twice the search's and the target's candidates in
 /// it. A later search whose box lies inside, on the same target segments,
 /// reads them (a superset of its own, each filtered by its box again, so
