@@ -383,8 +383,13 @@ pub struct Augmented {
     pub bordered: usize,
     /// Of those, the solves on the factor's trailing block (`trailing`).
     pub trailing_solves: usize,
-    /// Of those, the deferred ones (`solve_modified_watching`).
+    /// Of those, the deferred ones (`solve_modified_watching`): on the
+    /// trailing block, the interior left; bordered, the refinement left.
     pub deferred_solves: usize,
+    /// The right-hand side of the last bordered solve and its largest
+    /// number of changes, when it was not refined (`bordering::solve`'s
+    /// `defer`).
+    bordered_pending: Option<(Vec<f64>, usize)>,
     /// The numeric LU factor of the last system `solve` factored by LU
     /// (`Kept::Lu`), its arrays kept for the next.
     lu_numeric: NumericLu<usize, f64>,
@@ -516,6 +521,7 @@ impl Augmented {
     ) -> Result<(), LinearError> {
         self.kept = None;
         self.trailing_work.pending = None;
+        self.bordered_pending = None;
         let clock = Instant::now();
         let n = rhs.len();
         let n_disp = pattern.n.min(n);
@@ -972,11 +978,16 @@ impl Augmented {
         max_rank: usize,
         watch: Option<&[usize]>,
     ) -> bool {
+        self.bordered_pending = None;
         if self.solve_on_trailing_block(pattern, k, extra, rhs, watch) {
             return true;
         }
         let clock = Instant::now();
-        let mut border = || -> bool {
+        // Unrefined while another inner solve may follow (`watch`): its
+        // right-hand side kept to solve it again refined (`complete`).
+        let defer = watch.is_some();
+        let b = defer.then(|| rhs.to_vec());
+        let border = || -> bool {
             let Some(kept) = self.kept.as_mut() else {
                 return false;
             };
@@ -1048,7 +1059,7 @@ impl Augmented {
                         );
                         true
                     };
-                    bordering::solve(base, a0, a1, rhs, max_rank, &mut solve0)
+                    bordering::solve(base, a0, a1, rhs, max_rank, defer, &mut solve0)
                 }
                 Kept::Lu(base) => {
                     let Some((symbolic, _)) = analysis.and_then(|a| a.lu.as_ref()) else {
@@ -1060,11 +1071,15 @@ impl Augmented {
                         lu_solve(LuRef::new_unchecked(symbolic, numeric), block, cols);
                         true
                     };
-                    bordering::solve(base, a0, a1, rhs, max_rank, &mut solve0)
+                    bordering::solve(base, a0, a1, rhs, max_rank, defer, &mut solve0)
                 }
             };
             match outcome {
-                Ok(_) => {
+                Ok(refined) => {
+                    if !refined {
+                        self.bordered_pending = b.map(|b| (b, max_rank));
+                        self.deferred_solves += 1;
+                    }
                     self.bordered += 1;
                     self.split_solves += usize::from(matches!(a1, bordering::System::Split(_)));
                     true
@@ -1113,12 +1128,15 @@ impl Augmented {
 
     /// Whether the last solve was deferred (`solve_modified_watching`).
     pub fn deferred(&self) -> bool {
-        self.trailing_work.pending.is_some()
+        self.trailing_work.pending.is_some() || self.bordered_pending.is_some()
     }
 
     /// The right-hand side of the deferred last solve, in the caller's
     /// order (to solve its system again another way).
     pub fn deferred_rhs(&self) -> Option<Vec<f64>> {
+        if let Some((b, _)) = &self.bordered_pending {
+            return Some(b.clone());
+        }
         let p = self.trailing_work.pending.as_ref()?;
         let n_disp = self.analysis.as_ref()?.n_disp;
         let mut rhs = p.b[..n_disp].to_vec();
@@ -1131,7 +1149,21 @@ impl Augmented {
     /// refinement and the backward error check of every trailing solve.
     /// False when it fails the check (then `solve` the system) or nothing
     /// is deferred.
-    pub fn complete(&mut self, pattern: &Pattern, k: &[f64], rhs: &mut [f64]) -> bool {
+    pub fn complete(
+        &mut self,
+        pattern: &Pattern,
+        k: &[f64],
+        extra: &mut [(usize, usize, f64)],
+        rhs: &mut [f64],
+    ) -> bool {
+        // An unrefined bordered solve: solved again, refined.
+        if let Some((mut x, max_rank)) = self.bordered_pending.take() {
+            if !self.solve_modified(pattern, k, extra, &mut x, max_rank) {
+                return false;
+            }
+            rhs.copy_from_slice(&x);
+            return true;
+        }
         let clock = Instant::now();
         let Some(pending) = self.trailing_work.pending.take() else {
             return false;

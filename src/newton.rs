@@ -1536,7 +1536,8 @@ impl Solver {
             // Another inner solve may follow this one: the linearised
             // problem's decisions read the contact nodes' motion alone, so
             // an inner solve on the factor's trailing block leaves the
-            // interior until one is accepted (`finish_inner`).
+            // interior, and a bordered one its step of refinement, until
+            // one is accepted (`finish_inner`).
             let more = inner_solves && inner < MAX_INNER && system.is_some() && rhs_base.is_some();
             let watch = more.then_some(&self.contact_eqs[..]);
             // An inner solve borders the iteration's factorization with the
@@ -1658,7 +1659,7 @@ impl Solver {
             return Ok(full);
         }
         let rhs = self.augmented.deferred_rhs();
-        if (self.augmented).complete(&self.model.pattern, &self.k, &mut full) {
+        if (self.augmented).complete(&self.model.pattern, &self.k, extra, &mut full) {
             return Ok(full);
         }
         let mut x = rhs.ok_or("a deferred solve without its right-hand side")?;

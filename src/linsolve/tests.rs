@@ -747,7 +747,10 @@ fn deferred_trailing_solves_give_the_watched_unknowns_then_the_solution() {
     let mut extra = border(n_disp, &rows);
     let mut x = rhs(n_disp + rows.len(), &mut Rng(3));
     aug.solve(&p, &k, &mut extra, &mut x).unwrap();
-    assert!(!aug.complete(&p, &k, &mut x), "nothing deferred");
+    assert!(
+        !aug.complete(&p, &k, &mut extra, &mut x),
+        "nothing deferred"
+    );
     // Watched: a contact dof and a few dofs away from the rows (their
     // values need the supernodes above theirs).
     let contact_dof = rows[0][0].0;
@@ -767,7 +770,7 @@ fn deferred_trailing_solves_give_the_watched_unknowns_then_the_solution() {
     let unsolved = partial[..n_disp].iter().filter(|v| v.is_nan()).count();
     assert!(unsolved > 0, "every interior unknown solved");
     let mut x = partial.clone();
-    assert!(aug.complete(&p, &k, &mut x));
+    assert!(aug.complete(&p, &k, &mut extra, &mut x));
     assert!(!aug.deferred());
     let r = residual(&a, &x, &b);
     assert!(r < 1e-10, "residual {r:e}");
@@ -789,8 +792,84 @@ fn deferred_trailing_solves_give_the_watched_unknowns_then_the_solution() {
     let mut z = b.clone();
     assert!(aug.solve_modified(&p, &k, &mut extra, &mut z, 16));
     assert!(!aug.deferred());
-    assert!(!aug.complete(&p, &k, &mut y));
+    assert!(!aug.complete(&p, &k, &mut extra, &mut y));
     assert!(residual(&a, &z, &b) < 1e-10);
+}
+
+/// A bordered inner solve that another may follow (`watch`) is taken
+/// unrefined (`bordering::solve`'s `defer`): it is the refined solution to
+/// round-off, `deferred` says so and keeps its right-hand side, and
+/// `complete` solves it again refined, bit for bit the solve without
+/// `watch`; a later solve drops what was deferred. On LU (an unsymmetric
+/// row, a sliding node's multiplier column) and on LDLT, each with the
+/// system built whole and read from the entries beside the tangent.
+#[test]
+fn deferred_bordered_solves_are_refined_when_completed() {
+    let mut rng = Rng(23);
+    let (p, k) = q4(9, 8, true);
+    let rows = contact_rows(9, 8, 6, &mut rng);
+    let n_disp = p.n;
+    for (force_lu, counted) in [(false, false), (false, true), (true, false), (true, true)] {
+        let case = format!("LU {force_lu}, counted {counted}");
+        let mut aug = Augmented {
+            force_lu,
+            border_only: true,
+            ..Augmented::with_slots(false)
+        };
+        if counted {
+            aug.new_tangent();
+        }
+        let mut extra = border(n_disp, &rows[..5]);
+        let mut x = rhs(n_disp + 5, &mut Rng(4));
+        aug.solve(&p, &k, &mut extra, &mut x).unwrap();
+        // Rows 1 and 3 released, row 5 added; on LU its column is not its
+        // row (friction).
+        let new_rows: Rows = [0, 2, 4].map(|i| rows[i].clone()).to_vec();
+        let mut extra = border(n_disp, &new_rows);
+        let m5 = n_disp + new_rows.len();
+        let skew = if force_lu { 0.7 } else { 1.0 };
+        for &(d, c) in &rows[5] {
+            extra.push((m5, d, c));
+            extra.push((d, m5, skew * c));
+        }
+        let b = rhs(m5 + 1, &mut Rng(5));
+        let a = dense(&p, &k, &extra, b.len());
+        let watch: Vec<usize> = rows.iter().flatten().map(|&(d, _)| d).collect();
+        let mut unrefined = b.clone();
+        let before = aug.deferred_solves;
+        assert!(
+            aug.solve_modified_watching(&p, &k, &mut extra, &mut unrefined, 16, Some(&watch)),
+            "{case}: not bordered"
+        );
+        assert_eq!(aug.deferred_solves, before + 1, "{case}");
+        assert!(aug.deferred(), "{case}");
+        assert_eq!(aug.deferred_rhs().as_deref(), Some(&b[..]), "{case}");
+        let r = residual(&a, &unrefined, &b);
+        assert!(r < 1e-10, "{case}: unrefined residual {r:e}");
+        // Completed: the refined solve, bit for bit.
+        let mut refined = unrefined.clone();
+        assert!(aug.complete(&p, &k, &mut extra, &mut refined), "{case}");
+        assert!(!aug.deferred(), "{case}");
+        let mut direct = b.clone();
+        assert!(aug.solve_modified(&p, &k, &mut extra, &mut direct, 16));
+        assert!(!aug.deferred(), "{case}: a solve without watch deferred");
+        assert_eq!(refined, direct, "{case}");
+        let scale = direct.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        for (i, (u, d)) in unrefined.iter().zip(&direct).enumerate() {
+            assert!(
+                (u - d).abs() <= 1e-10 * scale,
+                "{case}: unknown {i}: {u} against {d}"
+            );
+        }
+        // Deferred again, then a factored solve: nothing left to complete.
+        let mut y = b.clone();
+        assert!(aug.solve_modified_watching(&p, &k, &mut extra, &mut y, 16, Some(&watch)));
+        assert!(aug.deferred(), "{case}");
+        let mut z = b.clone();
+        aug.solve(&p, &k, &mut extra, &mut z).unwrap();
+        assert!(!aug.deferred(), "{case}");
+        assert!(!aug.complete(&p, &k, &mut extra, &mut y), "{case}");
+    }
 }
 
 /// The symmetry test against the dense definition on random sparse
