@@ -1150,11 +1150,12 @@ impl Augmented {
         Some(rhs)
     }
 
-    /// Finishes the deferred last solve into `rhs` (`pattern` and `k` as
-    /// given to it): the interior's back substitution, one step of
-    /// refinement and the backward error check of every trailing solve.
-    /// False when it fails the check (then `solve` the system) or nothing
-    /// is deferred.
+    /// Finishes the deferred last solve into `rhs` (`pattern`, `k` and
+    /// `extra` as given to it): on the trailing block, the interior's back
+    /// substitution, one step of refinement and the backward error check of
+    /// every trailing solve; bordered, the system solved again with its
+    /// refinement. False when it fails the check (then `solve` the system)
+    /// or nothing is deferred.
     pub fn complete(
         &mut self,
         pattern: &Pattern,
