@@ -50,8 +50,8 @@ fn main() {
     }
     println!("Hertz (plane strain, q4), pressed to uy = -0.07 in one increment");
     println!(
-        "{:>5} {:>8} {:>3} {:>4} {:>11} {:>9} {:>9} {:>9} {:>6}  phases (% of the increment)                            rms/p0",
-        "div", "unknowns", "it", "fac", "ldlt/lu/bd(tr)", "incr s", "s/it", "s/fac", "it/fac"
+        "{:>5} {:>8} {:>3} {:>4} {:>18} {:>9} {:>9} {:>9} {:>6}  phases (% of the increment)                            rms/p0",
+        "div", "unknowns", "it", "fac", "ldlt/lu/ldu/bd(tr)", "incr s", "s/it", "s/fac", "it/fac"
     );
     let mut sizes = vec![38, 120, 380];
     if full {
@@ -96,11 +96,14 @@ fn hertz(div: usize, friction: bool) {
     let per_it = total / step.iterations.max(1) as f64;
     let per_fac = p.linear.numeric.as_secs_f64() / p.factorizations.max(1) as f64;
     println!(
-        "{div:>5} {:>8} {:>3} {:>4} {:>11} {total:>9.3} {per_it:>9.4} {per_fac:>9.4} {:>6.2}  {}  {:.2e}",
+        "{div:>5} {:>8} {:>3} {:>4} {:>18} {total:>9.3} {per_it:>9.4} {per_fac:>9.4} {:>6.2}  {}  {:.2e}",
         solver.dofs(),
         step.iterations,
         p.factorizations,
-        format!("{}/{}/{}({})", p.ldlt, p.lu, p.bordered, p.trailing),
+        format!(
+            "{}/{}/{}/{}({})",
+            p.ldlt, p.lu, p.ldu, p.bordered, p.trailing
+        ),
         per_it / per_fac,
         p.split(),
         h.rms,

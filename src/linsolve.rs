@@ -39,6 +39,9 @@ pub enum Method {
     /// Sparse LDLT without pivoting (the symmetric bordered system).
     Ldlt,
     Lu,
+    /// Sparse LDU without pivoting (the unsymmetric bordered system of a
+    /// small or mid-size scene, `ldu`).
+    Ldu,
 }
 
 enum Factor {
@@ -241,6 +244,13 @@ struct Analysis {
     split_failed: bool,
     /// LU's symbolic analysis and its factorization's workspace.
     lu: Option<(LuSymbolic<usize>, MemBuffer)>,
+    /// The unpivoted LDU's analysis (`ldu`), made on the first unsymmetric
+    /// system of the pattern; None with `ldu_failed`.
+    ldu: Option<ldu::Symbolic>,
+    /// The LDU does not serve this pattern (its factor too dense for its
+    /// scalar loops, or a solve failed its checks): LU until the pattern
+    /// changes.
+    ldu_failed: bool,
     /// Unknowns of the trailing set eliminated last by the LDLT analysis
     /// (`trailing`), 0 without one.
     trailing: usize,
@@ -376,6 +386,11 @@ pub struct Augmented {
     pub ldlt: usize,
     /// Solves done by LU.
     pub lu: usize,
+    /// Solves done by the unpivoted LDU (`ldu`).
+    pub ldu: usize,
+    /// The numeric LDU factor of the last system `solve` factored by it
+    /// (`Kept::Ldu`).
+    ldu_numeric: ldu::Numeric,
     /// The last factorization, kept for `solve_modified`.
     kept: Option<Kept>,
     /// Solves done with the kept factorization of another system
@@ -444,6 +459,8 @@ enum Kept {
     Ldlt(bordering::Base, Option<(faer::Mat<f64>, Vec<f64>)>),
     /// The factor is `Augmented::lu_numeric` on its analysis's symbolic.
     Lu(bordering::Base),
+    /// The factor is `Augmented::ldu_numeric` on its analysis's `ldu`.
+    Ldu(bordering::Base),
 }
 
 /// Largest normwise backward error `|b - A x|_inf / (|A|_inf |x|_inf +
@@ -627,6 +644,8 @@ impl Augmented {
                 ldlt_failed: false,
                 split_failed: false,
                 lu: None,
+                ldu: None,
+                ldu_failed: false,
                 trailing: 0,
                 slots: slots.into_owned(),
             });
@@ -899,6 +918,10 @@ impl Augmented {
             }
         }
 
+        if !symmetric && self.try_ldu(n_disp, rhs, &b, extra0) {
+            return Ok(false);
+        }
+        let analysis = self.analysis.as_mut().expect("set above");
         if analysis.lu.is_none() {
             let clock = Instant::now();
             self.analyses += 1;
@@ -999,7 +1022,7 @@ impl Augmented {
             };
             let n = rhs.len();
             let base = match kept {
-                Kept::Ldlt(base, _) | Kept::Lu(base) => &*base,
+                Kept::Ldlt(base, _) | Kept::Lu(base) | Kept::Ldu(base) => &*base,
             };
             // On the factored system's tangent the system is read from its
             // entries beside it; else built whole.
@@ -1075,6 +1098,18 @@ impl Augmented {
                     let mut solve0 = |block: &mut [f64], cols: usize| {
                         *columns += cols;
                         lu_solve(LuRef::new_unchecked(symbolic, numeric), block, cols);
+                        true
+                    };
+                    bordering::solve(base, a0, a1, rhs, max_rank, defer, &mut solve0)
+                }
+                Kept::Ldu(base) => {
+                    let Some(symbolic) = analysis.and_then(|a| a.ldu.as_ref()) else {
+                        return false;
+                    };
+                    let numeric = &self.ldu_numeric;
+                    let mut solve0 = |block: &mut [f64], cols: usize| {
+                        *columns += cols;
+                        symbolic.solve(numeric, block, cols);
                         true
                     };
                     bordering::solve(base, a0, a1, rhs, max_rank, defer, &mut solve0)
@@ -1657,6 +1692,91 @@ fn summed(mut e: Vec<(usize, usize, f64)>) -> Vec<(usize, usize, f64)> {
     out
 }
 
+impl Augmented {
+    /// The unsymmetric system `values` over the kept analysis factored by
+    /// the unpivoted LDU and solved in place (`solve_kept`), checked and
+    /// refined as the unpivoted LDLT is (`refined_ldlt_solve`): false, the
+    /// system and `rhs` as given, when the pattern's factor is too dense
+    /// for it or the solve fails its checks (then LU, as for the rest of
+    /// the pattern).
+    fn try_ldu(
+        &mut self,
+        n_disp: usize,
+        rhs: &mut [f64],
+        b: &[f64],
+        extra0: &[(usize, usize, f64)],
+    ) -> bool {
+        if self.force_lu {
+            return false;
+        }
+        let Some(analysis) = self.analysis.as_mut().filter(|a| !a.ldu_failed) else {
+            return false;
+        };
+        let n = rhs.len();
+        if analysis.ldu.is_none() {
+            let clock = Instant::now();
+            self.analyses += 1;
+            let usable = self
+                .disp_order
+                .as_ref()
+                .is_some_and(|(f, _)| f.len() == n_disp)
+                || amd_of_block(analysis.mat.as_ref(), n_disp)
+                    .map(|o| self.disp_order = Some(o))
+                    .is_ok();
+            let symbolic = usable.then(|| {
+                let (disp, _) = self.disp_order.as_ref().expect("set above");
+                ldu::Symbolic::new(analysis.mat.as_ref(), n_disp, disp)
+            });
+            self.times.symbolic += clock.elapsed();
+            match symbolic.filter(|s| s.flops_per_entry() <= LDU_FLOPS_PER_ENTRY) {
+                Some(s) => analysis.ldu = Some(s),
+                None => {
+                    analysis.ldu_failed = true;
+                    return false;
+                }
+            }
+        }
+        let symbolic = analysis.ldu.as_ref().expect("set above");
+        let clock = Instant::now();
+        self.factorizations += 1;
+        self.kept = None;
+        let factored = symbolic.factor(&self.values, &mut self.ldu_numeric);
+        self.times.numeric += clock.elapsed();
+        let clock = Instant::now();
+        let a = SparseColMatRef::new(analysis.mat.as_ref(), &self.values);
+        let numeric = &self.ldu_numeric;
+        let solved = factored
+            && refined_solve(
+                |x: &mut [f64]| symbolic.solve(numeric, x, 1),
+                n_disp,
+                a,
+                b,
+                &mut self.x,
+                !self.decoupled,
+            );
+        self.times.solve += clock.elapsed();
+        if !solved {
+            analysis.ldu_failed = true;
+            return false;
+        }
+        rhs.copy_from_slice(&self.x);
+        self.ldu += 1;
+        self.last = Some(Method::Ldu);
+        let base = bordering::Base::new(n, n_disp, b.to_vec(), rhs.to_vec());
+        self.kept = Some(Kept::Ldu(match self.tangent {
+            Some(t) => base.on_tangent(t, extra0.to_vec()),
+            None => base,
+        }));
+        true
+    }
+}
+
+/// Multiply-adds per factor entry above which the LDU leaves a pattern to
+/// LU: faer's own threshold for its supernodal factorizations
+/// (`SupernodalThreshold::AUTO`, 40), where its dense kernels beat scalar
+/// loops.
+const LDU_FLOPS_PER_ENTRY: f64 = 40.0;
+
 /// Solves `A X = B` in place with the LU factor `f`, `B` of `cols`
 /// columns (column-major).
 fn lu_solve(f: LuRef<'_, usize, f64>, b: &mut [f64], cols: usize) {
@@ -2090,7 +2210,18 @@ fn solve_ldlt(
     let stack = MemStack::new(mem);
     let ldlt = factor_ldlt(symbolic, stack, l_values, a, times);
     let clock = Instant::now();
-    let done = ldlt.is_some_and(|ldlt| refined_ldlt_solve(ldlt, stack, n_disp, a, b, x, refine));
+    let done = ldlt.is_some_and(|ldlt| {
+        let solve = |x: &mut [f64]| {
+            let n = x.len();
+            ldlt.solve_in_place_with_conj(
+                Conj::No,
+                MatMut::from_column_major_slice_mut(x, n, 1),
+                Par::Seq,
+                &mut *stack,
+            );
+        };
+        refined_solve(solve, n_disp, a, b, x, refine)
+    });
     times.solve += clock.elapsed();
     done
 }
@@ -2123,11 +2254,11 @@ fn factor_ldlt<'a>(
     ldlt.ok()
 }
 
-/// The solve of `a x = b` into `x` with the factor `ldlt` of `a`, checked
-/// and, with `refine`, refined (`solve_ldlt`).
-fn refined_ldlt_solve(
-    ldlt: faer::sparse::linalg::cholesky::LdltRef<'_, usize, f64>,
-    stack: &mut MemStack,
+/// The solve of `a x = b` into `x` with an unpivoted factor of `a`
+/// (`solve`, in place), checked and, with `refine`, refined (`solve_ldlt`,
+/// `Augmented::try_ldu`).
+fn refined_solve(
+    mut solve: impl FnMut(&mut [f64]),
     n_disp: usize,
     a: SparseColMatRef<'_, usize, f64>,
     b: &[f64],
@@ -2137,12 +2268,7 @@ fn refined_ldlt_solve(
     let n = b.len();
     x.clear();
     x.extend_from_slice(b);
-    ldlt.solve_in_place_with_conj(
-        Conj::No,
-        MatMut::from_column_major_slice_mut(x, n, 1),
-        Par::Seq,
-        stack,
-    );
+    solve(x);
     if x.iter().any(|v| !v.is_finite()) {
         return false;
     }
@@ -2169,12 +2295,7 @@ fn refined_ldlt_solve(
     // refinement exposes it: its correction is then of the size of x
     // (measured 173 |x| on a layer resting on a rigid surface), against
     // round-off for a sound factor. A sound solve keeps the correction.
-    ldlt.solve_in_place_with_conj(
-        Conj::No,
-        MatMut::from_column_major_slice_mut(&mut r, n, 1),
-        Par::Seq,
-        stack,
-    );
+    solve(&mut r);
     if r.iter().any(|v| !v.is_finite()) || inf(&r[..n_disp]) > LDLT_REFINEMENT * inf(&x[..n_disp]) {
         return false;
     }
@@ -2185,6 +2306,7 @@ fn refined_ldlt_solve(
 }
 
 mod bordering;
+mod ldu;
 #[cfg(test)]
 mod tests;
 mod trailing;

@@ -191,10 +191,12 @@ pub struct Phases {
     pub factorizations: usize,
     /// Symbolic analyses of bordered systems (a new contact pattern).
     pub analyses: usize,
-    /// Bordered systems solved by LDLT, by LU, and without a factorization
-    /// of their own (an inner solve bordering its iteration's factor).
+    /// Bordered systems solved by LDLT, by LU, by the unpivoted LDU, and
+    /// without a factorization of their own (an inner solve bordering its
+    /// iteration's factor).
     pub ldlt: usize,
     pub lu: usize,
+    pub ldu: usize,
     pub bordered: usize,
     /// Of the bordered, those solved on the factor's trailing block
     /// (`linsolve::Augmented::trailing_solves`).
@@ -236,11 +238,12 @@ impl Phases {
     /// `split` and the counts, one line (the CLI's `-v` and the benchmark).
     pub fn summary(&self) -> String {
         format!(
-            "{}; {} factorizations ({} LDLT, {} LU), {} bordered solves ({} on the trailing block, {} deferred, {} split, {} first of an iteration), {} symbolic analyses",
+            "{}; {} factorizations ({} LDLT, {} LU, {} LDU), {} bordered solves ({} on the trailing block, {} deferred, {} split, {} first of an iteration), {} symbolic analyses",
             self.split(),
             self.factorizations,
             self.ldlt,
             self.lu,
+            self.ldu,
             self.bordered,
             self.trailing,
             self.deferred,
@@ -507,6 +510,7 @@ impl Solver {
             analyses: self.augmented.analyses,
             ldlt: self.augmented.ldlt,
             lu: self.augmented.lu,
+            ldu: self.augmented.ldu,
             bordered: self.augmented.bordered,
             trailing: self.augmented.trailing_solves,
             deferred: self.augmented.deferred_solves,

@@ -253,8 +253,12 @@ fn ldlt_matches_lu_and_dense() {
     }
 }
 
+/// An unsymmetric system is factored by the unpivoted LDU (`ldu`), and
+/// solves as LU with pivoting and a dense LU do; where the LDU's pivots
+/// fail it (a body that its contact rows alone hold: the displacements,
+/// eliminated first, meet the rigid-body modes' zero pivots), by LU.
 #[test]
-fn unsymmetric_system_takes_lu() {
+fn unsymmetric_system_takes_the_unpivoted_ldu() {
     let mut rng = Rng(7);
     let (p, k) = q4(10, 10, true);
     let rows = contact_rows(10, 10, 4, &mut rng);
@@ -263,13 +267,54 @@ fn unsymmetric_system_takes_lu() {
     // A sliding-like unsymmetric contact stiffness: (0, 1) without (1, 0).
     extra.push((0, 1, 0.25));
     let b = rhs(n, &mut rng);
-    let (x, aug) = solve(&p, &k, &extra, &b, false);
-    assert_eq!(aug.method(), Some(Method::Lu));
+    let (x, mut aug) = solve(&p, &k, &extra, &b, false);
+    assert_eq!(aug.method(), Some(Method::Ldu));
     assert_eq!(
-        (aug.ldlt, aug.lu, aug.factorizations, aug.analyses),
-        (0, 1, 1, 1)
+        (aug.ldlt, aug.lu, aug.ldu, aug.factorizations, aug.analyses),
+        (0, 0, 1, 1, 1)
     );
-    assert!(residual(&dense(&p, &k, &extra, n), &x, &b) < 1e-10);
+    let a = dense(&p, &k, &extra, n);
+    assert!(residual(&a, &x, &b) < 1e-10);
+    // An inner solve with a row changed borders the kept LDU factor.
+    let mut changed = extra.clone();
+    for e in changed
+        .iter_mut()
+        .filter(|e| e.0 == p.n + 1 || e.1 == p.n + 1)
+    {
+        e.2 *= 1.5;
+    }
+    changed.push((2, 3, -0.2));
+    let mut x2 = b.clone();
+    assert!(aug.solve_modified(&p, &k, &mut changed.clone(), &mut x2, 8));
+    assert_eq!((aug.bordered, aug.factorizations), (1, 1));
+    assert!(residual(&dense(&p, &k, &changed, n), &x2, &b) < 1e-10);
+    let (x_lu, aug) = solve(&p, &k, &extra, &b, true);
+    assert_eq!((aug.method(), aug.ldu), (Some(Method::Lu), 0));
+    let x_dense = a
+        .clone()
+        .lu()
+        .solve(&DVector::from_column_slice(&b))
+        .unwrap();
+    let scale = x_dense.amax();
+    for i in 0..n {
+        assert!((x[i] - x_dense[i]).abs() <= 1e-10 * scale, "{i}");
+        assert!((x_lu[i] - x_dense[i]).abs() <= 1e-10 * scale, "{i}");
+    }
+    // Every displacement's diagonal zero: the first unknown the LDU
+    // eliminates (a displacement) has a zero pivot; LU with pivoting
+    // solves it (two factorizations, the failed one counted).
+    let mut zero = extra.clone();
+    for c in 0..p.n {
+        let q = (p.col_ptr[c]..p.col_ptr[c + 1])
+            .find(|&q| p.row_idx[q] == c)
+            .unwrap();
+        zero.push((c, c, -k[q]));
+    }
+    let a = dense(&p, &k, &zero, n);
+    let (x, aug) = solve(&p, &k, &zero, &b, false);
+    assert_eq!(aug.method(), Some(Method::Lu));
+    assert_eq!((aug.lu, aug.ldu, aug.factorizations), (1, 0, 2));
+    assert!(residual(&a, &x, &b) < 1e-10);
     // Below the tolerance (1e-12 of the largest entry) it counts as symmetric.
     let mut extra = border(p.n, &rows);
     extra.push((0, 1, 1e-14));
@@ -300,11 +345,11 @@ fn a_symmetric_tangent_is_judged_by_the_entries_beside_it() {
     let (ldlt, lu) = (Some(Method::Ldlt), Some(Method::Lu));
     assert_eq!(claimed(&k, &extra), (ldlt, 1));
     // A sliding-like entry without its transpose, above the tolerance (1e-12
-    // of the largest entry: judged unsymmetric, straight to LU, one
-    // factorization) and below it, and one split in two duplicates that sum
-    // to its transpose's value.
+    // of the largest entry: judged unsymmetric, straight to the unpivoted
+    // LDU, one factorization) and below it, and one split in two
+    // duplicates that sum to its transpose's value.
     extra.push((0, 1, 0.25));
-    assert_eq!(claimed(&k, &extra), (lu, 1));
+    assert_eq!(claimed(&k, &extra), (Some(Method::Ldu), 1));
     extra.pop();
     extra.push((0, 1, 1e-14));
     assert_eq!(claimed(&k, &extra), (ldlt, 1));
@@ -388,41 +433,42 @@ fn symbolic_analysis_reused_while_the_pattern_holds() {
         (1, 2, 2, 0)
     );
     // Unsymmetric on the same pattern ((1, 0) and (0, 1) are stored in K):
-    // one LU analysis more, then reused; LDLT again on a symmetric system.
+    // one LDU analysis more, then reused; LDLT again on a symmetric system.
     check(&mut aug, &k2, &rows2, &[(1, 0, 0.3)]);
     assert_eq!(
-        (aug.analyses, aug.factorizations, aug.ldlt, aug.lu),
+        (aug.analyses, aug.factorizations, aug.ldlt, aug.ldu),
         (2, 3, 2, 1)
     );
     check(&mut aug, &k, &rows2, &[(1, 0, -0.3)]);
     assert_eq!(
-        (aug.analyses, aug.factorizations, aug.ldlt, aug.lu),
+        (aug.analyses, aug.factorizations, aug.ldlt, aug.ldu),
         (2, 4, 2, 2)
     );
     check(&mut aug, &k, &rows, &[]);
     assert_eq!(
-        (aug.analyses, aug.factorizations, aug.ldlt, aug.lu),
+        (aug.analyses, aug.factorizations, aug.ldlt, aug.ldu),
         (2, 5, 3, 2)
     );
     assert_eq!(aug.method(), Some(Method::Ldlt));
     // The pattern changes (a row less, then a row with other dofs): redone.
     check(&mut aug, &k, &rows[..4], &[]);
     assert_eq!(
-        (aug.analyses, aug.factorizations, aug.ldlt, aug.lu),
+        (aug.analyses, aug.factorizations, aug.ldlt, aug.ldu),
         (3, 6, 4, 2)
     );
     let mut rows3 = rows.clone();
     rows3[4] = vec![(p.n - 1, 1.0), (p.n - 3, -1.0)];
     check(&mut aug, &k, &rows3, &[]);
     assert_eq!(
-        (aug.analyses, aug.factorizations, aug.ldlt, aug.lu),
+        (aug.analyses, aug.factorizations, aug.ldlt, aug.ldu),
         (4, 7, 5, 2)
     );
     check(&mut aug, &k2, &rows3, &[]);
     assert_eq!(
-        (aug.analyses, aug.factorizations, aug.ldlt, aug.lu),
+        (aug.analyses, aug.factorizations, aug.ldlt, aug.ldu),
         (4, 8, 6, 2)
     );
+    assert_eq!(aug.lu, 0);
     // Back to the first pattern: only the last pattern is kept.
     check(&mut aug, &k, &rows, &[]);
     assert_eq!((aug.analyses, aug.ldlt), (5, 7));
@@ -448,7 +494,7 @@ fn multipliers_in_slots_keep_the_analysis() {
         aug.solve(&p, &k, &mut extra, &mut x).unwrap();
         let r = residual(&a, &x, &b);
         assert!(r < 1e-10, "residual {r:e}");
-        (aug.analyses, aug.ldlt, aug.lu)
+        (aug.analyses, aug.ldlt, aug.lu + aug.ldu)
     };
     assert_eq!(check(&mut aug, &rows, &[]), (1, 1, 0));
     // Rows left out, in any order: their slots stay empty.
@@ -469,7 +515,8 @@ fn multipliers_in_slots_keep_the_analysis() {
     assert_eq!(check(&mut aug, &rows[1..], &[(1, 0, 0.3)]), (2, 6, 0));
     assert_eq!(check(&mut aug, &rows[2..], &[(1, 0, 0.3)]), (2, 7, 0));
     assert_eq!(aug.trailing_solves, trailing + 2);
-    // Unsymmetric away from the contact rows: LU on the same pattern.
+    // Unsymmetric away from the contact rows: factored whole (by the
+    // unpivoted LDU) on the same pattern.
     let inner = 2 * (4 * 9 + 4);
     assert!(
         rows.iter()
@@ -480,6 +527,7 @@ fn multipliers_in_slots_keep_the_analysis() {
         check(&mut aug, &rows[2..], &[(inner + 1, inner, 0.3)]),
         (3, 7, 1)
     );
+    assert_eq!((aug.method(), aug.lu), (Some(Method::Ldu), 0));
     // No rows at all.
     assert_eq!(check(&mut aug, &[], &[]).1, 8);
 }
