@@ -161,6 +161,22 @@ fn dense(p: &Pattern, k: &[f64], extra: &[(usize, usize, f64)], n: usize) -> DMa
     a
 }
 
+/// The solution of `a x = b` by a dense LU.
+fn dense_solve(a: &DMatrix<f64>, b: &[f64]) -> DVector<f64> {
+    a.clone()
+        .lu()
+        .solve(&DVector::from_column_slice(b))
+        .unwrap()
+}
+
+/// Asserts `x` is `want` to `tol` of `want`'s largest entry.
+fn assert_close(x: &[f64], want: &DVector<f64>, tol: f64, what: &str) {
+    let scale = want.amax();
+    for i in 0..want.len() {
+        assert!((x[i] - want[i]).abs() <= tol * scale, "{what}: unknown {i}");
+    }
+}
+
 fn residual(a: &DMatrix<f64>, x: &[f64], b: &[f64]) -> f64 {
     let x = DVector::from_column_slice(x);
     let b = DVector::from_column_slice(b);
@@ -236,20 +252,13 @@ fn ldlt_matches_lu_and_dense() {
         let (x_lu, aug) = solve(&p, &k, &extra, &b, true);
         assert_eq!(aug.method(), Some(Method::Lu), "{name}");
         assert_eq!((aug.ldlt, aug.lu, aug.factorizations), (0, 1, 1), "{name}");
-        let x_dense = a
-            .clone()
-            .lu()
-            .solve(&DVector::from_column_slice(&b))
-            .unwrap();
+        let x_dense = dense_solve(&a, &b);
         let r_ldlt = residual(&a, &x_ldlt, &b);
         let r_lu = residual(&a, &x_lu, &b);
         assert!(r_ldlt < 1e-10, "{name}: LDLT residual {r_ldlt:e}");
         assert!(r_lu < 1e-10, "{name}: LU residual {r_lu:e}");
-        let scale = x_dense.amax();
-        for i in 0..n {
-            assert!((x_ldlt[i] - x_dense[i]).abs() <= 1e-8 * scale, "{name} {i}");
-            assert!((x_lu[i] - x_dense[i]).abs() <= 1e-8 * scale, "{name} {i}");
-        }
+        assert_close(&x_ldlt, &x_dense, 1e-8, &format!("{name}, LDLT"));
+        assert_close(&x_lu, &x_dense, 1e-8, &format!("{name}, LU"));
     }
 }
 
@@ -290,16 +299,9 @@ fn unsymmetric_system_takes_the_unpivoted_ldu() {
     assert!(residual(&dense(&p, &k, &changed, n), &x2, &b) < 1e-10);
     let (x_lu, aug) = solve(&p, &k, &extra, &b, true);
     assert_eq!((aug.method(), aug.ldu), (Some(Method::Lu), 0));
-    let x_dense = a
-        .clone()
-        .lu()
-        .solve(&DVector::from_column_slice(&b))
-        .unwrap();
-    let scale = x_dense.amax();
-    for i in 0..n {
-        assert!((x[i] - x_dense[i]).abs() <= 1e-10 * scale, "{i}");
-        assert!((x_lu[i] - x_dense[i]).abs() <= 1e-10 * scale, "{i}");
-    }
+    let x_dense = dense_solve(&a, &b);
+    assert_close(&x, &x_dense, 1e-10, "LDU");
+    assert_close(&x_lu, &x_dense, 1e-10, "LU");
     // Every displacement's diagonal zero: the first unknown the LDU
     // eliminates (a displacement) has a zero pivot; LU with pivoting
     // solves it (two factorizations, the failed one counted).
@@ -385,15 +387,7 @@ fn factored_lu_solves_many_right_hand_sides() {
         let b = rhs(n, &mut rng);
         let mut x = b.clone();
         factor.solve(&mut x).unwrap();
-        let x_dense = a
-            .clone()
-            .lu()
-            .solve(&DVector::from_column_slice(&b))
-            .unwrap();
-        let scale = x_dense.amax();
-        for i in 0..n {
-            assert!((x[i] - x_dense[i]).abs() <= 1e-9 * scale, "{i}");
-        }
+        assert_close(&x, &dense_solve(&a, &b), 1e-9, "FactoredLu");
     }
     assert!(factor.solve(&mut vec![0.0; n + 1]).is_err());
 }
