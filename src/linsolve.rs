@@ -747,10 +747,7 @@ impl Augmented {
         extra0: &[(usize, usize, f64)],
     ) -> Result<bool, LinearError> {
         let tangent = self.tangent;
-        let on_tangent = |base: bordering::Base, extra0: &[(usize, usize, f64)]| match tangent {
-            Some(t) => base.on_tangent(t, extra0.to_vec()),
-            None => base,
-        };
+        let on_tangent = |base, extra0: &[_]| counted_base(base, tangent, extra0);
         let clock = Instant::now();
         self.trailing_work.forward = None;
         self.trailing_work.bases = DenseBases::default();
@@ -1695,7 +1692,7 @@ fn summed(mut e: Vec<(usize, usize, f64)>) -> Vec<(usize, usize, f64)> {
 impl Augmented {
     /// The unsymmetric system `values` over the kept analysis factored by
     /// the unpivoted LDU and solved in place (`solve_kept`), checked and
-    /// refined as the unpivoted LDLT is (`refined_ldlt_solve`): false, the
+    /// refined as the unpivoted LDLT is (`refined_solve`): false, the
     /// system and `rhs` as given, when the pattern's factor is too dense
     /// for it or the solve fails its checks (then LU, as for the rest of
     /// the pattern).
@@ -1763,11 +1760,22 @@ impl Augmented {
         self.ldu += 1;
         self.last = Some(Method::Ldu);
         let base = bordering::Base::new(n, n_disp, b.to_vec(), rhs.to_vec());
-        self.kept = Some(Kept::Ldu(match self.tangent {
-            Some(t) => base.on_tangent(t, extra0.to_vec()),
-            None => base,
-        }));
+        self.kept = Some(Kept::Ldu(counted_base(base, self.tangent, extra0)));
         true
+    }
+}
+
+/// A kept factor's base, on the caller's tangent when it counts it
+/// (`tangent`, `Augmented::new_tangent`) with the factored system's entries
+/// beside it (`extra0`: `bordering::Split`).
+fn counted_base(
+    base: bordering::Base,
+    tangent: Option<u64>,
+    extra0: &[(usize, usize, f64)],
+) -> bordering::Base {
+    match tangent {
+        Some(t) => base.on_tangent(t, extra0.to_vec()),
+        None => base,
     }
 }
 
