@@ -1720,12 +1720,14 @@ impl Augmented {
                 || amd_of_block(analysis.mat.as_ref(), n_disp)
                     .map(|o| self.disp_order = Some(o))
                     .is_ok();
-            let symbolic = usable.then(|| {
-                let (disp, _) = self.disp_order.as_ref().expect("set above");
-                ldu::Symbolic::new(analysis.mat.as_ref(), n_disp, disp)
-            });
+            let symbolic = usable
+                .then(|| {
+                    let (disp, _) = self.disp_order.as_ref().expect("set above");
+                    ldu::Symbolic::new(analysis.mat.as_ref(), n_disp, disp, LDU_FLOPS_PER_ENTRY)
+                })
+                .flatten();
             self.times.symbolic += clock.elapsed();
-            match symbolic.filter(|s| s.flops_per_entry() <= LDU_FLOPS_PER_ENTRY) {
+            match symbolic {
                 Some(s) => analysis.ldu = Some(s),
                 None => {
                     analysis.ldu_failed = true;

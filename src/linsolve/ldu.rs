@@ -58,15 +58,31 @@ pub(super) struct Numeric {
     work: std::cell::RefCell<Vec<f64>>,
 }
 
+/// Multiply-adds of the numeric factorization per entry of `L` (column
+/// counts `counts`, diagonal excluded): the measure by which faer chooses a
+/// supernodal factorization (above 40), where dense kernels beat this
+/// one's scalar loops.
+fn flops_per_entry(counts: &[usize]) -> f64 {
+    let (mut flops, mut nnz) = (0.0f64, 0.0f64);
+    for &c in counts {
+        let c = c as f64 + 1.0;
+        flops += c * c;
+        nnz += c;
+    }
+    flops / nnz.max(1.0)
+}
+
 impl Symbolic {
     /// The analysis of `a` (square, `n_disp` displacement unknowns first)
     /// in the displacement order `disp` (forward permutation of the
-    /// `n_disp` block).
+    /// `n_disp` block); None when its factor would take more than
+    /// `max_flops_per_entry` multiply-adds per entry (`flops_per_entry`).
     pub(super) fn new(
         a: SymbolicSparseColMatRef<'_, usize>,
         n_disp: usize,
         disp: &[usize],
-    ) -> Self {
+        max_flops_per_entry: f64,
+    ) -> Option<Self> {
         let n = a.nrows();
         // Each multiplier after the last displacement unknown it touches
         // (one touching none: at the end).
@@ -170,12 +186,29 @@ impl Symbolic {
                 }
             }
         }
-        // Row patterns: the tree paths from each entry up to k.
-        let mut reach_ptr = Vec::with_capacity(n + 1);
-        reach_ptr.push(0);
-        let mut reach = Vec::new();
+        // Row k of L: the tree paths from each entry of row k up to k.
+        // Counted first, nothing stored: a pattern too dense for these
+        // scalar loops is left before its structure is built.
         let mut mark = vec![none; n];
         let mut counts = vec![0usize; n];
+        for k in 0..n {
+            mark[k] = k;
+            for i0 in sym(k) {
+                let mut i = i0;
+                while mark[i] != k {
+                    mark[i] = k;
+                    counts[i] += 1;
+                    i = parent[i];
+                }
+            }
+        }
+        if flops_per_entry(&counts) > max_flops_per_entry {
+            return None;
+        }
+        let mut reach_ptr = Vec::with_capacity(n + 1);
+        reach_ptr.push(0);
+        let mut reach = Vec::with_capacity(counts.iter().sum());
+        mark.fill(none);
         for k in 0..n {
             mark[k] = k;
             let from = reach.len();
@@ -188,9 +221,6 @@ impl Symbolic {
                 }
             }
             reach[from..].sort_unstable();
-            for &j in &reach[from..] {
-                counts[j] += 1;
-            }
             reach_ptr.push(reach.len());
         }
         let mut col_ptr = vec![0usize; n + 1];
@@ -208,7 +238,7 @@ impl Symbolic {
                 fill[j] += 1;
             }
         }
-        Symbolic {
+        Some(Symbolic {
             perm,
             upper_ptr,
             upper,
@@ -219,21 +249,7 @@ impl Symbolic {
             slot,
             col_ptr,
             row,
-        }
-    }
-
-    /// Multiply-adds of the numeric factorization per entry of `L`: the
-    /// measure by which faer chooses a supernodal factorization (above
-    /// 40), where dense kernels beat this one's scalar loops.
-    pub(super) fn flops_per_entry(&self) -> f64 {
-        let n = self.col_ptr.len() - 1;
-        let (mut flops, mut nnz) = (0.0f64, 0.0f64);
-        for j in 0..n {
-            let c = (self.col_ptr[j + 1] - self.col_ptr[j]) as f64 + 1.0;
-            flops += c * c;
-            nnz += c;
-        }
-        flops / nnz.max(1.0)
+        })
     }
 
     /// Factors `A` (its values in the analysed pattern's order) into `f`;
@@ -410,7 +426,9 @@ mod tests {
         let pattern = SymbolicSparseColMat::new_checked(n, n, col_ptr, None, row_idx);
         // A displacement order that is not the identity.
         let disp: Vec<usize> = (0..m).rev().collect();
-        let s = Symbolic::new(pattern.as_ref(), m, &disp);
+        let s = Symbolic::new(pattern.as_ref(), m, &disp, 40.0).unwrap();
+        // A limit below this chain's factor's density leaves it.
+        assert!(Symbolic::new(pattern.as_ref(), m, &disp, 1.0).is_none());
         let mut f = Numeric::default();
         assert!(s.factor(&values, &mut f));
         let cols = 3;
