@@ -388,8 +388,7 @@ pub struct Augmented {
     pub lu: usize,
     /// Solves done by the unpivoted LDU (`ldu`).
     pub ldu: usize,
-    /// The numeric LDU factor of the last system `solve` factored by it
-    /// (`Kept::Ldu`).
+    /// The numeric LDU factor of the last system `solve` factored by it.
     ldu_numeric: ldu::Numeric,
     /// The last factorization, kept for `solve_modified`.
     kept: Option<Kept>,
@@ -459,8 +458,6 @@ enum Kept {
     Ldlt(bordering::Base, Option<(faer::Mat<f64>, Vec<f64>)>),
     /// The factor is `Augmented::lu_numeric` on its analysis's symbolic.
     Lu(bordering::Base),
-    /// The factor is `Augmented::ldu_numeric` on its analysis's `ldu`.
-    Ldu(bordering::Base),
 }
 
 /// Largest normwise backward error `|b - A x|_inf / (|A|_inf |x|_inf +
@@ -915,7 +912,7 @@ impl Augmented {
             }
         }
 
-        if !symmetric && self.try_ldu(n_disp, rhs, &b, extra0) {
+        if !symmetric && self.try_ldu(n_disp, rhs, &b) {
             return Ok(false);
         }
         let analysis = self.analysis.as_mut().expect("set above");
@@ -1019,7 +1016,7 @@ impl Augmented {
             };
             let n = rhs.len();
             let base = match kept {
-                Kept::Ldlt(base, _) | Kept::Lu(base) | Kept::Ldu(base) => &*base,
+                Kept::Ldlt(base, _) | Kept::Lu(base) => &*base,
             };
             // On the factored system's tangent the system is read from its
             // entries beside it; else built whole.
@@ -1095,18 +1092,6 @@ impl Augmented {
                     let mut solve0 = |block: &mut [f64], cols: usize| {
                         *columns += cols;
                         lu_solve(LuRef::new_unchecked(symbolic, numeric), block, cols);
-                        true
-                    };
-                    bordering::solve(base, a0, a1, rhs, max_rank, defer, &mut solve0)
-                }
-                Kept::Ldu(base) => {
-                    let Some(symbolic) = analysis.and_then(|a| a.ldu.as_ref()) else {
-                        return false;
-                    };
-                    let numeric = &self.ldu_numeric;
-                    let mut solve0 = |block: &mut [f64], cols: usize| {
-                        *columns += cols;
-                        symbolic.solve(numeric, block, cols);
                         true
                     };
                     bordering::solve(base, a0, a1, rhs, max_rank, defer, &mut solve0)
@@ -1696,20 +1681,13 @@ impl Augmented {
     /// system and `rhs` as given, when the pattern's factor is too dense
     /// for it or the solve fails its checks (then LU, as for the rest of
     /// the pattern).
-    fn try_ldu(
-        &mut self,
-        n_disp: usize,
-        rhs: &mut [f64],
-        b: &[f64],
-        extra0: &[(usize, usize, f64)],
-    ) -> bool {
+    fn try_ldu(&mut self, n_disp: usize, rhs: &mut [f64], b: &[f64]) -> bool {
         if self.force_lu {
             return false;
         }
         let Some(analysis) = self.analysis.as_mut().filter(|a| !a.ldu_failed) else {
             return false;
         };
-        let n = rhs.len();
         if analysis.ldu.is_none() {
             let clock = Instant::now();
             self.analyses += 1;
@@ -1746,7 +1724,7 @@ impl Augmented {
         let numeric = &self.ldu_numeric;
         let solved = factored
             && refined_solve(
-                |x: &mut [f64]| symbolic.solve(numeric, x, 1),
+                |x: &mut [f64]| symbolic.solve(numeric, x),
                 n_disp,
                 a,
                 b,
@@ -1761,8 +1739,16 @@ impl Augmented {
         rhs.copy_from_slice(&self.x);
         self.ldu += 1;
         self.last = Some(Method::Ldu);
-        let base = bordering::Base::new(n, n_disp, b.to_vec(), rhs.to_vec());
-        self.kept = Some(Kept::Ldu(counted_base(base, self.tangent, extra0)));
+        // Nothing kept for `solve_modified`: an inner solve on this pattern
+        // is factored again, not bordered. The LDU takes only patterns
+        // whose factorization is cheap (`LDU_FLOPS_PER_ENTRY`), and there
+        // the bordering's own work (matching the multipliers, the change
+        // columns, the Schur complement, the refinement and the completion
+        // of deferred solves) cost more than the factorization it spared:
+        // the capstan FMU (7.3-7.8 multiply-adds per entry) took 1.03-1.07
+        // ms per Newton iteration bordered (up to 48 changes), 0.99-1.02
+        // bordered up to 1 or 3, 0.88-0.90 not bordered (alternating
+        // runs).
         true
     }
 }
