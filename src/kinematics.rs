@@ -303,10 +303,8 @@ fn integrate_kind<const NN: usize>(
                     cb[r][q] = (0..4).map(|t| c[r][t] * b[t][q]).sum();
                 }
             }
-            // The upper triangle alone (C and S are symmetric; the lower
-            // one is its mirror, below the Gauss loop).
             for q1 in 0..nd {
-                for q2 in q1..nd {
+                for q2 in 0..nd {
                     let mut v = 0.0;
                     for r in 0..4 {
                         v += b[r][q1] * cb[r][q2];
@@ -317,7 +315,7 @@ fn integrate_kind<const NN: usize>(
             if tl {
                 // Geometric part: (g_a . S g_b) I, and S33 N_a N_b / r^2 radially.
                 for a in 0..nn {
-                    for bb in a..nn {
+                    for bb in 0..nn {
                         let (ga, gb) = (p.g[a], p.g[bb]);
                         let mut v = ga[0] * (s[0] * gb[0] + s[3] * gb[1])
                             + ga[1] * (s[3] * gb[0] + s[1] * gb[1]);
@@ -361,13 +359,6 @@ fn integrate_kind<const NN: usize>(
             out.cauchy[i] += sigma[i] * p.dv;
         }
         volume += p.dv;
-    }
-    if tangent {
-        for q1 in 0..nd {
-            for q2 in q1 + 1..nd {
-                out.k[q2][q1] = out.k[q1][q2];
-            }
-        }
     }
     for v in out.cauchy.iter_mut() {
         *v /= volume;
