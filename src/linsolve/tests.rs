@@ -993,6 +993,106 @@ fn symmetry_test_matches_its_dense_definition() {
     }
 }
 
+/// The values of a bordered matrix written over a kept pattern
+/// (`values_in_pattern`) are `bordered`'s bit for bit, entries summed in
+/// pairs included, on a tangent with contact rows, a friction-like column
+/// and a changed tangent entry; refused where a stored entry would sum
+/// three terms, where an entry lies outside the pattern, and where the
+/// pattern would lose an entry. The slots' index (`SlotGroups::place`)
+/// places keys as `place` does.
+#[test]
+fn values_written_over_a_kept_pattern_are_bordered_values() {
+    let mut rng = Rng(61);
+    let (p, k) = q4(6, 5, true);
+    let rows = contact_rows(6, 5, 4, &mut rng);
+    let n = p.n + rows.len();
+    let mut extra = border(p.n, &rows);
+    let (d0, m0) = (rows[0][0].0, p.n);
+    // Beside a multiplier's column, at a tangent entry (two terms), and
+    // twice at one place off the tangent's diagonal (two terms again).
+    extra.push((d0, m0, 0.3));
+    extra.push((d0, d0, 0.7 * rng.next()));
+    let off = (p.row_idx[p.col_ptr[3]], 3);
+    extra.push((off.0, off.1, 0.1));
+    let far = (0..p.n)
+        .find(|r| !p.row_idx[p.col_ptr[d0]..p.col_ptr[d0 + 1]].contains(r))
+        .expect("a row off the tangent's column");
+    extra.push((far, d0, 1e-3));
+    extra.push((far, d0, -2e-3));
+    let mut sorted = extra.clone();
+    let (col_ptr, row_idx, want) = bordered_new(&p, &k, &mut sorted, n);
+    let pattern = SymbolicSparseColMat::new_checked(n, n, col_ptr, None, row_idx);
+    let (mut values, mut terms) = (Vec::new(), Vec::new());
+    // In the given order and in reverse: the same values.
+    for list in [extra.clone(), extra.iter().rev().copied().collect()] {
+        assert!(values_in_pattern(
+            pattern.as_ref(),
+            &p,
+            &k,
+            &list,
+            &mut values,
+            &mut terms
+        ));
+        let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+        assert_eq!(bits(&values), bits(&want));
+    }
+    // A third term at (far, d0): left to `bordered`.
+    let mut three = extra.clone();
+    three.push((far, d0, 5e-4));
+    assert!(!values_in_pattern(
+        pattern.as_ref(),
+        &p,
+        &k,
+        &three,
+        &mut values,
+        &mut terms
+    ));
+    // An entry outside the pattern (two multipliers coupled).
+    let mut outside = extra.clone();
+    outside.push((m0, m0 + 1, 1.0));
+    assert!(!values_in_pattern(
+        pattern.as_ref(),
+        &p,
+        &k,
+        &outside,
+        &mut values,
+        &mut terms
+    ));
+    // Without the two entries at (far, d0) that place is no longer stored.
+    let fewer: Vec<_> = extra
+        .iter()
+        .copied()
+        .filter(|e| (e.0, e.1) != (far, d0))
+        .collect();
+    let mut sorted = fewer.clone();
+    let (col_ptr, row_idx, _) = bordered_new(&p, &k, &mut sorted, n);
+    assert_eq!(row_idx.len() + 1, pattern.row_idx().len());
+    assert_ne!(col_ptr.as_slice(), pattern.col_ptr());
+    assert!(!values_in_pattern(
+        pattern.as_ref(),
+        &p,
+        &k,
+        &fewer,
+        &mut values,
+        &mut terms
+    ));
+    // Slots: keys repeated, placed on the first free slot of each.
+    let key = |r: &[usize]| SlotKey {
+        row: r.to_vec(),
+        column: r.to_vec(),
+    };
+    let slots = vec![key(&[1, 2]), key(&[3]), key(&[1, 2]), key(&[4]), key(&[3])];
+    let groups = SlotGroups::of(&slots);
+    for keys in [
+        vec![key(&[3]), key(&[1, 2]), key(&[1, 2]), key(&[3])],
+        vec![key(&[4])],
+        vec![key(&[1, 2]), key(&[1, 2]), key(&[1, 2])],
+        vec![key(&[5])],
+    ] {
+        assert_eq!(groups.place(&keys), place(&slots, &keys), "{keys:?}");
+    }
+}
+
 /// The trailing block's dense solver of `S0 + Delta`: by the low-rank
 /// update of `S0`'s LU when `Delta` touches few columns (and by `S0`'s LU
 /// alone when it touches none), by its own LU otherwise, and by the update
