@@ -54,8 +54,8 @@ pub(super) struct Numeric {
     l: Vec<f64>,
     u: Vec<f64>,
     d: Vec<f64>,
-    x: Vec<f64>,
-    y: Vec<f64>,
+    /// The factorization's work: a column of `U` and a row of `L` (`factor`).
+    xy: Vec<[f64; 2]>,
     /// The solves' work array, kept.
     work: std::cell::RefCell<Vec<f64>>,
 }
@@ -262,33 +262,31 @@ impl Symbolic {
         f.l.resize(nnz, 0.0);
         f.u.resize(nnz, 0.0);
         f.d.resize(n, 0.0);
-        f.x.clear();
-        f.x.resize(n, 0.0);
-        f.y.clear();
-        f.y.resize(n, 0.0);
-        let (x, y) = (&mut f.x, &mut f.y);
+        // Column k of M above and on the diagonal (first) and row k before
+        // the diagonal (second), side by side: each update reads and
+        // writes one place.
+        f.xy.clear();
+        f.xy.resize(n, [0.0; 2]);
+        let xy = &mut f.xy;
         for k in 0..n {
-            // Column k of M above and on the diagonal into x, row k before
-            // the diagonal into y.
             for &(i, p) in &self.upper[self.upper_ptr[k]..self.upper_ptr[k + 1]] {
-                x[i] += values[p];
+                xy[i][0] += values[p];
             }
             for &(j, p) in &self.lower[self.lower_ptr[k]..self.lower_ptr[k + 1]] {
-                y[j] += values[p];
+                xy[j][1] += values[p];
             }
-            let mut dk = x[k];
-            x[k] = 0.0;
+            let mut dk = xy[k][0];
+            xy[k][0] = 0.0;
             for q in self.reach_ptr[k]..self.reach_ptr[k + 1] {
                 let j = self.reach[q];
                 // (D U)(j, k) and (L D)(k, j).
-                let (uj, vj) = (x[j], y[j]);
-                x[j] = 0.0;
-                y[j] = 0.0;
+                let [uj, vj] = xy[j];
+                xy[j] = [0.0; 2];
                 let at = self.slot[q];
                 for p in self.col_ptr[j]..at {
-                    let i = self.row[p];
-                    x[i] -= f.l[p] * uj;
-                    y[i] -= f.u[p] * vj;
+                    let e = &mut xy[self.row[p]];
+                    e[0] -= f.l[p] * uj;
+                    e[1] -= f.u[p] * vj;
                 }
                 let dj = f.d[j];
                 let lj = vj / dj;
