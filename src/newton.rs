@@ -43,7 +43,8 @@ const INNER_FLIPS: usize = 1;
 /// capstan cases of 130 to 7177 unknowns, 48 against sqrt(n) changed no
 /// median iteration count, took 1 fewer at most in one, fewer solves, and
 /// the 29 cases whose factorizations it changed (25 to 9 on the coarsest)
-/// 5-20 % less time but one (+5 %).
+/// 5-20 % less time but one (+5 %). (Those figures predate the unpivoted
+/// LDU, whose factors are not bordered at all: `Augmented::try_ldu`.)
 fn max_bordered(n: usize) -> usize {
     ((n as f64).sqrt().ceil() as usize).clamp(48, 256)
 }
