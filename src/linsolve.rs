@@ -1837,9 +1837,11 @@ fn counted_base(
 /// either order; at three terms `bordered` sums in its sort's order, which
 /// the round-off of a sensitive scene follows (the buried pipe: 2.5e-3 of
 /// its largest output), and this leaves them to it. False, `values` and
-/// `terms` then spoilt, otherwise. The capstan FMU's systems: 9,000 tangent
-/// entries and 500-860 beside them, the sorts and merges of `bordered`
-/// (some 7 % of its time) replaced by one pass and a search per entry.
+/// `terms` then spoilt, otherwise. The capstan's systems have 9,000
+/// tangent entries and 500-860 beside them: merging every column, as
+/// `bordered` does after its sorts, took 7.9 ms of the CLI's 101 ms run of
+/// 40 drawn steps; copying the columns that begin with the tangent's rows,
+/// 3.1 ms.
 fn values_in_pattern(
     a: SymbolicSparseColMatRef<'_, usize>,
     pattern: &Pattern,
