@@ -284,9 +284,10 @@ impl SlotGroups {
         SlotGroups { group_of, groups }
     }
 
-    /// `place` on the slots these group (the index made once per
-    /// analysis, not per system: the capstan FMU's 230 keys were 12 us of
-    /// each factorization).
+    /// The slot of each key: the first slot of the same key not taken;
+    /// None when a key finds none. (The grouping is made once per analysis,
+    /// `Analysis::slot_groups`, not per system: hashing the capstan FMU's
+    /// 230 slots took 12 us of each factorization.)
     fn place(&self, keys: &[SlotKey]) -> Option<Vec<usize>> {
         let mut next = vec![0usize; self.groups.len()];
         keys.iter()
@@ -332,18 +333,6 @@ fn slot_keys(extra: &[(usize, usize, f64)], n_disp: usize, m: usize) -> Option<V
         k.column.dedup();
     }
     Some(keys)
-}
-
-/// The slot of each key: the first slot of the same key not taken; None
-/// when a key finds none.
-fn place(slots: &[SlotKey], keys: &[SlotKey]) -> Option<Vec<usize>> {
-    let mut by_key: HashMap<&SlotKey, Vec<usize>> = HashMap::default();
-    for (s, key) in slots.iter().enumerate().rev() {
-        by_key.entry(key).or_default().push(s);
-    }
-    keys.iter()
-        .map(|k| by_key.get_mut(k).and_then(Vec::pop))
-        .collect()
 }
 
 /// The entries `extra` with the multipliers moved to their slots, a zero
@@ -596,11 +585,11 @@ impl Augmented {
                 .as_ref()
                 .zip(kept)
                 .and_then(|(k, a)| a.slot_groups.place(k));
-            let (slots, slot_of, reuse) = match (placed, &keys) {
+            let (slots, slot_of, reuse, groups) = match (placed, &keys) {
                 (Some(slot_of), _) => {
                     let slots =
                         kept.map_or(Cow::Owned(Vec::new()), |a| Cow::Borrowed(&a.slots[..]));
-                    (slots, slot_of, true)
+                    (slots, slot_of, true, None)
                 }
                 (None, Some(keys)) => {
                     let mut slots: Vec<SlotKey> = Vec::new();
@@ -623,12 +612,13 @@ impl Augmented {
                     } else {
                         slots.extend(added);
                     }
-                    let slot_of = place(&slots, keys).expect("every key has a slot");
-                    (Cow::Owned(slots), slot_of, false)
+                    let groups = SlotGroups::of(&slots);
+                    let slot_of = groups.place(keys).expect("every key has a slot");
+                    (Cow::Owned(slots), slot_of, false, Some(groups))
                 }
                 // Multipliers coupled to each other: no slots, the system
                 // as given.
-                (None, None) => (Cow::Owned(Vec::new()), Vec::new(), false),
+                (None, None) => (Cow::Owned(Vec::new()), Vec::new(), false, None),
             };
             let order = if keys.is_some() {
                 n_disp + slots.len()
@@ -700,7 +690,7 @@ impl Augmented {
                 ldu: None,
                 ldu_failed: false,
                 trailing: 0,
-                slot_groups: SlotGroups::of(&slots),
+                slot_groups: groups.unwrap_or_else(|| SlotGroups::of(&slots)),
                 slots: slots.into_owned(),
             });
             break slot_of;
@@ -1297,7 +1287,7 @@ impl Augmented {
             return false;
         }
         let Some(slot_of) =
-            slot_keys(extra, n_disp, n - n_disp).and_then(|keys| place(&analysis.slots, &keys))
+            slot_keys(extra, n_disp, n - n_disp).and_then(|keys| analysis.slot_groups.place(&keys))
         else {
             return false;
         };
