@@ -6,7 +6,7 @@
 
 use crate::assembly::{Model, PRESCRIBED, Workspace};
 use crate::constraint::TieResult;
-use crate::contact::pairs::{self, ContactSystem, Flips, PairMemory, Switched};
+use crate::contact::{self, ContactSystem, Flips, PairMemory, Switched};
 use crate::linsolve::{Augmented, LinearSolver, LinearTimes};
 use crate::problem::Problem;
 use crate::results::{DriverResult, LogCategory, StepResult};
@@ -52,7 +52,7 @@ fn max_bordered(n: usize) -> usize {
 /// An iterate is still settling while the correction that reached it is
 /// above this fraction of the increment's first correction (and always
 /// right after the predictor): its nodes in contact are not released on
-/// their forces then (`pairs::Start::settling`). Measured on the capstan
+/// their forces then (`contact::Start::settling`). Measured on the capstan
 /// pulled 6 mm in one increment: holding only after the predictor, every
 /// node was released at the second iterate and the increment bisected;
 /// 0.5 and 0.1 both take it in 7 iterations.
@@ -311,7 +311,7 @@ pub struct Solver {
     iterate_opens: bool,
     /// Wall time of assembly and contact, summed (`phases`).
     times: SolverTimes,
-    /// Free nodes touching a target close too (`pairs::Start::touching`;
+    /// Free nodes touching a target close too (`contact::Start::touching`;
     /// the second fallback of `advance`).
     close_touching: bool,
     /// Every contact pair's target is rigid: only then do the inner solves
@@ -325,15 +325,18 @@ pub struct Solver {
     rigid_targets: bool,
     /// The free equations of every contactor node (with rigid targets):
     /// what the linearised problem's decisions read of an inner solve's
-    /// displacements (`pairs::predict`), so its solve may be deferred
+    /// displacements (`contact::predict`), so its solve may be deferred
     /// (`Augmented::solve_modified_watching`).
     contact_eqs: Vec<usize>,
     /// The last increment failed at its first solve because nothing held
     /// a body (`correction`).
     free_at_first_solve: bool,
     /// The free nodes' search candidates of the inner solves' decisions
-    /// (`pairs::SearchCache`), for the increment.
-    search_cache: pairs::SearchCache,
+    /// (`contact::SearchCache`), for the increment.
+    search_cache: contact::SearchCache,
+    /// The rigid targets' segments, built once per pose
+    /// (`contact::RigidSegments`).
+    targets: contact::RigidSegments,
     /// Nodes the inner solves opened or closed since `advance` last reset
     /// it (an increment they did not touch gains nothing from the fallback).
     inner_flips: usize,
@@ -402,7 +405,7 @@ impl Solver {
             history: vec![0.0; model.history_len],
             step_start_history: Vec::new(),
             contact: problem.contacts.iter().map(PairMemory::new).collect(),
-            rigid: pairs::scene_poses(&problem, 0.0),
+            rigid: contact::scene_poses(&problem, 0.0),
             ties: vec![0.0; problem.ties.iter().map(|t| t.rows.len()).sum()],
             driver_forces: scene_forces(&problem, 0.0),
             pressures: scene_pressures(&problem, 0.0),
@@ -457,7 +460,8 @@ impl Solver {
             sensitivity_factorizations: 0,
             iterate_opens: false,
             inner_flips: 0,
-            search_cache: pairs::SearchCache::default(),
+            search_cache: contact::SearchCache::default(),
+            targets: contact::RigidSegments::default(),
             times: SolverTimes::default(),
             close_touching: false,
             free_at_first_solve: false,
@@ -541,7 +545,7 @@ impl Solver {
     /// Poses of the rigid targets at time t within the step t0 -> t1: an
     /// overridden component runs linearly from its converged value.
     fn rigid_poses(&self, t: f64, t0: f64, t1: f64, rigid0: &[[f64; 3]]) -> Vec<[f64; 3]> {
-        let scene = pairs::scene_poses(&self.problem, t);
+        let scene = contact::scene_poses(&self.problem, t);
         (0..self.problem.rigids.len())
             .map(|r| {
                 let (scene, start) = (scene[r], rigid0[r]);
@@ -876,8 +880,9 @@ impl Solver {
             .map(|((i, p), mut result)| {
                 (result.stick_length, result.slip_length) =
                     crate::results::PairResult::zone_lengths(&result.nodes, p.closed);
-                let (gap, slip) = crate::contact::outputs::gaps_and_slips(
+                let (gap, slip) = contact::outputs::gaps_and_slips(
                     &self.problem,
+                    &self.targets,
                     p,
                     &state.u,
                     &state.rigid,
@@ -907,7 +912,7 @@ impl Solver {
         // depends on its start state alone (a restored state continues bit
         // for bit).
         self.augmented.restart();
-        self.search_cache = pairs::SearchCache::default();
+        self.search_cache = contact::SearchCache::default();
         let mut inc = self.predictor(t, from);
         for it in 0..=max_iterations {
             let eval = self.evaluate(&mut inc, it, log)?;
@@ -933,7 +938,7 @@ impl Solver {
     /// poses at t, the prescribed increment `dup` (carried through the
     /// tangent at iteration 0, so a large boundary motion does not first
     /// distort the elements next to it), and the iteration's start from the
-    /// converged state (contact anchors set: `pairs::begin_increment`).
+    /// converged state (contact anchors set: `contact::begin_increment`).
     fn predictor(&mut self, t: f64, from: &Ramp) -> Increment {
         let (t0, t1, u0) = (from.t0, from.t1, from.u0);
         let (rigid0, forces0, pressures0) = (from.rigid0, from.forces0, from.pressures0);
@@ -957,7 +962,7 @@ impl Solver {
         let reach = largest(&dup);
         let n = self.model.free_dofs();
         let mut memory = self.state.contact.clone();
-        pairs::begin_increment(&mut memory);
+        contact::begin_increment(&mut memory);
         Increment {
             t,
             kdu: vec![0.0; u.len()],
@@ -1383,7 +1388,7 @@ impl Solver {
         Ok(())
     }
 
-    /// The contact nodes that may touch in this increment (`pairs::near_target`,
+    /// The contact nodes that may touch in this increment (`contact::near_target`,
     /// within its prescribed motion `Increment::reach`), as the multiplier
     /// slots their rows would take: one per node, two with friction (a
     /// sticking node's), each keyed by the node's free equations (the rows
@@ -1396,8 +1401,9 @@ impl Solver {
     /// or a target is a body.
     fn contact_slots(&self, inc: &Increment) -> Result<Vec<Vec<usize>>, String> {
         let n = self.model.free_dofs();
-        let near = pairs::near_target(
+        let near = contact::near_target(
             &self.problem,
+            &self.targets,
             &inc.poses,
             &self.state.u,
             &inc.memory,
@@ -1513,7 +1519,7 @@ impl Solver {
         log: &mut dyn FnMut(LogCategory, &str),
     ) -> Result<(Vec<f64>, Option<ContactSystem>), String> {
         let (t, it, n) = (step.t, step.it, self.model.free_dofs());
-        let inner_solves = pairs::inner_solves(&self.problem);
+        let inner_solves = contact::inner_solves(&self.problem);
         // Solved again while the linearised problem decides a node's
         // stick/slip state otherwise than this iterate did (a slip
         // front crossing a stick zone): its rows change, the
@@ -1621,7 +1627,7 @@ impl Solver {
             }
             // The linearised problem's decisions may cycle (a set of
             // states met before): the outer iteration decides then.
-            let key = pairs::state_key(memory, &switched);
+            let key = contact::state_key(memory, &switched);
             if seen.contains(&key) {
                 break self.finish_inner(partial, full, extra)?;
             }
@@ -1676,7 +1682,7 @@ impl Solver {
     }
 
     /// The nodes whose stick/slip state the linearised problem decides
-    /// otherwise than the rows of `sys` did (`pairs::predict`), from where
+    /// otherwise than the rows of `sys` did (`contact::predict`), from where
     /// its solution `full` goes and the out-of-balance force it leaves at
     /// each dof (K du = r_c - C^T x - r).
     fn linearised_states(
@@ -1708,8 +1714,9 @@ impl Solver {
                 }
             }
         }
-        pairs::predict(
+        contact::predict(
             &self.problem,
+            &self.targets,
             step.poses,
             [step.u, &u_new],
             &force_new,
@@ -1721,7 +1728,7 @@ impl Solver {
         )
     }
 
-    /// The contact system at the iterate, from `r` (`pairs::update`); with
+    /// The contact system at the iterate, from `r` (`contact::update`); with
     /// `keep` (an inner solve), the rows rebuilt at the same iterate with
     /// the switched nodes' states and every other node's decision kept in
     /// the system given: the tangent and `r` do not change.
@@ -1735,15 +1742,16 @@ impl Solver {
     ) -> Result<ContactSystem, String> {
         let (t, it) = (step.t, step.it);
         let mut clog = |m: &str| log(LogCategory::Contact, &format!("t = {t:.6e} it {it}: {m}"));
-        let start = pairs::Start {
+        let start = contact::Start {
             u: &self.state.u,
             poses: &self.state.rigid,
             settling: step.settling,
             touching: self.close_touching,
         };
         let clock = Instant::now();
-        let updated = pairs::update(
+        let updated = contact::update(
             &self.problem,
+            &self.targets,
             step.poses,
             step.u,
             &self.r,
@@ -1931,7 +1939,7 @@ fn equilibrium_residual(c: &ContactSystem, eq: &[u32], rhs: &[f64]) -> Vec<f64> 
         if comps.is_empty() {
             continue;
         }
-        let coeff = |row: &pairs::Row, d: usize| {
+        let coeff = |row: &contact::Row, d: usize| {
             row.acting()
                 .iter()
                 .filter(|e| e.0 == d)
@@ -2036,10 +2044,10 @@ mod tests {
         let (nx, ny) = (0.0654f64, 0.9979f64);
         let m = 300.0;
         let c = ContactSystem {
-            rows: vec![pairs::Row {
-                dofs: pairs::Entries::from_slice(&[(0, nx), (1, ny), (2, -nx), (3, -ny)]),
+            rows: vec![contact::Row {
+                dofs: contact::Entries::from_slice(&[(0, nx), (1, ny), (2, -nx), (3, -ny)]),
                 rhs: 0.0,
-                column: pairs::Entries::default(),
+                column: contact::Entries::default(),
             }],
             groups: vec![(0, 0..1)],
             ..Default::default()

@@ -326,14 +326,20 @@ pub struct Problem {
     pub units: Units,
     /// The scene's `[parameters]` (FMU parameters; the scene already
     /// carries their values wherever its expressions use them).
-    pub parameters: Vec<crate::scene::Parameter>,
-    /// The rigid targets' segments at their last poses (a cache; empty in
-    /// a new or cloned problem).
-    pub rigid_segments: crate::contact::pairs::RigidSegments,
+    pub parameters: Vec<Parameter>,
     /// What the scene reader noticed and did not refuse (a contact pair
     /// that starts overlapped): the command line prints them, the FMU logs
     /// them as warnings.
     pub warnings: Vec<String>,
+}
+
+/// A scene parameter: its name (an FMU parameter of that name) and value.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Parameter {
+    pub name: String,
+    pub value: f64,
+    /// The value the scene file gives (before any override).
+    pub default: f64,
 }
 
 /// Length unit of a scene's coordinates and displacements.

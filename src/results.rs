@@ -195,65 +195,6 @@ impl LogCategory {
     }
 }
 
-impl StepResult {
-    /// The outputs of a problem at rest (before its first increment): zero
-    /// forces, every contactor node open at its position in `u`.
-    pub fn at_rest(problem: &crate::problem::Problem, time: f64, u: &[f64]) -> StepResult {
-        let drivers = problem
-            .drivers
-            .iter()
-            .map(|d| (d.name.clone(), DriverResult::default()))
-            .chain(problem.rigids.iter().map(|r| {
-                let rest = DriverResult {
-                    mz: Some(0.0),
-                    ..Default::default()
-                };
-                (r.name.clone(), rest)
-            }))
-            .collect();
-        let poses = crate::contact::pairs::scene_poses(problem, time);
-        let pairs = problem
-            .contacts
-            .iter()
-            .map(|c| {
-                let m = c.contactor.len();
-                let at = |n: usize, i: usize| problem.mesh.nodes[n][i] + u[2 * n + i];
-                // Every node open: its gap is its distance to the target (a
-                // degenerate target segment, which the first step reports,
-                // leaves it unknown).
-                let rest = crate::contact::PairMemory::new(c);
-                let gap =
-                    crate::contact::outputs::gaps_and_slips(problem, c, u, &poses, &rest, None)
-                        .map_or_else(|_| vec![f64::NAN; m], |(gap, _)| gap);
-                let nodes = PairNodes {
-                    x: c.contactor.iter().map(|&n| at(n, 0)).collect(),
-                    y: c.contactor.iter().map(|&n| at(n, 1)).collect(),
-                    tn: vec![0.0; m],
-                    tt: vec![0.0; m],
-                    state: vec![NodeState::Open; m],
-                    gap,
-                    slip: vec![0.0; m],
-                    pn: vec![0.0; m],
-                    pt: vec![0.0; m],
-                };
-                let result = PairResult {
-                    n_open: m,
-                    nodes,
-                    ..Default::default()
-                };
-                (c.name.clone(), result)
-            })
-            .collect();
-        StepResult {
-            time,
-            converged: true,
-            drivers,
-            pairs,
-            ..Default::default()
-        }
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -1,4 +1,4 @@
-//! The global contact entries of `pairs::update` against central finite
+//! The global contact entries of `contact::update` against central finite
 //! differences of the potentials of Eqs. (11) and (17) (docs/contact.md,
 //! sections 4 and 5), written here from the document, on a small patch: a
 //! 2x1 Q4 (or Q8) contactor block pressed into a 2x1 Q4 target block (or a
@@ -25,8 +25,8 @@
 
 mod common;
 
-use contact2d::contact::pairs::{
-    self, ContactSystem, Flips, NodeMemory, PairMemory, SegmentMemory,
+use contact2d::contact::{
+    self, ContactSystem, Flips, NodeMemory, PairMemory, RigidSegments, SegmentMemory,
 };
 use contact2d::mesh::{ElementKind, Mesh};
 use contact2d::problem::*;
@@ -432,7 +432,7 @@ fn mutate(nodes: &[Constrained], m: Mutation) -> Vec<Constrained> {
 /// The patch with the given contactor segment states wanted (Stick or Slip),
 /// the out-of-balance forces `r` at the contactor nodes, and, per node, the
 /// beta of a sticking node relative to its projection (so that it carries a
-/// tangential overlap). Runs `pairs::update` and checks it against the
+/// tangential overlap). Runs `contact::update` and checks it against the
 /// potential.
 fn check(kind: ElementKind, rigid: bool, wanted: &[NodeState], r_nodes: &[V2], shift: &[f64]) {
     let p = patch(kind, rigid);
@@ -490,15 +490,16 @@ fn check(kind: ElementKind, rigid: bool, wanted: &[NodeState], r_nodes: &[V2], s
     let eq: Vec<u32> = (0..ndof as u32).collect();
     let mut mem = vec![memory];
     let mut log = Vec::new();
-    let poses = pairs::scene_poses(&p.problem, 1.0);
-    let start = pairs::Start {
+    let poses = contact::scene_poses(&p.problem, 1.0);
+    let start = contact::Start {
         u: &p.u,
         poses: &poses,
         settling: false,
         touching: false,
     };
-    let sys = pairs::update(
+    let sys = contact::update(
         &p.problem,
+        &RigidSegments::default(),
         &poses,
         &p.u,
         &r,

@@ -3,7 +3,7 @@
 
 mod common;
 
-use contact2d::contact::pairs::{self, Flips, PairMemory};
+use contact2d::contact::{self, Flips, PairMemory, RigidSegments};
 use contact2d::mesh::ElementKind;
 use contact2d::problem::*;
 use contact2d::results::NodeState;
@@ -36,16 +36,17 @@ fn a_node_flipping_open_and_closed_is_reported() {
     let mut flips = Flips::default();
     let mut log = Vec::new();
     let mut states = Vec::new();
-    let poses = pairs::scene_poses(&p, 0.0);
-    let start = pairs::Start {
+    let poses = contact::scene_poses(&p, 0.0);
+    let start = contact::Start {
         u: &u,
         poses: &poses,
         settling: false,
         touching: false,
     };
     let error = loop {
-        match pairs::update(
+        match contact::update(
             &p,
+            &RigidSegments::default(),
             &poses,
             &u,
             &r,

@@ -169,7 +169,7 @@ fn open_nodes_report_their_distance_to_the_target() {
         )],
     );
     let u = vec![0.0; 2 * problem.mesh.nodes.len()];
-    let rest = StepResult::at_rest(&problem, 0.0, &u);
+    let rest = contact2d::contact::outputs::rest_step(&problem, 0.0, &u);
     assert!(
         rest.pairs[0]
             .1

@@ -2,7 +2,7 @@
 //! silence, found on the geometry at rest (t = 0, no displacement).
 
 use super::outputs::{along, nearest};
-use super::pairs;
+use super::search::{self, RigidSegments};
 use crate::problem::{ContactPair, Problem};
 use nalgebra::Vector2;
 
@@ -28,10 +28,10 @@ const TOUCH: f64 = 1e-4;
 /// nodes start inside the target.
 pub fn at_rest(problem: &Problem, pair: &ContactPair) -> Result<AtRest, String> {
     let u = vec![0.0; 2 * problem.mesh.nodes.len()];
-    let poses = pairs::scene_poses(problem, 0.0);
-    let segments = pairs::target_segments(problem, pair, &u, &poses)?;
+    let poses = search::scene_poses(problem, 0.0);
+    let segments = search::target_segments(&RigidSegments::default(), problem, pair, &u, &poses)?;
     let x: Vec<Vector2<f64>> = (pair.contactor.iter())
-        .map(|&n| pairs::position(problem, &u, n))
+        .map(|&n| search::position(problem, &u, n))
         .collect();
     let mut out = AtRest::default();
     if x.len() < 2 || segments.is_empty() {

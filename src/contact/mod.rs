@@ -1,17 +1,38 @@
-//! Contact after Bathe & Chaudhary (1984): contactor nodes against target segments,
-//! enforced by Lagrange multipliers in Eq. (18). `segment` is the pure kernel (geometry
-//! and one node's contributions); the derivation is in docs/contact.md.
+//! Contact after Bathe & Chaudhary (1984): contactor nodes against target
+//! segments, enforced by Lagrange multipliers in Eq. (18). The derivation is
+//! in docs/contact.md.
+//!
+//! Per pair and iteration the contact runs in phases: search (where the
+//! contactor meets the target: `search`), forces (recovered from the
+//! out-of-balance forces, or multipliers), decisions (open / stick / slip),
+//! rows (Eq. 18) and report (`report`). A formulation is one implementation
+//! of these phases behind [`Formulation`]; `formulation` names the one a
+//! pair uses. Newton sees only this module's functions and the types of
+//! `system`.
 
 pub mod checks;
-mod nodal;
+mod memory;
+mod node_to_segment;
 pub mod outputs;
-pub mod pairs;
+mod report;
+mod search;
 pub mod segment;
 pub mod sensitivity;
+mod system;
 pub mod traction;
 
-pub use pairs::PairMemory;
+pub use memory::{NodeMemory, PairMemory, SegmentMemory, begin_increment};
+pub use search::{
+    NearNodes, RigidSegments, SearchCache, near_target, rigid_points, rigid_reference, scene_poses,
+};
 pub use segment::{ContactPoint, NodeMat, NodeVec, Segment, Sliding, Sticking};
+pub use system::{
+    ContactSystem, Entries, Flips, Row, Start, Switched, state_key, touches_prescribed,
+};
+
+use crate::problem::{ContactPair, Decisions, Problem};
+use crate::results::PairResult;
+use system::{Forced, Iterate, Kept};
 
 /// Errors of the contact kernel, carrying the offending values.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -26,4 +47,176 @@ pub enum ContactError {
         xb: [f64; 2],
         length: f64,
     },
+}
+
+/// What a linearised problem's solution says about one pair, for the
+/// decisions it predicts (`Formulation::predict`): the displacements now and
+/// after the solve, the out-of-balance force per dof the solve leaves, and
+/// the iteration's tolerances [force, length].
+pub(crate) struct Prediction<'a> {
+    pub problem: &'a Problem,
+    pub targets: &'a RigidSegments,
+    pub poses: &'a [[f64; 3]],
+    pub u_now: &'a [f64],
+    pub u_new: &'a [f64],
+    pub force_new: &'a [f64],
+    pub tolerance: [f64; 2],
+    /// The iterate has not settled (`Start::settling`).
+    pub settling: bool,
+}
+
+/// A contact formulation: one pair's contact at an iterate, in the phases
+/// of the module's header. Adding one is a new module beside
+/// `node_to_segment` and an arm in `formulation`.
+pub(crate) trait Formulation: Sync {
+    /// The pair at the iterate `at`: its nodes decided (or, with `keep`, the
+    /// kept decisions with the switched nodes' states), its forces, gradient
+    /// entries and rows added to `out`, its memory updated, its results
+    /// returned. `kept` receives what `predict` and a later `update` with
+    /// `keep` read back.
+    #[allow(clippy::too_many_arguments)]
+    fn update(
+        &self,
+        at: &Iterate,
+        pair: &ContactPair,
+        mem: &mut PairMemory,
+        counters: [&mut [usize]; 2],
+        log: &mut dyn FnMut(&str),
+        out: &mut ContactSystem,
+        keep: Option<(&Kept, &[(usize, Forced)])>,
+    ) -> Result<PairResult, String>;
+
+    /// Whether the linearised problem's decisions (inner solves) apply.
+    fn inner_solves(&self) -> bool;
+
+    /// The nodes the linearised problem decides otherwise than the kept
+    /// decisions did (`kept`, from `update`); None: this formulation has
+    /// no inner solves.
+    fn predict(
+        &self,
+        at: &Prediction,
+        pair: (usize, &ContactPair),
+        mem: &PairMemory,
+        kept: &Kept,
+        cache: &mut SearchCache,
+    ) -> Result<Option<Vec<(usize, Forced)>>, String>;
+
+    /// The exact linearisation of the pair's contact conditions at a
+    /// converged state (`sensitivity::linearise`), into `out`.
+    fn linearise(
+        &self,
+        at: &sensitivity::At,
+        pair: (usize, &ContactPair),
+        kept: &Kept,
+        out: &mut sensitivity::Linearised,
+    ) -> Result<(), String>;
+}
+
+/// The formulation a pair uses: the registration of every formulation.
+fn formulation(pair: &ContactPair) -> &'static dyn Formulation {
+    match pair.decisions {
+        Decisions::Nodal => &node_to_segment::NODAL,
+        Decisions::Paper => &node_to_segment::PAPER,
+    }
+}
+
+/// Whether the inner solves apply: every pair's formulation has them.
+pub fn inner_solves(problem: &Problem) -> bool {
+    problem
+        .contacts
+        .iter()
+        .all(|p| formulation(p).inner_solves())
+}
+
+/// The contact part of the system at displacements `u` and rigid target
+/// poses `poses` ([ux, uy, theta] per rigid target), from the out-of-balance
+/// forces `r` (F_int - R_ext, contact excluded) and the memory after the
+/// previous iteration, which it updates. `eq` maps dofs to equations
+/// (PRESCRIBED for prescribed dofs).
+///
+/// `keep`: the system `update` built at this same iterate (from these `u`
+/// and `r`) and the nodes the linearised problem switched (`predict`): those
+/// get their new states, every other node keeps its decision, giving the
+/// rows of the linearised problem's next active set.
+#[allow(clippy::too_many_arguments)]
+pub fn update(
+    problem: &Problem,
+    targets: &RigidSegments,
+    poses: &[[f64; 3]],
+    u: &[f64],
+    r: &[f64],
+    eq: &[u32],
+    start: &Start,
+    memory: &mut [PairMemory],
+    flips: &mut Flips,
+    log: &mut dyn FnMut(&str),
+    keep: Option<(&ContactSystem, &Switched)>,
+) -> Result<ContactSystem, String> {
+    let mut out = ContactSystem {
+        rigid: vec![[0.0; 3]; problem.rigids.len()],
+        ..Default::default()
+    };
+    flips.fit(memory);
+    let at = Iterate {
+        problem,
+        targets,
+        poses,
+        u,
+        r,
+        eq,
+        start,
+    };
+    for (p, pair) in problem.contacts.iter().enumerate() {
+        let keep = keep.map(|(previous, switched)| (&previous.kept[p], &switched.0[p][..]));
+        let counters = [&mut flips.counts[p][..], &mut flips.slips[p][..]];
+        let result =
+            formulation(pair).update(&at, pair, &mut memory[p], counters, log, &mut out, keep)?;
+        out.pairs.push(result);
+    }
+    Ok(out)
+}
+
+/// The nodes whose state the linearised problem decides otherwise than
+/// `system`'s rows did: after solving with them, `u_new` the displacements
+/// reached and `force_new` the out-of-balance force per dof there as the
+/// solve predicts it (zero at prescribed dofs). Tolerances [force, length]
+/// as the iteration's equilibrium. None when every pair keeps its states,
+/// or when a pair's formulation has no inner solves.
+#[allow(clippy::too_many_arguments)]
+pub fn predict(
+    problem: &Problem,
+    targets: &RigidSegments,
+    poses: &[[f64; 3]],
+    [u_now, u_new]: [&[f64]; 2],
+    force_new: &[f64],
+    memory: &[PairMemory],
+    system: &ContactSystem,
+    tolerance: [f64; 2],
+    settling: bool,
+    cache: &mut SearchCache,
+) -> Result<Option<Switched>, String> {
+    if system.kept.len() != problem.contacts.len() {
+        return Ok(None);
+    }
+    let at = Prediction {
+        problem,
+        targets,
+        poses,
+        u_now,
+        u_new,
+        force_new,
+        tolerance,
+        settling,
+    };
+    let mut out = Vec::with_capacity(problem.contacts.len());
+    for (p, pair) in problem.contacts.iter().enumerate() {
+        let Some(switched) =
+            formulation(pair).predict(&at, (p, pair), &memory[p], &system.kept[p], cache)?
+        else {
+            return Ok(None);
+        };
+        out.push(switched);
+    }
+    let switched = Switched(out);
+    Ok((switched.count() > 0).then_some(switched))
 }

@@ -2,10 +2,68 @@
 //! report and the iteration does not need: the gap to the target and the
 //! slip over the last step.
 
-use super::pairs::{self, PairMemory, TargetSegment, TargetSet};
+use super::memory::PairMemory;
+use super::search::{self, RigidSegments, TargetSegment, TargetSet};
 use crate::problem::{ContactPair, Problem};
-use crate::results::NodeState;
+use crate::results::{DriverResult, NodeState, PairNodes, PairResult, StepResult};
 use nalgebra::Vector2;
+
+/// The outputs of a problem at rest (before its first increment): zero
+/// forces, every contactor node open at its position in `u`.
+pub fn rest_step(problem: &Problem, time: f64, u: &[f64]) -> StepResult {
+    let drivers = problem
+        .drivers
+        .iter()
+        .map(|d| (d.name.clone(), DriverResult::default()))
+        .chain(problem.rigids.iter().map(|r| {
+            let rest = DriverResult {
+                mz: Some(0.0),
+                ..Default::default()
+            };
+            (r.name.clone(), rest)
+        }))
+        .collect();
+    let poses = search::scene_poses(problem, time);
+    let targets = RigidSegments::default();
+    let pairs = problem
+        .contacts
+        .iter()
+        .map(|c| {
+            let m = c.contactor.len();
+            let at = |n: usize, i: usize| problem.mesh.nodes[n][i] + u[2 * n + i];
+            // Every node open: its gap is its distance to the target (a
+            // degenerate target segment, which the first step reports,
+            // leaves it unknown).
+            let rest = PairMemory::new(c);
+            let gap = gaps_and_slips(problem, &targets, c, u, &poses, &rest, None)
+                .map_or_else(|_| vec![f64::NAN; m], |(gap, _)| gap);
+            let nodes = PairNodes {
+                x: c.contactor.iter().map(|&n| at(n, 0)).collect(),
+                y: c.contactor.iter().map(|&n| at(n, 1)).collect(),
+                tn: vec![0.0; m],
+                tt: vec![0.0; m],
+                state: vec![NodeState::Open; m],
+                gap,
+                slip: vec![0.0; m],
+                pn: vec![0.0; m],
+                pt: vec![0.0; m],
+            };
+            let result = PairResult {
+                n_open: m,
+                nodes,
+                ..Default::default()
+            };
+            (c.name.clone(), result)
+        })
+        .collect();
+    StepResult {
+        time,
+        converged: true,
+        drivers,
+        pairs,
+        ..Default::default()
+    }
+}
 
 /// The gap and slip of every contactor node of `pair` in the state `u`,
 /// `poses`, `now` (node memory), against the state at the start of the step
@@ -24,15 +82,16 @@ use nalgebra::Vector2;
 ///   in the step has no material point to slip from).
 pub fn gaps_and_slips(
     problem: &Problem,
+    targets: &RigidSegments,
     pair: &ContactPair,
     u: &[f64],
     poses: &[[f64; 3]],
     now: &PairMemory,
     start: Option<&PairMemory>,
 ) -> Result<(Vec<f64>, Vec<f64>), String> {
-    let segments = pairs::target_segments(problem, pair, u, poses)?;
+    let segments = search::target_segments(targets, problem, pair, u, poses)?;
     let x: Vec<Vector2<f64>> = (pair.contactor.iter())
-        .map(|&n| pairs::position(problem, u, n))
+        .map(|&n| search::position(problem, u, n))
         .collect();
     let m = x.len();
     let mut gaps = Vec::with_capacity(m);

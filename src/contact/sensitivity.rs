@@ -20,10 +20,9 @@
 //! A rigid target's pose `[ux, uy, theta]` moves its material point at `x`
 //! with `d x = (d ux, d uy) + d theta e_z x (x - reference)`.
 
-use super::pairs::{ContactSystem, rigid_reference};
+use super::ContactSystem;
 use crate::assembly::PRESCRIBED;
-use crate::problem::{Decisions, Problem, Target};
-use crate::results::NodeState;
+use crate::problem::Problem;
 use nalgebra::Vector2;
 
 /// One linearised contact condition: `sum dofs . du + sum poses . dpose =
@@ -78,167 +77,37 @@ pub struct Linearised {
     pub rows: Vec<Row>,
     pub nodes: Vec<NodeForce>,
 }
-
 /// Derivatives of a material point of a rigid target at `x` with respect to
 /// its pose [ux, uy, theta] (`reference`: the moved reference point).
-fn material_velocity(x: Vector2<f64>, reference: [f64; 2]) -> [Vector2<f64>; 3] {
+pub(crate) fn material_velocity(x: Vector2<f64>, reference: [f64; 2]) -> [Vector2<f64>; 3] {
     [
         Vector2::new(1.0, 0.0),
         Vector2::new(0.0, 1.0),
         Vector2::new(-(x.y - reference[1]), x.x - reference[0]),
     ]
 }
+/// A converged state, as its linearisation reads it: the out-of-balance
+/// forces `r` (contact excluded), the equation map `eq` and
+/// the rigid targets' poses.
+pub struct At<'a> {
+    pub problem: &'a Problem,
+    pub poses: &'a [[f64; 3]],
+    pub r: &'a [f64],
+    pub eq: &'a [u32],
+}
 
 /// The linearisation of the contact conditions `system` holds at the
-/// converged displacements `u` and poses `poses`, with `r` the
-/// out-of-balance forces there (contact excluded) and `eq` the equation map.
-/// `system` must come from the nodal decisions (`pairs::update`); a pair
-/// under the paper's decisions (friction as a fixed point of the recovered
-/// segment resultants) has no such linearisation.
-pub fn linearise(
-    problem: &Problem,
-    poses: &[[f64; 3]],
-    r: &[f64],
-    eq: &[u32],
-    system: &ContactSystem,
-) -> Result<Linearised, String> {
+/// converged state `at`, pair by pair by its formulation.
+pub fn linearise(at: &At, system: &ContactSystem) -> Result<Linearised, String> {
     let mut out = Linearised::default();
-    for (p, pair) in problem.contacts.iter().enumerate() {
-        if pair.decisions == Decisions::Paper {
-            return Err(format!(
-                "contact pair '{}' uses the paper's decisions (decisions = \"paper\"): its \
-                 friction is a fixed point of the recovered segment resultants, which has no \
-                 derivative; the nodal decisions (the default) have one",
-                pair.name
-            ));
-        }
-        let decisions = system.decisions.get(p).ok_or_else(|| {
+    for (p, pair) in at.problem.contacts.iter().enumerate() {
+        let kept = system.kept.get(p).ok_or_else(|| {
             format!(
                 "contact pair '{}': no decisions at this state (internal)",
                 pair.name
             )
         })?;
-        let component = |d: usize| if eq[d] == PRESCRIBED { 0.0 } else { r[d] };
-        for (k, d) in decisions.iter().enumerate() {
-            let Some((j, cp)) = d.point.as_ref() else {
-                continue;
-            };
-            let n = pair.contactor[k];
-            let seg = cp.segment();
-            let (n_s, n_r, length, beta) = (seg.normal(), seg.tangent(), seg.length(), cp.beta());
-            let (target, turn, reference) = match &pair.target {
-                Target::Body { segments, .. } => {
-                    let [a, b] = *segments.get(*j).ok_or_else(|| {
-                        format!("contact pair '{}': no target segment {j}", pair.name)
-                    })?;
-                    (Some([a, b]), Turn::Segment { a, b, length }, [0.0; 2])
-                }
-                Target::Rigid(ri) => {
-                    let reference = rigid_reference(problem, *ri, poses[*ri]);
-                    (None, Turn::Rigid { rigid: *ri }, reference)
-                }
-            };
-            let held = d.state == NodeState::Stick || d.corner;
-            out.nodes.push(NodeForce {
-                pair: p,
-                node: n,
-                force: Vector2::new(component(2 * n), component(2 * n + 1)),
-                normal: n_s,
-                tangent: n_r,
-                point: cp.point(),
-                turn,
-                held,
-                reference,
-            });
-            // The node and the segment ends with their weights in G.
-            let mut ends = vec![(n, 1.0)];
-            if let Some([a, b]) = target {
-                ends.push((a, -(1.0 - beta)));
-                ends.push((b, -beta));
-            }
-            let spread = |v: Vector2<f64>| -> Vec<(usize, f64)> {
-                let mut e = Vec::with_capacity(6);
-                for &(m, w) in &ends {
-                    e.push((2 * m, w * v.x));
-                    e.push((2 * m + 1, w * v.y));
-                }
-                e
-            };
-            let rigid_poses = |v: Vector2<f64>| -> Vec<(usize, usize, f64)> {
-                match turn {
-                    Turn::Rigid { rigid } => {
-                        let w = material_velocity(cp.point(), reference);
-                        (0..3).map(|c| (rigid, c, -v.dot(&w[c]))).collect()
-                    }
-                    Turn::Segment { .. } => Vec::new(),
-                }
-            };
-            if held {
-                // x_k - x_C = 0 in both directions; lambda on the node, its
-                // reaction on A and B (Eqs. 19-21): G^T lambda.
-                for e in [Vector2::new(1.0, 0.0), Vector2::new(0.0, 1.0)] {
-                    let dofs = spread(e);
-                    out.rows.push(Row {
-                        column: dofs.clone(),
-                        dofs,
-                        poses: rigid_poses(e),
-                    });
-                }
-                continue;
-            }
-            // Sliding: the normal gap, and the friction that follows P.
-            let phi = if pair.mu_s == 0.0 && pair.mu_d == 0.0 {
-                0.0
-            } else {
-                d.slip_sign * pair.mu_d
-            };
-            let c = n_s + phi * n_r;
-            let (p_n, lambda) = (d.p_n, d.lambda);
-            out.rows.push(Row {
-                dofs: spread(n_s),
-                poses: rigid_poses(n_s),
-                column: spread(-c),
-            });
-            // d lambda at fixed P as the segment turns: -P (d n_s + phi d n_r)
-            // = P omega (n_r - phi n_s).
-            let w = p_n * (n_r - phi * n_s);
-            match (target, turn) {
-                (Some([a, b]), _) => {
-                    // omega and d beta (Eq. 14, at zero overlap) over the six dofs.
-                    let mut omega = [(2 * b, n_s.x), (2 * b + 1, n_s.y)].to_vec();
-                    omega.extend([(2 * a, -n_s.x), (2 * a + 1, -n_s.y)]);
-                    for e in &mut omega {
-                        e.1 /= length;
-                    }
-                    let raw = seg.project(cp.point() + cp.overlap()).beta();
-                    let dbeta = if (0.0..=1.0).contains(&raw) {
-                        spread(n_r / length)
-                    } else {
-                        Vec::new()
-                    };
-                    for &(m, g) in &ends {
-                        for c in 0..2 {
-                            for &(q, o) in &omega {
-                                out.k.push((2 * m + c, q, g * w[c] * o));
-                            }
-                        }
-                    }
-                    // G(beta)^T lambda: A carries -(1 - beta) lambda, B -beta lambda.
-                    for &(q, v) in &dbeta {
-                        for c in 0..2 {
-                            out.k.push((2 * a + c, q, lambda[c] * v));
-                            out.k.push((2 * b + c, q, -lambda[c] * v));
-                        }
-                    }
-                }
-                (None, Turn::Rigid { rigid }) => {
-                    for c in 0..2 {
-                        out.pose.push((2 * n + c, rigid, 2, w[c]));
-                    }
-                }
-                (None, Turn::Segment { .. }) => {}
-            }
-        }
+        super::formulation(pair).linearise(at, (p, pair), kept, &mut out)?;
     }
     Ok(out)
 }

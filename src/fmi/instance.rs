@@ -7,6 +7,7 @@ use super::description::{LOG_CATEGORIES, guid};
 use super::variables::{
     Binding, Causality, NodeField, PairField, Start, Type, Variable, output, variables,
 };
+use crate::contact::outputs::rest_step;
 use crate::newton::{Input, Response, SolveError, Solver};
 use crate::problem::{Problem, check_coefficient, check_modulus, check_poisson};
 use crate::results::{LogCategory, StepResult};
@@ -116,7 +117,7 @@ impl Instance {
         let vars = variables(&problem);
         let by_vr = vars.iter().enumerate().map(|(i, v)| (v.vr, i)).collect();
         let n = vars.len();
-        let last = StepResult::at_rest(&problem, 0.0, &vec![0.0; 2 * problem.mesh.nodes.len()]);
+        let last = rest_step(&problem, 0.0, &vec![0.0; 2 * problem.mesh.nodes.len()]);
         let mut instance = Instance {
             name: name.to_string(),
             guid,
@@ -281,7 +282,7 @@ impl Instance {
         let mut state = solver.state().clone();
         state.time = self.start_time;
         solver.restore(state);
-        self.last = StepResult::at_rest(solver.problem(), self.start_time, &solver.state().u);
+        self.last = rest_step(solver.problem(), self.start_time, &solver.state().u);
         self.solver = Some(solver);
         self.stepped.clone_from(&self.reals);
         self.mode = Mode::StepComplete;
@@ -366,8 +367,7 @@ impl Instance {
         self.steps = 0;
         self.start_time = 0.0;
         self.load_starts();
-        self.last =
-            StepResult::at_rest(&self.base, 0.0, &vec![0.0; 2 * self.base.mesh.nodes.len()]);
+        self.last = rest_step(&self.base, 0.0, &vec![0.0; 2 * self.base.mesh.nodes.len()]);
         self.mode = Mode::Instantiated;
         Status::Ok
     }

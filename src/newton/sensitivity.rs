@@ -16,8 +16,8 @@
 
 use super::{Solver, acts_on_free, subtract_loads};
 use crate::assembly::{PRESCRIBED, Workspace};
-use crate::contact::pairs::{self, Flips};
 use crate::contact::sensitivity::{self, Linearised};
+use crate::contact::{self, Flips};
 use crate::linsolve::FactoredLu;
 
 /// An input whose change the sensitivities follow.
@@ -150,14 +150,15 @@ impl Solver {
             // The contact states as the state holds them: deciding again at
             // the converged iterate from its memory gives the same states.
             let mut memory = s.contact.clone();
-            let start = pairs::Start {
+            let start = contact::Start {
                 u: &s.u,
                 poses: &s.rigid,
                 settling: false,
                 touching: false,
             };
-            let system = pairs::update(
+            let system = contact::update(
                 &self.problem,
+                &self.targets,
                 &s.rigid,
                 &s.u,
                 &r,
@@ -176,7 +177,15 @@ impl Solver {
                     system.changes + system.pending
                 ));
             }
-            sensitivity::linearise(&self.problem, &s.rigid, &r, eq, &system)?
+            sensitivity::linearise(
+                &sensitivity::At {
+                    problem: &self.problem,
+                    poses: &s.rigid,
+                    r: &r,
+                    eq,
+                },
+                &system,
+            )?
         };
         let n = self.model.free_dofs();
         let mut extra: Vec<(usize, usize, f64)> = Vec::new();

@@ -6,7 +6,7 @@
 //! order), so that ParaView opens the whole run at once.
 
 use super::vtk::{DataArray, Piece, PvdEntry, Values, vectors, write_pvd, write_vtu};
-use crate::contact::pairs::rigid_points;
+use crate::contact::rigid_points;
 use crate::problem::Problem;
 use crate::results::PairResult;
 use std::io;

@@ -6,7 +6,7 @@ mod contact;
 mod locate;
 mod mesh;
 mod params;
-pub use params::{Parameter, evaluate};
+pub use params::evaluate;
 mod raw;
 mod tie;
 
@@ -232,7 +232,6 @@ impl<'a> Resolver<'a> {
                 .map_or_else(String::new, |s| s.to_string_lossy().into_owned()),
         };
         let problem = Problem {
-            rigid_segments: Default::default(),
             name,
             analysis: self.analysis,
             kinematics,

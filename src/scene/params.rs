@@ -25,18 +25,10 @@
 
 use super::locate::{self, Source};
 use super::{SceneError, SceneErrorKind};
+use crate::problem::Parameter;
 use std::ops::Range;
 use toml::Spanned;
 use toml::de::DeValue;
-
-/// A scene parameter: its name (an FMU parameter of that name) and value.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Parameter {
-    pub name: String,
-    pub value: f64,
-    /// The value the scene file gives (before any override).
-    pub default: f64,
-}
 
 /// One expression replaced in the text: where (line), what was written, and
 /// the number it gave.

@@ -42,7 +42,6 @@ pub fn problem(
     let nn = mesh.nodes.len();
     Problem {
         name: "test".into(),
-        rigid_segments: Default::default(),
         analysis,
         kinematics,
         mesh,

@@ -177,7 +177,7 @@ impl Frame {
     pub fn at_rest(solver: &Solver) -> Frame {
         let s = solver.state();
         Frame {
-            step: StepResult::at_rest(solver.problem(), s.time, &s.u),
+            step: contact2d::contact::outputs::rest_step(solver.problem(), s.time, &s.u),
             u: s.u.clone(),
             rigid: s.rigid.clone(),
         }

@@ -8,18 +8,25 @@
 //! force, so its row is linearised consistently and Newton converges
 //! quadratically once the states settle (docs/contact.md section 8).
 
-use super::pairs::{
-    self, ContactSystem, Iterate, MAX_FLIPS, NodeMemory, PairMemory, Report, TENSION_TOLERANCE,
-    TargetSegment,
+use super::TENSION_TOLERANCE;
+use super::rows::add_rows;
+use crate::contact::Prediction;
+use crate::contact::memory::{NodeMemory, PairMemory};
+use crate::contact::report::{Report, reported_tractions};
+use crate::contact::search::{
+    self, SearchCache, Segments, TargetSegment, contactor_positions, target_segments,
 };
-use super::segment::ContactPoint;
-use crate::problem::{ContactPair, FrictionRule, Problem, Recovery};
+use crate::contact::segment::ContactPoint;
+use crate::contact::system::{
+    ContactSystem, Forced, Iterate, Kept, MAX_FLIPS, count_change, count_flip,
+};
+use crate::problem::{ContactPair, FrictionRule, Recovery};
 use crate::results::{NodeState, PairResult};
 use nalgebra::Vector2;
 
 /// What one node is, after this iteration's decision.
 #[derive(Clone, Debug)]
-pub(crate) struct Decision {
+pub(super) struct Decision {
     pub(super) state: NodeState,
     /// Target segment and contact point (None when open).
     pub(super) point: Option<(usize, ContactPoint)>,
@@ -37,34 +44,24 @@ pub(crate) struct Decision {
     held_back: bool,
 }
 
-/// A state a node is given rather than decided from its forces: the
-/// linearised problem's own stick/slip decisions (`predict_pair`).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub(crate) enum Forced {
-    Stick,
-    Slip(f64),
-    /// Released: the linearised problem pulls it off the target.
-    Open,
-    /// Closed on target segment `j`: the linearised problem moves it into
-    /// the target by `overlap`.
-    Close {
-        j: usize,
-        overlap: f64,
-    },
-}
-
 /// What `update_pair` does: decide every node from the iterate, or keep
 /// the decisions it made at this iterate except the forced nodes'.
 pub(super) enum Plan<'a> {
     Decide,
     Keep {
-        decisions: &'a [Decision],
+        kept: &'a Decided,
         forced: &'a [(usize, Forced)],
-        /// Which nodes were in contact when the iterate's decisions were
-        /// made: their out-of-balance forces are contact forces (a node the
-        /// linearised problem closes carries none yet).
-        active: &'a [bool],
     },
+}
+
+/// A pair's decisions at an iterate, kept for its inner solves and for the
+/// linearisation of a converged state (`system::Kept`).
+pub(super) struct Decided {
+    pub(super) decisions: Vec<Decision>,
+    /// Which nodes were in contact when the iterate's decisions were made:
+    /// their out-of-balance forces are contact forces (a node the
+    /// linearised problem closes carries none yet).
+    active: Vec<bool>,
 }
 
 /// How near a reflex corner (in beta, of either segment) a frictionless node
@@ -99,7 +96,7 @@ pub(super) fn update_pair(
     plan: Plan,
 ) -> Result<PairResult, String> {
     let active = match &plan {
-        Plan::Keep { active, .. } => Some(*active),
+        Plan::Keep { kept, .. } => Some(&kept.active[..]),
         Plan::Decide => None,
     };
     let view = PairIterate::new(at, pair, mem, active)?;
@@ -111,8 +108,10 @@ pub(super) fn update_pair(
     // An inner solve's system serves its rows alone: no report.
     let report = matches!(plan, Plan::Decide);
     let result = rows_and_results(at, &view, mem, &decisions, out, report)?;
-    out.decisions.push(decisions);
-    out.active.push(view.active);
+    out.kept.push(Kept::new(Decided {
+        decisions,
+        active: view.active,
+    }));
     Ok(result)
 }
 
@@ -121,8 +120,8 @@ pub(super) fn update_pair(
 /// its nodes' out-of-balance forces, and the tolerances taken from them.
 struct PairIterate<'a> {
     pair: &'a ContactPair,
-    segments: pairs::Segments,
-    segments0: pairs::Segments,
+    segments: Segments,
+    segments0: Segments,
     x: Vec<Vector2<f64>>,
     x0: Vec<Vector2<f64>>,
     /// The longest contactor segment.
@@ -153,12 +152,12 @@ impl<'a> PairIterate<'a> {
         active: Option<&[bool]>,
     ) -> Result<Self, String> {
         let (problem, start) = (at.problem, at.start);
-        let segments = pairs::target_segments(problem, pair, at.u, at.poses)?;
-        let segments0 = pairs::target_segments(problem, pair, start.u, start.poses)?;
+        let segments = target_segments(at.targets, problem, pair, at.u, at.poses)?;
+        let segments0 = target_segments(at.targets, problem, pair, start.u, start.poses)?;
         let m = pair.contactor.len();
         let (x, x0) = (
-            pairs::contactor_positions(problem, pair, at.u),
-            pairs::contactor_positions(problem, pair, start.u),
+            contactor_positions(problem, pair, at.u),
+            contactor_positions(problem, pair, start.u),
         );
         // How far a free node may have gone into the target and still be
         // caught (`reach`): a few contactor segments (not the far side of a
@@ -236,10 +235,8 @@ impl<'a> PairIterate<'a> {
 fn decisions(view: &PairIterate, mem: &PairMemory, plan: &Plan) -> Vec<Decision> {
     let decide_node = |k: usize, forced: Option<Forced>| decide(view, k, &mem.nodes[k], forced);
     match plan {
-        Plan::Keep {
-            decisions, forced, ..
-        } => {
-            let mut kept = decisions.to_vec();
+        Plan::Keep { kept, forced } => {
+            let mut kept = kept.decisions.to_vec();
             for &(k, f) in forced.iter() {
                 kept[k] = decide_node(k, Some(f));
             }
@@ -268,9 +265,9 @@ fn count_changes(
         {
             out.changes += 1;
             if (d.state == NodeState::Open) != (old.state == NodeState::Open) {
-                pairs::count_flip(pair, k, flips)?;
+                count_flip(pair, k, flips)?;
             } else {
-                pairs::count_change(pair, k, slips, MAX_SLIPS, "stick and slip")?;
+                count_change(pair, k, slips, MAX_SLIPS, "stick and slip")?;
             }
             if old.state != NodeState::Open && d.state == NodeState::Open {
                 log(&format!(
@@ -285,7 +282,7 @@ fn count_changes(
 
 /// Constraint rows and reported results: each node's memory after its
 /// decision (`remember`), the rows of Eq. (18) of each node in contact
-/// (`pairs::add_rows`, a sliding node's friction in its multiplier's
+/// (`rows::add_rows`, a sliding node's friction in its multiplier's
 /// column), and, with `report`, the pair's forces, states and tractions
 /// and the rigid targets' reactions (`ContactSystem::rigid`); without, an
 /// empty result.
@@ -308,7 +305,7 @@ fn rows_and_results(
             let held = d.state == NodeState::Stick || d.corner;
             let friction = if held { 0.0 } else { d.slip_sign * pair.mu_d };
             let n = pair.contactor[k];
-            pairs::add_rows(
+            add_rows(
                 view.segments[*j].nodes,
                 n,
                 cp,
@@ -333,7 +330,7 @@ fn rows_and_results(
     // decisions above read (the consistent recovery of Eq. 26 spreads a
     // force over its neighbours and shows a pressed node next to an open one
     // in tension).
-    let (tn, tt) = pairs::reported_tractions(
+    let (tn, tt) = reported_tractions(
         at.problem,
         pair,
         &view.x,
@@ -434,11 +431,11 @@ fn decide(view: &PairIterate, k: usize, old: &NodeMemory, forced: Option<Forced>
                 s.seg.contact_at(x, s.seg.project(x).beta().clamp(0.0, 1.0)),
             )
         }),
-        (_, NodeState::Open) => pairs::search(segments, x, reach, view.touching),
+        (_, NodeState::Open) => search::search(segments, x, reach, view.touching),
         (_, NodeState::Stick) => segments
             .get(old.segment)
             .map(|s| (old.segment, s.seg.contact_at(x, old.beta))),
-        (_, NodeState::Slip) => pairs::follow(segments, old.segment, x, reach),
+        (_, NodeState::Slip) => search::follow(segments, old.segment, x, reach),
     };
     let Some((j, cp)) = found else {
         return Decision::open(0.0);
@@ -636,32 +633,31 @@ fn sticking_mu(pair: &ContactPair, node: &NodeMemory) -> f64 {
 ///   has turned back sticks.
 ///
 /// Corner holds are left to the next iterate's decisions.
-#[allow(clippy::too_many_arguments)]
 pub(super) fn predict_pair(
-    problem: &Problem,
-    pair: &ContactPair,
-    poses: &[[f64; 3]],
-    [u_now, u_new]: [&[f64]; 2],
-    force_new: &dyn Fn(usize) -> Vector2<f64>,
+    at: &Prediction,
+    (p, pair): (usize, &ContactPair),
     mem: &PairMemory,
-    decisions: &[Decision],
-    held: Option<&[bool]>,
-    tolerance: [f64; 2],
-    (p, cache): (usize, &mut pairs::SearchCache),
+    kept: &Decided,
+    cache: &mut SearchCache,
 ) -> Result<Vec<(usize, Forced)>, String> {
+    let (problem, [u_now, u_new]) = (at.problem, [at.u_now, at.u_new]);
+    let force_new = |n: usize| Vector2::new(at.force_new[2 * n], at.force_new[2 * n + 1]);
+    // While the iterate settles a node in contact at the iterate is not
+    // released on its force (`decide`).
+    let held = at.settling.then_some(&kept.active[..]);
     let frictionless = pair.mu_s == 0.0 && pair.mu_d == 0.0;
-    let [force_tolerance, length_tolerance] = tolerance;
-    let segments = pairs::target_segments(problem, pair, u_new, poses)?;
-    let x_new = pairs::contactor_positions(problem, pair, u_new);
+    let [force_tolerance, length_tolerance] = at.tolerance;
+    let segments = target_segments(at.targets, problem, pair, u_new, at.poses)?;
+    let x_new = contactor_positions(problem, pair, u_new);
     let mut h: f64 = 0.0;
     for w in x_new.windows(2) {
         h = h.max((w[1] - w[0]).norm());
     }
     let mut out = Vec::new();
-    for (k, d) in decisions.iter().enumerate() {
+    for (k, d) in kept.decisions.iter().enumerate() {
         let Some((j, cp)) = d.point.as_ref() else {
             // A free node the solve moves into the target closes.
-            let x = pairs::position(problem, u_now, pair.contactor[k]);
+            let x = search::position(problem, u_now, pair.contactor[k]);
             let reach = 2.0 * h + (x_new[k] - x).norm();
             if let Some((j, cp)) = cache.search((p, k), &segments, x_new[k], reach)
                 && cp.normal_overlap() > length_tolerance
@@ -761,7 +757,7 @@ fn corner(
     } else {
         return None;
     };
-    let (i, end_i) = pairs::reflex(segments, j, end_j)?;
+    let (i, end_i) = search::reflex(segments, j, end_j)?;
     let beta_i = segments[i].seg.project(x).beta();
     let beyond = |tol: f64| {
         let past_j = if end_j == 0.0 {
@@ -781,7 +777,7 @@ fn corner(
             || old.corner
             || old.crossed == Some((j, i))
             || old.crossed == Some((i, j)));
-    if !(beyond(pairs::BETA_TOLERANCE) || (returned && beyond(tol))) {
+    if !(beyond(search::BETA_TOLERANCE) || (returned && beyond(tol))) {
         return None;
     }
     let (nj, ni) = (segments[j].seg.normal(), segments[i].seg.normal());

@@ -1,0 +1,331 @@
+//! What a contact formulation gives Newton at an iterate, and what it is
+//! given: the iterate (`Iterate`, `Start`), the contact part of the system
+//! of Eq. (18) (`ContactSystem`: forces, gradient entries, constraint rows,
+//! reported results), the nodes an inner solve switches (`Switched`), and
+//! the per-increment change counters that fail an oscillating increment.
+
+use super::memory::PairMemory;
+use super::search::RigidSegments;
+use crate::assembly::PRESCRIBED;
+use crate::problem::{ContactPair, Problem};
+use crate::results::{NodeState, PairResult};
+use nalgebra::Vector2;
+use std::any::Any;
+use std::sync::Arc;
+
+/// Times a node may change between open and closed within one increment
+/// before the increment is declared oscillating.
+pub(super) const MAX_FLIPS: usize = 6;
+
+/// One row of the constraint block of Eq. (18): `sum c_q du_q = rhs`, with
+/// the prescribed dofs kept as dofs (the caller moves known increments to
+/// the right-hand side).
+#[derive(Clone, Debug)]
+pub struct Row {
+    pub dofs: Entries,
+    pub rhs: f64,
+    /// The multiplier's column in the displacement rows when it differs
+    /// from the row (a sliding node's friction); empty: the row itself.
+    pub column: Entries,
+}
+
+/// A row's entries (dof, coefficient), held in place: a contact row acts
+/// on its node and at most a target segment's two nodes. The contact
+/// system is rebuilt at every inner solve, and two allocations per row
+/// were a tenth of that.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Entries {
+    pub(crate) len: usize,
+    pub(crate) at: [(usize, f64); Entries::MAX],
+}
+
+impl Entries {
+    pub const MAX: usize = 6;
+
+    /// The entries of `list` (at most `MAX`).
+    pub fn from_slice(list: &[(usize, f64)]) -> Self {
+        assert!(
+            list.len() <= Self::MAX,
+            "a contact row of {} entries",
+            list.len()
+        );
+        let mut e = Entries::default();
+        e.at[..list.len()].copy_from_slice(list);
+        e.len = list.len();
+        e
+    }
+}
+
+impl std::ops::Deref for Entries {
+    type Target = [(usize, f64)];
+    fn deref(&self) -> &[(usize, f64)] {
+        &self.at[..self.len]
+    }
+}
+
+impl<'a> IntoIterator for &'a Entries {
+    type Item = &'a (usize, f64);
+    type IntoIter = std::slice::Iter<'a, (usize, f64)>;
+    fn into_iter(self) -> Self::IntoIter {
+        self.iter()
+    }
+}
+
+impl Row {
+    /// The direction the row's multiplier acts in on the displacement rows:
+    /// its column (a sliding node's friction), or the row itself.
+    pub fn acting(&self) -> &[(usize, f64)] {
+        if self.column.is_empty() {
+            &self.dofs
+        } else {
+            &self.column
+        }
+    }
+}
+
+/// The contact part of the system for one iteration.
+#[derive(Clone, Debug, Default)]
+pub struct ContactSystem {
+    /// `G^T lambda` per dof: the contact forces, added to the external load.
+    pub force: Vec<(usize, f64)>,
+    /// Sliding gradient matrix entries (dof, dof, value), added to K.
+    pub k: Vec<(usize, usize, f64)>,
+    pub rows: Vec<Row>,
+    /// Per constrained node: its mesh node and the range of its rows.
+    pub groups: Vec<(usize, std::ops::Range<usize>)>,
+    /// Nodes whose state changed in this update.
+    pub changes: usize,
+    /// Nodes kept in contact though their force pulls, after the predictor
+    /// (`Start::settling`): the increment has not converged while any is.
+    pub pending: usize,
+    /// Largest overlap (penetration or tangential drift) of a closed node.
+    pub max_overlap: f64,
+    pub pairs: Vec<PairResult>,
+    /// Per rigid target: force on it [Rx, Ry] and moment Mz about its moved
+    /// reference point.
+    pub rigid: Vec<[f64; 3]>,
+    /// Per pair, what its formulation keeps of the decisions the rows were
+    /// built from: `predict` and `update` with `keep` start from them.
+    pub(crate) kept: Vec<Kept>,
+}
+
+/// Per pair, the nodes the linearised problem decides otherwise than the
+/// iterate did (`predict`), with the state each is given.
+#[derive(Clone, Debug, Default)]
+pub struct Switched(pub(super) Vec<Vec<(usize, Forced)>>);
+
+impl Switched {
+    /// How many nodes change.
+    pub fn count(&self) -> usize {
+        self.0.iter().map(Vec::len).sum()
+    }
+
+    /// How many nodes open, close, and change between stick and slip.
+    pub fn counts(&self) -> [usize; 3] {
+        let mut c = [0; 3];
+        for &(_, f) in self.0.iter().flatten() {
+            c[match f {
+                Forced::Open => 0,
+                Forced::Close { .. } => 1,
+                _ => 2,
+            }] += 1;
+        }
+        c
+    }
+
+    /// Drops the opening or closing of a node that has opened or closed
+    /// `limit` times in the earlier solves of the same iteration (`flips`,
+    /// per pair and node, updated), so that they cannot cycle.
+    pub fn limit_flips(&mut self, flips: &mut Vec<Vec<usize>>, limit: usize) {
+        flips.resize_with(self.0.len(), Vec::new);
+        for (changes, done) in self.0.iter_mut().zip(flips.iter_mut()) {
+            changes.retain(|&(k, f)| {
+                let flip = matches!(f, Forced::Open | Forced::Close { .. });
+                if !flip {
+                    return true;
+                }
+                if done.len() <= k {
+                    done.resize(k + 1, 0);
+                }
+                done[k] += 1;
+                done[k] <= limit
+            });
+        }
+    }
+}
+
+impl ContactSystem {
+    pub fn neqc(&self) -> usize {
+        self.rows.len()
+    }
+}
+
+/// Per-increment counters (flip detection).
+#[derive(Clone, Debug, Default)]
+pub struct Flips {
+    /// Per pair and node: changes between open and closed.
+    pub(super) counts: Vec<Vec<usize>>,
+    /// Per pair and node: changes between stick and slip (nodal decisions).
+    pub(super) slips: Vec<Vec<usize>>,
+}
+
+impl Flips {
+    /// Counters for every node of `memory`, zero where they were not kept.
+    pub(super) fn fit(&mut self, memory: &[PairMemory]) {
+        if self.counts.len() != memory.len() {
+            self.counts = memory.iter().map(|m| vec![0; m.nodes.len()]).collect();
+            self.slips = self.counts.clone();
+        }
+    }
+}
+
+/// A state a node is given rather than decided from its forces: the
+/// linearised problem's own decisions (`Formulation::predict`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum Forced {
+    Stick,
+    Slip(f64),
+    /// Released: the linearised problem pulls it off the target.
+    Open,
+    /// Closed on target segment `j`: the linearised problem moves it into
+    /// the target by `overlap`.
+    Close {
+        j: usize,
+        overlap: f64,
+    },
+}
+
+/// What a formulation keeps of one pair's decisions at an iterate, in its
+/// own type (opaque here): the inner solves at that iterate and the
+/// linearisation of a converged state read it back.
+#[derive(Clone, Default)]
+pub(crate) struct Kept(Option<Arc<dyn Any + Send + Sync>>);
+
+impl Kept {
+    pub(super) fn new<T: Any + Send + Sync>(value: T) -> Self {
+        Kept(Some(Arc::new(value)))
+    }
+
+    /// What was kept, if it is a `T`.
+    pub(super) fn get<T: Any>(&self) -> Option<&T> {
+        self.0.as_deref()?.downcast_ref()
+    }
+}
+
+impl std::fmt::Debug for Kept {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(if self.0.is_some() {
+            "Kept(..)"
+        } else {
+            "Kept(none)"
+        })
+    }
+}
+
+/// A hash of every node's state as it would be after `switched`: the
+/// inner solves of an iteration stop when they meet a set of states again.
+pub fn state_key(memory: &[PairMemory], switched: &Switched) -> u64 {
+    use std::hash::{Hash, Hasher};
+    let mut h = std::collections::hash_map::DefaultHasher::new();
+    for (p, m) in memory.iter().enumerate() {
+        for (k, node) in m.nodes.iter().enumerate() {
+            let forced = switched
+                .0
+                .get(p)
+                .and_then(|s| s.iter().find(|(j, _)| *j == k));
+            let (state, sign) = match forced {
+                Some((_, Forced::Stick)) => (NodeState::Stick as u64, 0.0),
+                Some((_, Forced::Slip(s))) => (NodeState::Slip as u64, *s),
+                Some((_, Forced::Open)) => (NodeState::Open as u64, 0.0),
+                Some((_, Forced::Close { j, .. })) => (3 + *j as u64, 0.0),
+                None => (node.state as u64, node.slip_sign),
+            };
+            (state, sign.to_bits()).hash(&mut h);
+        }
+    }
+    h.finish()
+}
+
+/// One more change of node `k` between two states (`what`: "open and
+/// contact", "stick and slip") in this increment: past `max` the increment
+/// fails, naming the node.
+pub(super) fn count_change(
+    pair: &ContactPair,
+    k: usize,
+    counts: &mut [usize],
+    max: usize,
+    what: &str,
+) -> Result<(), String> {
+    counts[k] += 1;
+    if counts[k] > max {
+        return Err(format!(
+            "pair '{}' node {k} (mesh node {}) alternates between {what} \
+             ({} changes in this increment)",
+            pair.name, pair.contactor[k], counts[k]
+        ));
+    }
+    Ok(())
+}
+
+/// One more change of node `k` between open and contact (`MAX_FLIPS`).
+pub(super) fn count_flip(pair: &ContactPair, k: usize, flips: &mut [usize]) -> Result<(), String> {
+    count_change(pair, k, flips, MAX_FLIPS, "open and contact")
+}
+
+/// The iterate a pair's contact is updated at: displacements, rigid target
+/// poses, out-of-balance forces (F_int - R_ext, contact excluded), the
+/// dof-to-equation map, and the state the increment started from.
+pub(crate) struct Iterate<'a> {
+    pub(super) problem: &'a Problem,
+    /// The rigid targets' segments kept per pose (`search::RigidSegments`).
+    pub(super) targets: &'a RigidSegments,
+    pub(super) poses: &'a [[f64; 3]],
+    pub(super) u: &'a [f64],
+    pub(super) r: &'a [f64],
+    pub(super) eq: &'a [u32],
+    /// The converged state the increment starts from.
+    pub(super) start: &'a Start<'a>,
+}
+
+impl Iterate<'_> {
+    /// The out-of-balance force at each contactor node of `pair`, a
+    /// prescribed component taken as zero: there it is the driver's
+    /// reaction, not contact (a symmetry plane).
+    pub(super) fn contactor_forces(&self, pair: &ContactPair) -> Vec<Vector2<f64>> {
+        let component = |d: usize| {
+            if self.eq[d] == PRESCRIBED {
+                0.0
+            } else {
+                self.r[d]
+            }
+        };
+        (pair.contactor.iter())
+            .map(|&n| Vector2::new(component(2 * n), component(2 * n + 1)))
+            .collect()
+    }
+}
+
+/// The converged state an increment starts from: what the nodal decisions
+/// measure slips against.
+pub struct Start<'a> {
+    /// Displacements at the start of the increment.
+    pub u: &'a [f64],
+    /// Rigid target poses at the start of the increment.
+    pub poses: &'a [[f64; 3]],
+    /// The iterate's geometry has not settled: the first after the
+    /// increment's predictor (its prescribed and rigid target motion carried
+    /// through the tangent), or one reached by a correction still large
+    /// against the increment's first. Its nodes in contact are not released
+    /// on its forces (see `nodal::decide`).
+    pub settling: bool,
+    /// Free nodes that touch a target (overlap exactly 0) close as well as
+    /// penetrated ones (`Solver::advance`'s retry of an increment whose
+    /// first solve found a body held by nothing).
+    pub touching: bool,
+}
+
+/// Whether any dof of `rows` is prescribed in `eq`.
+pub fn touches_prescribed(rows: &[Row], eq: &[u32]) -> bool {
+    rows.iter()
+        .any(|r| r.dofs.iter().any(|&(d, _)| eq[d] == PRESCRIBED))
+}
