@@ -129,9 +129,6 @@ pub enum TractionError {
     /// A friction coefficient is negative or not finite.
     #[error("friction coefficients mu_s = {mu_s}, mu_d = {mu_d} must be finite and non-negative")]
     InvalidFriction { mu_s: f64, mu_d: f64 },
-    /// The slide hysteresis is outside [0, 1].
-    #[error("slide hysteresis eta = {eta} must lie in [0, 1]")]
-    InvalidHysteresis { eta: f64 },
     /// An active node has no contact area (all its weights vanish, e.g. every adjoining
     /// segment lies on the axis of revolution).
     #[error(
@@ -659,18 +656,19 @@ pub struct SegmentDecision {
 /// - previously Stick or Open (a new contact starts sticking): capacity
 ///   `T_f = mu T_n`, `mu` from [`Friction::sticking_mu`]; `|T_t| <= T_f` sticks, otherwise
 ///   Slide with `T_f = mu_d T_n`;
-/// - previously Slide: `T_f = mu_d T_n`; Stick only if `|T_t| < (1 - eta) T_f`, otherwise
-///   Slide. The hysteresis `eta` keeps a converged sliding segment, where `|T_t| = T_f`
-///   to round-off, from flipping back. With `eta = 1` a sliding segment never returns to
-///   sticking on force grounds: after an iteration its `T_t` is the friction it applied
-///   itself (its nodes are free along the target), so the test of Section 3.4 compares
-///   `mu_d T_n` of two iterations; the caller then decides the return to sticking
-///   kinematically (its nodes' slip runs along its friction).
+/// - previously Slide: Slide with `T_f = mu_d T_n`. A sliding segment does not return to
+///   sticking on force grounds (Section 3.4's test): after an iteration its `T_t` is the
+///   friction it applied itself (its nodes are free along the target) plus what its
+///   neighbours' changes spill onto its nodes, so the test would compare `mu_d T_n` of
+///   two iterations, or a transient. With large increments (a drag of 0.05 on
+///   scenes/verification/sliding_block.toml) it sent segments back to sticking at points
+///   they had slid to, and the converged states alternated between increments. The caller
+///   decides the return to sticking kinematically instead: when its nodes' slip from
+///   their anchors runs along its friction, it sticks.
 ///
 /// `ever_slid` becomes true when the segment slides now.
 pub fn decide_segment(
     friction: &Friction,
-    eta: f64,
     previous: SegmentState,
     ever_slid: bool,
     seg: &SegmentTractions,
@@ -709,38 +707,23 @@ pub fn decide_segment(
                 slide
             }
         }
-        SegmentState::Slide => {
-            if tt < (1.0 - eta) * slide.tf {
-                SegmentDecision {
-                    state: SegmentState::Stick,
-                    tf: slide.tf,
-                    ever_slid: true,
-                    sign: 0.0,
-                }
-            } else {
-                slide
-            }
-        }
+        SegmentState::Slide => slide,
     }
 }
 
 /// Step 3 for every segment; see [`decide_segment`].
 pub fn decide_segments(
     friction: &Friction,
-    eta: f64,
     previous: &[SegmentState],
     ever_slid: &[bool],
     tractions: &[SegmentTractions],
 ) -> Result<Vec<SegmentDecision>, TractionError> {
-    if !(eta.is_finite() && (0.0..=1.0).contains(&eta)) {
-        return Err(TractionError::InvalidHysteresis { eta });
-    }
     check_len("previous segment states", tractions.len(), previous.len())?;
     check_len("ever_slid", tractions.len(), ever_slid.len())?;
     Ok(tractions
         .iter()
         .enumerate()
-        .map(|(j, s)| decide_segment(friction, eta, previous[j], ever_slid[j], s))
+        .map(|(j, s)| decide_segment(friction, previous[j], ever_slid[j], s))
         .collect())
 }
 
@@ -816,7 +799,6 @@ fn recheck_sticking_runs(
     chain: &Chain,
     recovery: Recovery,
     friction: &Friction,
-    eta: f64,
     active: &[bool],
     force: &[[f64; 2]],
     previous: &[SegmentState],
@@ -925,7 +907,7 @@ fn recheck_sticking_runs(
                 let t = recover_tractions(&sub, recovery, &on, &left)?;
                 let st = segment_tractions(&sub, &on, &t)?;
                 for (r, &j) in run.iter().enumerate() {
-                    let d = decide_segment(friction, eta, previous[j], ever_slid[j], &st[r]);
+                    let d = decide_segment(friction, previous[j], ever_slid[j], &st[r]);
                     if d.state != SegmentState::Stick {
                         // Slides (or releases) on what it carries: the applied
                         // friction is mu_d of its own T_n, in the direction of
@@ -1087,8 +1069,8 @@ pub struct Evaluation {
 /// `x`: current node positions; `active`: node in contact after the previous iteration;
 /// `force`: force of the contact on each node (only active entries read); `previous`,
 /// `ever_slid`: per segment, after the previous iteration; `directions`: per segment, the
-/// sign of the friction it applied if it was sliding (zero if unknown); `eta`: slide
-/// hysteresis. Frictionless when `mu_s == mu_d == 0`.
+/// sign of the friction it applied if it was sliding (zero if unknown). Frictionless when
+/// `mu_s == mu_d == 0`.
 ///
 /// A segment that was sliding and still slides keeps the direction of its friction
 /// (Section 5 of the paper: the friction acts in the direction of the tangential force
@@ -1111,13 +1093,12 @@ pub fn evaluate(
     previous: &[SegmentState],
     ever_slid: &[bool],
     directions: &[f64],
-    eta: f64,
 ) -> Result<Evaluation, TractionError> {
     let friction = Friction::new(mu_s, mu_d, rule)?;
     let chain = Chain::new(geometry, closed, x)?;
     let traction = recover_tractions(&chain, recovery, active, force)?;
     let tractions = segment_tractions(&chain, active, &traction)?;
-    let mut decisions = decide_segments(&friction, eta, previous, ever_slid, &tractions)?;
+    let mut decisions = decide_segments(&friction, previous, ever_slid, &tractions)?;
     check_len("directions", tractions.len(), directions.len())?;
     for (j, d) in decisions.iter_mut().enumerate() {
         if previous[j] == SegmentState::Slide
@@ -1131,7 +1112,6 @@ pub fn evaluate(
         &chain,
         recovery,
         &friction,
-        eta,
         active,
         force,
         previous,

@@ -19,21 +19,6 @@ use crate::problem::{ContactPair, Kinematics};
 use crate::results::{NodeState, PairResult};
 use nalgebra::Vector2;
 
-/// The hysteresis of the segments' return from sliding to sticking on force
-/// grounds (Section 3.4), as a fraction of the capacity: 1, i.e. never. After
-/// an iteration a sliding segment's recovered T_t is the friction it applied
-/// itself (its nodes are free along the target) plus what its neighbours'
-/// changes spill onto its nodes, so the test of Section 3.4 compares mu_d T_n
-/// of two iterations, or a transient: with large increments (a drag of 0.05
-/// on scenes/verification/sliding_block.toml) it sent segments back to
-/// sticking at points they had slid to, and the converged states alternated
-/// between increments (2/7/0 and 8/1/0 stick/slip/open). A 0.3 hysteresis
-/// only hid this at small increments. A sliding segment returns to sticking
-/// kinematically instead: when the slip of its nodes from their anchors runs
-/// along its friction, it sticks (and Table 1 puts its nodes back at their
-/// anchors).
-const SLIDE_HYSTERESIS: f64 = 1.0;
-
 /// The paper's Section 3 for one pair, in phases: the pair at the iterate
 /// (target search geometry, `PaperPair::new`), force recovery (recovered
 /// tractions and Section 3's segment decisions, `recover`), state
@@ -182,7 +167,6 @@ fn recover(view: &PaperPair, mem: &PairMemory) -> Result<Recovered, String> {
             &prev,
             &ever,
             &directions,
-            SLIDE_HYSTERESIS,
         )
         .map_err(|e| format!("pair '{}': {e}", pair.name))
     };

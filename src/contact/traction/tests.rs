@@ -11,7 +11,6 @@ use nalgebra::{DMatrix, DVector};
 use super::*;
 
 const TOL: f64 = 1e-12;
-const ETA: f64 = 1e-6;
 const H: f64 = 0.7;
 const PLANAR: Geometry = Geometry::Planar { thickness: H };
 const AXI: Geometry = Geometry::Axisymmetric;
@@ -193,7 +192,6 @@ fn eval(
         previous,
         ever_slid,
         &vec![0.0; previous.len()],
-        ETA,
     )
     .expect("valid input")
 }
@@ -851,46 +849,38 @@ fn sliding_forces_axisymmetric_follow_eq_32() {
     assert_rel(ev.forces[1][1], force[1][1], TOL, "normal unaltered b");
 }
 
+/// A sliding segment slides on at any `|T_t|` up to its capacity: its return
+/// to sticking is kinematic (the caller's), never on force grounds.
 #[test]
-fn slide_returns_to_stick_only_below_one_minus_eta_capacity() {
+fn a_sliding_segment_does_not_return_to_stick_on_force_grounds() {
     let f = (0.5, 0.3, FrictionRule::MuDAfterSlip);
     let slide = SegmentState::Slide;
-    // |T_t| = T_f (to round-off): keeps sliding.
-    let (ev, _) = one_segment([0.3, 0.3], [1.0, 1.0], f, slide, true);
-    assert_eq!(ev.segments[0].state, SegmentState::Slide);
-    // |T_t| = (1 - eta / 2) T_f: still sliding.
-    let (ev, _) = one_segment([0.3 * (1.0 - 0.5 * ETA); 2], [1.0, 1.0], f, slide, true);
-    assert_eq!(ev.segments[0].state, SegmentState::Slide);
-    // |T_t| = (1 - 2 eta) T_f: sticks, with capacity mu_d T_n.
-    let (ev, force) = one_segment([-0.3 * (1.0 - 2.0 * ETA); 2], [1.0, 1.0], f, slide, true);
-    let s = ev.segments[0];
-    assert_eq!(s.state, SegmentState::Stick);
-    assert_rel(s.tf, 0.3 * s.tn_total, TOL, "mu_d capacity");
-    assert!(s.ever_slid);
-    assert_close2(&ev.forces, &force, TOL, "sticking again: forces unaltered");
+    // |T_t| = T_f (to round-off), just below it, and far below it: sliding,
+    // with the capacity mu_d T_n.
+    for tt in [0.3, 0.3 * (1.0 - 1e-12), -0.3 * 0.5, 0.0] {
+        let (ev, _) = one_segment([tt; 2], [1.0, 1.0], f, slide, true);
+        let s = ev.segments[0];
+        assert_eq!(s.state, SegmentState::Slide, "t_t = {tt}");
+        assert_rel(s.tf, 0.3 * s.tn_total, TOL, "mu_d capacity");
+    }
     // mu_d < |T_t| / T_n < mu_s: a sliding segment keeps sliding (mu_d is used) ...
     let (ev, _) = one_segment([0.4, 0.4], [1.0, 1.0], f, slide, true);
     assert_eq!(ev.segments[0].state, SegmentState::Slide);
     // ... while a sticking one that never slid keeps sticking (mu_s).
     let (ev, _) = one_segment([0.4, 0.4], [1.0, 1.0], f, SegmentState::Stick, false);
     assert_eq!(ev.segments[0].state, SegmentState::Stick);
-    // Without hysteresis the first case flips on round-off alone, in either direction;
-    // with it the decision is stable. Direct check of the threshold:
+    // Direct check, whatever the margin below the capacity.
     let seg = SegmentTractions {
         in_contact: true,
         tn: [1.0; 2],
         tt: [0.3; 2],
         tn_total: 2.0,
-        tt_total: 0.6 * (1.0 - 1e-12),
+        tt_total: 0.6 * 0.5,
     };
     let fr = Friction::new(0.5, 0.3, FrictionRule::MuDAfterSlip).unwrap();
     assert_eq!(
-        decide_segment(&fr, ETA, slide, true, &seg).state,
+        decide_segment(&fr, slide, true, &seg).state,
         SegmentState::Slide
-    );
-    assert_eq!(
-        decide_segment(&fr, 0.0, slide, true, &seg).state,
-        SegmentState::Stick
     );
 }
 
@@ -1017,7 +1007,6 @@ fn err(
     active: &[bool],
     force: &[[f64; 2]],
     mu: (f64, f64),
-    eta: f64,
 ) -> TractionError {
     let segs = if closed {
         x.len()
@@ -1037,7 +1026,6 @@ fn err(
         &vec![SegmentState::Stick; segs],
         &vec![false; segs],
         &vec![0.0; segs],
-        eta,
     )
     .expect_err("invalid input")
 }
@@ -1056,13 +1044,12 @@ fn invalid_inputs_are_errors() {
             &[[0.0, 0.0], [f64::NAN, 0.0]],
             &[true; 2],
             &f[..2],
-            ok,
-            ETA
+            ok
         ),
         E::NonFinitePosition { node: 1, .. }
     ));
     assert!(matches!(
-        err(PLANAR, false, &[[0.0, 0.0], [1.0, 0.0], [1.0, 0.0]], &on, &f, ok, ETA),
+        err(PLANAR, false, &[[0.0, 0.0], [1.0, 0.0], [1.0, 0.0]], &on, &f, ok),
         E::DegenerateSegment { segment: 1, length, .. } if length == 0.0
     ));
     assert!(matches!(
@@ -1072,14 +1059,13 @@ fn invalid_inputs_are_errors() {
             &[[0.0, 0.0], [1.0, 0.0], [0.0, 0.0]],
             &on,
             &f,
-            ok,
-            ETA
+            ok
         ),
         E::DegenerateSegment { segment: 2, .. }
     ));
     let bad_force = [[0.0, 1.0], [f64::INFINITY, 1.0], [0.0, 1.0]];
     assert!(matches!(
-        err(PLANAR, false, &x, &on, &bad_force, ok, ETA),
+        err(PLANAR, false, &x, &on, &bad_force, ok),
         E::NonFiniteForce { node: 1, .. }
     ));
     // ... but a non-finite force at an inactive node is never read.
@@ -1096,8 +1082,7 @@ fn invalid_inputs_are_errors() {
             &bad_force,
             &[SegmentState::Open; 2],
             &[false; 2],
-            &[0.0; 2],
-            ETA
+            &[0.0; 2]
         )
         .is_ok()
     );
@@ -1108,8 +1093,7 @@ fn invalid_inputs_are_errors() {
             &[[-1e-3, 0.0], [1.0, 0.0]],
             &[true; 2],
             &f[..2],
-            ok,
-            ETA
+            ok
         ),
         E::NegativeRadius { node: 0, .. }
     ));
@@ -1121,8 +1105,7 @@ fn invalid_inputs_are_errors() {
             &[[0.0, 0.0], [0.0, 1.0]],
             &[true; 2],
             &f[..2],
-            ok,
-            ETA
+            ok
         ),
         E::SingularRecovery { node: 0, .. }
     ));
@@ -1132,35 +1115,19 @@ fn invalid_inputs_are_errors() {
         Err(E::SingularRecovery { node: 0, .. })
     ));
     assert!(matches!(
-        err(
-            Geometry::Planar { thickness: 0.0 },
-            false,
-            &x,
-            &on,
-            &f,
-            ok,
-            ETA
-        ),
+        err(Geometry::Planar { thickness: 0.0 }, false, &x, &on, &f, ok),
         E::InvalidThickness { .. }
     ));
     assert!(matches!(
-        err(PLANAR, false, &x, &on, &f, (-0.1, 0.0), ETA),
+        err(PLANAR, false, &x, &on, &f, (-0.1, 0.0)),
         E::InvalidFriction { .. }
     ));
     assert!(matches!(
-        err(PLANAR, false, &x, &on, &f, (0.1, f64::NAN), ETA),
+        err(PLANAR, false, &x, &on, &f, (0.1, f64::NAN)),
         E::InvalidFriction { .. }
     ));
     assert!(matches!(
-        err(PLANAR, false, &x, &on, &f, ok, 1.5),
-        E::InvalidHysteresis { .. }
-    ));
-    assert!(matches!(
-        err(PLANAR, false, &x, &on, &f, ok, -1e-3),
-        E::InvalidHysteresis { .. }
-    ));
-    assert!(matches!(
-        err(PLANAR, false, &x, &on[..2], &f, ok, ETA),
+        err(PLANAR, false, &x, &on[..2], &f, ok),
         E::LengthMismatch {
             what: "active",
             expected: 3,
@@ -1168,14 +1135,14 @@ fn invalid_inputs_are_errors() {
         }
     ));
     assert!(matches!(
-        err(PLANAR, true, &x[..2], &on[..2], &f[..2], ok, ETA),
+        err(PLANAR, true, &x[..2], &on[..2], &f[..2], ok),
         E::TooFewNodes {
             nodes: 2,
             closed: true
         }
     ));
     assert!(matches!(
-        err(PLANAR, false, &x[..1], &on[..1], &f[..1], ok, ETA),
+        err(PLANAR, false, &x[..1], &on[..1], &f[..1], ok),
         E::TooFewNodes { .. }
     ));
     let e = evaluate(
@@ -1191,7 +1158,6 @@ fn invalid_inputs_are_errors() {
         &[SegmentState::Stick; 3],
         &[false; 2],
         &[0.0; 2],
-        ETA,
     )
     .unwrap_err();
     assert!(matches!(
@@ -1206,7 +1172,7 @@ fn invalid_inputs_are_errors() {
     let tiny = Geometry::Planar { thickness: 1e-300 };
     let huge = [[1e300, 1e300]; 3];
     assert!(matches!(
-        err(tiny, false, &x, &on, &huge, ok, ETA),
+        err(tiny, false, &x, &on, &huge, ok),
         E::NonFinite { .. }
     ));
     // Messages carry the values.
@@ -1217,7 +1183,6 @@ fn invalid_inputs_are_errors() {
         &[true; 2],
         &f[..2],
         ok,
-        ETA,
     )
     .to_string();
     assert!(
@@ -1253,7 +1218,6 @@ fn a_sticking_segment_is_checked_on_what_a_sliding_neighbour_leaves_it() {
             &previous,
             &[true, false],
             &directions,
-            1.0,
         )
         .unwrap()
     };
@@ -1272,8 +1236,8 @@ fn a_sticking_segment_is_checked_on_what_a_sliding_neighbour_leaves_it() {
 }
 
 /// A segment that was sliding keeps the direction of its friction while it slides,
-/// whatever the sign of the T_t recovered in this iteration, and with `eta = 1` it does
-/// not return to sticking on force grounds.
+/// whatever the sign of the T_t recovered in this iteration, and does not return to
+/// sticking on force grounds.
 #[test]
 fn a_sliding_segment_keeps_its_direction_and_slides_on() {
     let geometry = Geometry::Planar { thickness: 1.0 };
@@ -1293,7 +1257,6 @@ fn a_sliding_segment_keeps_its_direction_and_slides_on() {
         &[SegmentState::Slide],
         &[true],
         &[-1.0],
-        1.0,
     )
     .unwrap();
     assert_eq!(ev.segments[0].state, SegmentState::Slide);
