@@ -844,20 +844,7 @@ fn recheck_sticking_runs(
                 continue;
             }
         };
-        // The loads of the sliding segments, per node.
-        let mut slide_load = vec![[0.0; 2]; chain.nodes()];
-        for (j, s) in chain.segments.iter().enumerate() {
-            if decisions[j].state != SegmentState::Slide {
-                continue;
-            }
-            let normal = s.loads(tractions[j].tn);
-            let tangential = s.loads(applied_tangential_traction(s, &tractions[j], &decisions[j]));
-            for (end, &k) in s.nodes.iter().enumerate() {
-                for c in 0..2 {
-                    slide_load[k][c] += normal[end] * s.normal[c] + tangential[end] * s.tangent[c];
-                }
-            }
-        }
+        let slide_load = slide_loads(chain, tractions, decisions);
         // Maximal runs of sticking segments, in chain order from a segment that does
         // not stick (so that a run of a closed chain does not wrap around it).
         let mut changed = false;
@@ -889,42 +876,15 @@ fn recheck_sticking_runs(
                     }
                 }
             } else {
-                let nodes: Vec<usize> = std::iter::once(first)
-                    .chain(run.iter().map(|&s| chain.segments[s].nodes[1]))
-                    .collect();
-                let x: Vec<[f64; 2]> = nodes.iter().map(|&k| chain.x[k]).collect();
-                let on: Vec<bool> = nodes.iter().map(|&k| active[k]).collect();
-                let left: Vec<[f64; 2]> = nodes
-                    .iter()
-                    .map(|&k| {
-                        [
-                            force[k][0] - slide_load[k][0],
-                            force[k][1] - slide_load[k][1],
-                        ]
-                    })
-                    .collect();
-                let sub = Chain::new(chain.geometry, false, &x)?;
-                let t = recover_tractions(&sub, recovery, &on, &left)?;
-                let st = segment_tractions(&sub, &on, &t)?;
-                for (r, &j) in run.iter().enumerate() {
-                    let d = decide_segment(friction, previous[j], ever_slid[j], &st[r]);
-                    if d.state != SegmentState::Stick {
-                        // Slides (or releases) on what it carries: the applied
-                        // friction is mu_d of its own T_n, in the direction of
-                        // the force it was left with.
-                        decisions[j] = SegmentDecision {
-                            state: d.state,
-                            tf: if d.state == SegmentState::Slide {
-                                friction.mu_d * tractions[j].tn_total
-                            } else {
-                                0.0
-                            },
-                            ever_slid: d.ever_slid,
-                            sign: d.sign,
-                        };
-                        changed = true;
-                    }
-                }
+                let inputs = RunInputs {
+                    active,
+                    force,
+                    slide_load: &slide_load,
+                    previous,
+                    ever_slid,
+                    tractions,
+                };
+                changed |= recheck_run(chain, recovery, friction, &run, &inputs, decisions)?;
             }
             run.clear();
         }
@@ -932,6 +892,91 @@ fn recheck_sticking_runs(
             return Ok(());
         }
     }
+}
+
+/// The loads of the sliding segments (unaltered normal tractions and their
+/// friction, Fig. 5), per node.
+fn slide_loads(
+    chain: &Chain,
+    tractions: &[SegmentTractions],
+    decisions: &[SegmentDecision],
+) -> Vec<[f64; 2]> {
+    let mut slide_load = vec![[0.0; 2]; chain.nodes()];
+    for (j, s) in chain.segments.iter().enumerate() {
+        if decisions[j].state != SegmentState::Slide {
+            continue;
+        }
+        let normal = s.loads(tractions[j].tn);
+        let tangential = s.loads(applied_tangential_traction(s, &tractions[j], &decisions[j]));
+        for (end, &k) in s.nodes.iter().enumerate() {
+            for c in 0..2 {
+                slide_load[k][c] += normal[end] * s.normal[c] + tangential[end] * s.tangent[c];
+            }
+        }
+    }
+    slide_load
+}
+
+/// What a run of sticking segments is checked on: the nodes' contact and
+/// forces, the sliding segments' loads on them, and each segment's
+/// previous state, history and recovered resultants.
+struct RunInputs<'a> {
+    active: &'a [bool],
+    force: &'a [[f64; 2]],
+    slide_load: &'a [[f64; 2]],
+    previous: &'a [SegmentState],
+    ever_slid: &'a [bool],
+    tractions: &'a [SegmentTractions],
+}
+
+/// One run of sticking segments next to a sliding one, decided on the
+/// force its nodes are left with (see `recheck_sticking_runs`): whether a
+/// segment of it now slides or opens.
+fn recheck_run(
+    chain: &Chain,
+    recovery: Recovery,
+    friction: &Friction,
+    run: &[usize],
+    inputs: &RunInputs,
+    decisions: &mut [SegmentDecision],
+) -> Result<bool, TractionError> {
+    let first = chain.segments[run[0]].nodes[0];
+    let nodes: Vec<usize> = std::iter::once(first)
+        .chain(run.iter().map(|&s| chain.segments[s].nodes[1]))
+        .collect();
+    let x: Vec<[f64; 2]> = nodes.iter().map(|&k| chain.x[k]).collect();
+    let on: Vec<bool> = nodes.iter().map(|&k| inputs.active[k]).collect();
+    let left: Vec<[f64; 2]> = nodes
+        .iter()
+        .map(|&k| {
+            let (f, l) = (inputs.force[k], inputs.slide_load[k]);
+            [f[0] - l[0], f[1] - l[1]]
+        })
+        .collect();
+    let sub = Chain::new(chain.geometry, false, &x)?;
+    let t = recover_tractions(&sub, recovery, &on, &left)?;
+    let st = segment_tractions(&sub, &on, &t)?;
+    let mut changed = false;
+    for (r, &j) in run.iter().enumerate() {
+        let d = decide_segment(friction, inputs.previous[j], inputs.ever_slid[j], &st[r]);
+        if d.state != SegmentState::Stick {
+            // Slides (or releases) on what it carries: the applied friction
+            // is mu_d of its own T_n, in the direction of the force it was
+            // left with.
+            decisions[j] = SegmentDecision {
+                state: d.state,
+                tf: if d.state == SegmentState::Slide {
+                    friction.mu_d * inputs.tractions[j].tn_total
+                } else {
+                    0.0
+                },
+                ever_slid: d.ever_slid,
+                sign: d.sign,
+            };
+            changed = true;
+        }
+    }
+    Ok(changed)
 }
 
 /// Step 4: the contact forces (global components, per node): the consistent nodal loads
