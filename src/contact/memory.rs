@@ -24,24 +24,28 @@ pub struct NodeMemory {
     /// The last target segment switch in this increment (from, to).
     #[serde(default)]
     pub crossed: Option<(usize, usize)>,
-    /// Nodal decisions: the direction of its slip along the target's
-    /// tangent (A to B) while it slides, +-1.
+    /// What the nodal decisions alone keep of the node.
     #[serde(default)]
+    pub nodal: NodalMemory,
+}
+
+/// What the nodal decisions keep of a contactor node besides its contact.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct NodalMemory {
+    /// The direction of its slip along the target's tangent (A to B) while
+    /// it slides, +-1.
     pub slip_sign: f64,
-    /// Nodal decisions: it has slid in this increment (sticks with mu_d).
-    #[serde(default)]
+    /// It has slid in this increment (sticks with mu_d).
     pub slid: bool,
-    /// Nodal decisions: it has ever slid (mu_d for good under the usual rule).
-    #[serde(default)]
+    /// It has ever slid (mu_d for good under the usual rule).
     pub ever_slid: bool,
-    /// Nodal decisions: how many times it left a corner hold in this
-    /// increment (after `CORNER_LEAVES`, held again only from the wedge
-    /// itself).
-    #[serde(default)]
+    /// How many times it left a corner hold in this increment (after
+    /// `CORNER_LEAVES`, held again only from the wedge itself).
     pub corner_leaves: u32,
 }
 
-/// A contactor segment's memory (segment j joins contactor nodes j, j+1).
+/// A contactor segment's memory (segment j joins contactor nodes j, j+1),
+/// the paper's decisions' own.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct SegmentMemory {
     /// Open, Stick or Slip (Slip meaning the segment slides).
@@ -77,7 +81,7 @@ pub fn begin_increment(memory: &mut [PairMemory]) {
     for node in memory.iter_mut().flat_map(|m| m.nodes.iter_mut()) {
         node.anchor = (node.state != NodeState::Open).then_some((node.segment, node.beta));
         node.crossed = None;
-        node.slid = false;
-        node.corner_leaves = 0;
+        node.nodal.slid = false;
+        node.nodal.corner_leaves = 0;
     }
 }

@@ -21,7 +21,7 @@ pub mod sensitivity;
 mod system;
 pub mod traction;
 
-pub use memory::{NodeMemory, PairMemory, SegmentMemory, begin_increment};
+pub use memory::{NodalMemory, NodeMemory, PairMemory, SegmentMemory, begin_increment};
 pub use search::{
     NearNodes, RigidSegments, SearchCache, near_target, rigid_points, rigid_reference, scene_poses,
 };

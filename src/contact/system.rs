@@ -238,7 +238,7 @@ pub fn state_key(memory: &[PairMemory], switched: &Switched) -> u64 {
                 Some((_, Forced::Slip(s))) => (NodeState::Slip as u64, *s),
                 Some((_, Forced::Open)) => (NodeState::Open as u64, 0.0),
                 Some((_, Forced::Close { j, .. })) => (3 + *j as u64, 0.0),
-                None => (node.state as u64, node.slip_sign),
+                None => (node.state as u64, node.nodal.slip_sign),
             };
             (state, sign.to_bits()).hash(&mut h);
         }

@@ -261,7 +261,7 @@ fn count_changes(
         let old = mem.nodes[k];
         if d.state != old.state
             || d.corner != old.corner
-            || (d.state == NodeState::Slip && d.slip_sign != old.slip_sign)
+            || (d.state == NodeState::Slip && d.slip_sign != old.nodal.slip_sign)
         {
             out.changes += 1;
             if (d.state == NodeState::Open) != (old.state == NodeState::Open) {
@@ -352,15 +352,15 @@ fn remember(node: &mut NodeMemory, d: &Decision, frictionless: bool) {
     let old = *node;
     node.state = d.state;
     node.corner = d.corner;
-    node.corner_leaves += u32::from(old.corner && !d.corner);
-    node.slip_sign = if d.state == NodeState::Slip {
+    node.nodal.corner_leaves += u32::from(old.corner && !d.corner);
+    node.nodal.slip_sign = if d.state == NodeState::Slip {
         d.slip_sign
     } else {
         0.0
     };
     if d.state == NodeState::Slip && !frictionless {
-        node.slid = true;
-        node.ever_slid = true;
+        node.nodal.slid = true;
+        node.nodal.ever_slid = true;
     }
     if let Some((j, cp)) = d.point.as_ref() {
         if old.state != NodeState::Open && *j != old.segment {
@@ -554,8 +554,8 @@ fn frictional_decision(
         (Some(Forced::Close { overlap, .. }), _) => {
             (slip.abs() > mu_stick * overlap).then(|| slip.signum())
         }
-        (None, NodeState::Slip) if old.slip_sign != 0.0 => {
-            (old.slip_sign * slip >= -slip_tolerance).then_some(old.slip_sign)
+        (None, NodeState::Slip) if old.nodal.slip_sign != 0.0 => {
+            (old.nodal.slip_sign * slip >= -slip_tolerance).then_some(old.nodal.slip_sign)
         }
         // A node that touches again after sliding free in this increment, or
         // touches first far from where it was: slides along that slip.
@@ -605,11 +605,11 @@ fn frictional_decision(
 /// The coefficient that holds a sticking node: mu_d once it has slid in
 /// this increment (or ever, under the usual rule), mu_s before.
 fn sticking_mu(pair: &ContactPair, node: &NodeMemory) -> f64 {
-    if node.slid {
+    if node.nodal.slid {
         pair.mu_d
     } else {
         match pair.rule {
-            FrictionRule::MuDAfterSlip if node.ever_slid => pair.mu_d,
+            FrictionRule::MuDAfterSlip if node.nodal.ever_slid => pair.mu_d,
             _ => pair.mu_s,
         }
     }
@@ -772,7 +772,7 @@ fn corner(
         };
         past_j && past_i
     };
-    let returned = old.corner_leaves < CORNER_LEAVES
+    let returned = old.nodal.corner_leaves < CORNER_LEAVES
         && (old.state == NodeState::Open
             || old.corner
             || old.crossed == Some((j, i))
