@@ -26,6 +26,14 @@ pub(crate) struct TargetSegment {
 }
 
 impl TargetSegment {
+    /// Whether `x` lies within `reach` of the segment's bounding box.
+    fn within(&self, x: Vector2<f64>, reach: f64) -> bool {
+        !(x.x < self.lo[0] - reach
+            || x.x > self.hi[0] + reach
+            || x.y < self.lo[1] - reach
+            || x.y > self.hi[1] + reach)
+    }
+
     pub(crate) fn new(seg: Segment, nodes: Option<[usize; 2]>) -> Self {
         let (xa, xb) = (seg.xa(), seg.xb());
         TargetSegment {
@@ -501,11 +509,7 @@ fn search_among(
         .iter()
         .map(|&j| (j as usize, &segments[j as usize]))
     {
-        if x.x < s.lo[0] - reach
-            || x.x > s.hi[0] + reach
-            || x.y < s.lo[1] - reach
-            || x.y > s.hi[1] + reach
-        {
+        if !s.within(x, reach) {
             continue;
         }
         let Some(cp) = on_segment(&s.seg, x) else {
@@ -544,11 +548,7 @@ pub(crate) fn follow(
     let mut best: Option<(usize, ContactPoint)> = None;
     let (lo, hi) = ([x.x - reach, x.y - reach], [x.x + reach, x.y + reach]);
     for (i, s) in segments.visit(lo, hi) {
-        if x.x < s.lo[0] - reach
-            || x.x > s.hi[0] + reach
-            || x.y < s.lo[1] - reach
-            || x.y > s.hi[1] + reach
-        {
+        if !s.within(x, reach) {
             continue;
         }
         let Some(c) = on_segment(&s.seg, x) else {
@@ -565,6 +565,37 @@ pub(crate) fn follow(
         }
     }
     best
+}
+
+/// The reflex corner at an end of segment `j` that a node at `x` lies
+/// within `tol` (in beta) of, with the node's beta on either segment:
+/// `(end_j, beta_j, i, end_i, beta_i)`, the corner being the end `end_j` of
+/// `j` and `end_i` of the other segment `i`.
+pub(crate) fn near_reflex(
+    segments: &[TargetSegment],
+    j: usize,
+    x: Vector2<f64>,
+    tol: f64,
+) -> Option<(f64, f64, usize, f64, f64)> {
+    let beta = segments[j].seg.project(x).beta();
+    let end_j = if beta >= 1.0 - tol {
+        1.0
+    } else if beta <= tol {
+        0.0
+    } else {
+        return None;
+    };
+    let (i, end_i) = reflex(segments, j, end_j)?;
+    Some((end_j, beta, i, end_i, segments[i].seg.project(x).beta()))
+}
+
+/// Whether `beta` lies at or beyond the end `end` of its segment (to `tol`).
+pub(crate) fn at_end(beta: f64, end: f64, tol: f64) -> bool {
+    if end == 0.0 {
+        beta <= tol
+    } else {
+        beta >= 1.0 - tol
+    }
 }
 
 /// The segment meeting segment `j` at its end `end_j` (beta 0 or 1) when the

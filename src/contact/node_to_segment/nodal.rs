@@ -8,8 +8,9 @@
 //! force, so its row is linearised consistently and Newton converges
 //! quadratically once the states settle (docs/contact.md section 8).
 
-use super::TENSION_TOLERANCE;
 use super::rows::add_rows;
+use super::{Nodal, TENSION_TOLERANCE, linearise};
+use crate::contact::Formulation;
 use crate::contact::Prediction;
 use crate::contact::memory::{NodeMemory, PairMemory};
 use crate::contact::report::{Report, reported_tractions};
@@ -17,6 +18,7 @@ use crate::contact::search::{
     self, SearchCache, Segments, TargetSegment, contactor_positions, target_segments,
 };
 use crate::contact::segment::ContactPoint;
+use crate::contact::sensitivity::{At, Linearised};
 use crate::contact::system::{
     ContactSystem, Forced, Iterate, Kept, MAX_FLIPS, count_change, count_flip,
 };
@@ -46,7 +48,7 @@ pub(super) struct Decision {
 
 /// What `update_pair` does: decide every node from the iterate, or keep
 /// the decisions it made at this iterate except the forced nodes'.
-pub(super) enum Plan<'a> {
+enum Plan<'a> {
     Decide,
     Keep {
         kept: &'a Decided,
@@ -81,38 +83,83 @@ const CORNER_LEAVES: u32 = 3;
 /// oscillating (fail fast; the caller bisects).
 const MAX_SLIPS: usize = 2 * MAX_FLIPS;
 
-/// One pair's update under the nodal decisions, in phases: the pair at the
-/// iterate (target search geometry and the nodes' forces, `PairIterate::new`),
-/// every node's decision (`decisions`, `decide`), the changes counted
-/// (`count_changes`), and the rows of Eq. (18) with the reported results
-/// (`rows_and_results`).
-pub(super) fn update_pair(
-    at: &Iterate,
-    pair: &ContactPair,
-    mem: &mut PairMemory,
-    counters: [&mut [usize]; 2],
-    log: &mut dyn FnMut(&str),
-    out: &mut ContactSystem,
-    plan: Plan,
-) -> Result<PairResult, String> {
-    let active = match &plan {
-        Plan::Keep { kept, .. } => Some(&kept.active[..]),
-        Plan::Decide => None,
-    };
-    let view = PairIterate::new(at, pair, mem, active)?;
-    let decisions = decisions(&view, mem, &plan);
-    out.pending += decisions.iter().filter(|d| d.held_back).count();
-    if matches!(plan, Plan::Decide) {
-        count_changes(pair, mem, &decisions, counters, log, out)?;
+impl Formulation for Nodal {
+    /// One pair's update under the nodal decisions, in phases: the pair at
+    /// the iterate (target search geometry and the nodes' forces,
+    /// `PairIterate::new`), every node's decision (`decisions`, `decide`;
+    /// with `keep`, the kept decisions but for the forced nodes'), the
+    /// changes counted (`count_changes`), and the rows of Eq. (18) with the
+    /// reported results (`rows_and_results`).
+    fn update(
+        &self,
+        at: &Iterate,
+        pair: &ContactPair,
+        mem: &mut PairMemory,
+        counters: [&mut [usize]; 2],
+        log: &mut dyn FnMut(&str),
+        out: &mut ContactSystem,
+        keep: Option<(&Kept, &[(usize, Forced)])>,
+    ) -> Result<PairResult, String> {
+        let plan = match keep {
+            Some((kept, forced)) => {
+                let kept = (kept.get::<Decided>()).ok_or("inner solve without nodal decisions")?;
+                Plan::Keep { kept, forced }
+            }
+            None => Plan::Decide,
+        };
+        let active = match &plan {
+            Plan::Keep { kept, .. } => Some(&kept.active[..]),
+            Plan::Decide => None,
+        };
+        let view = PairIterate::new(at, pair, mem, active)?;
+        let decisions = decisions(&view, mem, &plan);
+        out.pending += decisions.iter().filter(|d| d.held_back).count();
+        if matches!(plan, Plan::Decide) {
+            count_changes(pair, mem, &decisions, counters, log, out)?;
+        }
+        // An inner solve's system serves its rows alone: no report.
+        let report = matches!(plan, Plan::Decide);
+        let result = rows_and_results(at, &view, mem, &decisions, out, report)?;
+        out.kept.push(Kept::new(Decided {
+            decisions,
+            active: view.active,
+        }));
+        Ok(result)
     }
-    // An inner solve's system serves its rows alone: no report.
-    let report = matches!(plan, Plan::Decide);
-    let result = rows_and_results(at, &view, mem, &decisions, out, report)?;
-    out.kept.push(Kept::new(Decided {
-        decisions,
-        active: view.active,
-    }));
-    Ok(result)
+
+    fn inner_solves(&self) -> bool {
+        true
+    }
+
+    fn predict(
+        &self,
+        at: &Prediction,
+        pair: (usize, &ContactPair),
+        mem: &PairMemory,
+        kept: &Kept,
+        cache: &mut SearchCache,
+    ) -> Result<Option<Vec<(usize, Forced)>>, String> {
+        let Some(kept) = kept.get::<Decided>() else {
+            return Ok(None);
+        };
+        predict_pair(at, pair, mem, kept, cache).map(Some)
+    }
+
+    fn linearise(
+        &self,
+        at: &At,
+        pair: (usize, &ContactPair),
+        kept: &Kept,
+        out: &mut Linearised,
+    ) -> Result<(), String> {
+        let kept = kept.get::<Decided>().ok_or_else(|| {
+            format!(
+                "contact pair '{}': no decisions at this state (internal)",
+                pair.1.name
+            )
+        })?;
+        linearise::linearise_pair(at, pair, &kept.decisions, out)
+    }
 }
 
 /// One pair at the iterate, as its nodes' decisions read it: the target now
@@ -633,7 +680,7 @@ fn sticking_mu(pair: &ContactPair, node: &NodeMemory) -> f64 {
 ///   has turned back sticks.
 ///
 /// Corner holds are left to the next iterate's decisions.
-pub(super) fn predict_pair(
+fn predict_pair(
     at: &Prediction,
     (p, pair): (usize, &ContactPair),
     mem: &PairMemory,
@@ -749,29 +796,8 @@ fn corner(
     // beyond both segments' ends in any case. A node dragged across a corner
     // once passes it.
     let tol = CORNER_REACH;
-    let beta = segments[j].seg.project(x).beta();
-    let end_j = if beta >= 1.0 - tol {
-        1.0
-    } else if beta <= tol {
-        0.0
-    } else {
-        return None;
-    };
-    let (i, end_i) = search::reflex(segments, j, end_j)?;
-    let beta_i = segments[i].seg.project(x).beta();
-    let beyond = |tol: f64| {
-        let past_j = if end_j == 0.0 {
-            beta <= tol
-        } else {
-            beta >= 1.0 - tol
-        };
-        let past_i = if end_i == 0.0 {
-            beta_i <= tol
-        } else {
-            beta_i >= 1.0 - tol
-        };
-        past_j && past_i
-    };
+    let (end_j, beta, i, end_i, beta_i) = search::near_reflex(segments, j, x, tol)?;
+    let beyond = |tol: f64| search::at_end(beta, end_j, tol) && search::at_end(beta_i, end_i, tol);
     let returned = old.nodal.corner_leaves < CORNER_LEAVES
         && (old.state == NodeState::Open
             || old.corner

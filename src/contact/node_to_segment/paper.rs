@@ -4,20 +4,72 @@
 //! nodes' states), re-contacts and the return to sticking, each node's
 //! contact point and its rows of Eq. (18) (docs/contact.md section 8b).
 
-use super::TENSION_TOLERANCE;
 use super::rows::add_rows;
+use super::{Paper, TENSION_TOLERANCE};
 use crate::contact::memory::{NodeMemory, PairMemory};
 use crate::contact::report::{Report, geometry, node_frame, quadratic_tractions};
 use crate::contact::search::BETA_TOLERANCE;
+use crate::contact::search::SearchCache;
 use crate::contact::search::{
-    Segments, TargetSegment, contactor_positions, follow, reflex, search, target_segments,
+    Segments, TargetSegment, at_end, contactor_positions, follow, near_reflex, reflex, search,
+    target_segments,
 };
 use crate::contact::segment::ContactPoint;
+use crate::contact::sensitivity::{At, Linearised};
 use crate::contact::system::{ContactSystem, Iterate, count_flip};
+use crate::contact::system::{Forced, Kept};
 use crate::contact::traction::{self, SegmentState};
+use crate::contact::{Formulation, Prediction};
 use crate::problem::{ContactPair, Kinematics};
 use crate::results::{NodeState, PairResult};
 use nalgebra::Vector2;
+
+impl Formulation for Paper {
+    fn update(
+        &self,
+        at: &Iterate,
+        pair: &ContactPair,
+        mem: &mut PairMemory,
+        [flips, _]: [&mut [usize]; 2],
+        log: &mut dyn FnMut(&str),
+        out: &mut ContactSystem,
+        _keep: Option<(&Kept, &[(usize, Forced)])>,
+    ) -> Result<PairResult, String> {
+        let result = paper_pair(at, pair, mem, flips, log, out)?;
+        out.kept.push(Kept::default());
+        Ok(result)
+    }
+
+    fn inner_solves(&self) -> bool {
+        false
+    }
+
+    fn predict(
+        &self,
+        _at: &Prediction,
+        _pair: (usize, &ContactPair),
+        _mem: &PairMemory,
+        _kept: &Kept,
+        _cache: &mut SearchCache,
+    ) -> Result<Option<Vec<(usize, Forced)>>, String> {
+        Ok(None)
+    }
+
+    fn linearise(
+        &self,
+        _at: &At,
+        (_, pair): (usize, &ContactPair),
+        _kept: &Kept,
+        _out: &mut Linearised,
+    ) -> Result<(), String> {
+        Err(format!(
+            "contact pair '{}' uses the paper's decisions (decisions = \"paper\"): its \
+             friction is a fixed point of the recovered segment resultants, which has no \
+             derivative; the nodal decisions (the default) have one",
+            pair.name
+        ))
+    }
+}
 
 /// The paper's Section 3 for one pair, in phases: the pair at the iterate
 /// (target search geometry, `PaperPair::new`), force recovery (recovered
@@ -25,7 +77,7 @@ use nalgebra::Vector2;
 /// decisions (re-contacts, the return to sticking, Table 1 and each node's
 /// contact: `decide_segments`, `table1`, `node_contact`), and the rows of
 /// Eq. (18) with the reported results (`node_rows`, `quadratic_report`).
-pub(super) fn paper_pair(
+fn paper_pair(
     at: &Iterate,
     pair: &ContactPair,
     mem: &mut PairMemory,
@@ -667,22 +719,8 @@ fn corner(
     if !node.corner {
         return None;
     }
-    let beta = segments[j].seg.project(x).beta();
-    let end_j = if beta >= 1.0 - BETA_TOLERANCE {
-        1.0
-    } else if beta <= BETA_TOLERANCE {
-        0.0
-    } else {
-        return None;
-    };
-    let (i, end_i) = reflex(segments, j, end_j)?;
-    let beta_i = segments[i].seg.project(x).beta();
-    let beyond = if end_i == 0.0 {
-        beta_i <= BETA_TOLERANCE
-    } else {
-        beta_i >= 1.0 - BETA_TOLERANCE
-    };
-    beyond.then_some((end_j, i, end_i))
+    let (end_j, _, i, end_i, beta_i) = near_reflex(segments, j, x, BETA_TOLERANCE)?;
+    at_end(beta_i, end_i, BETA_TOLERANCE).then_some((end_j, i, end_i))
 }
 
 /// The contact point of a node at its anchor (the material point of the
