@@ -580,8 +580,21 @@ fn scaled(s: &Scaled, p: &Problem) -> String {
 
 /// What `check` prints about a scene.
 fn describe(scene: &Path, p: &Problem) -> String {
-    use std::fmt::Write;
     let mut o = String::new();
+    describe_header(&mut o, scene, p);
+    describe_materials(&mut o, p);
+    describe_bodies(&mut o, p);
+    describe_drivers(&mut o, p);
+    describe_rigids(&mut o, p);
+    describe_contacts(&mut o, p);
+    describe_loads(&mut o, p);
+    describe_steps(&mut o, p);
+    o
+}
+
+/// The scene, its analysis and kinematics, parameters and mesh.
+fn describe_header(o: &mut String, scene: &Path, p: &Problem) {
+    use std::fmt::Write;
     let _ = writeln!(o, "scene: {} ({})", p.name, scene.display());
     let analysis = match p.analysis {
         AnalysisKind::PlaneStrain { thickness } => format!("plane strain, thickness {thickness}"),
@@ -613,7 +626,11 @@ fn describe(scene: &Path, p: &Problem) -> String {
         p.mesh.nodes.len(),
         p.mesh.elements.len()
     );
+}
 
+/// The materials and their laws.
+fn describe_materials(o: &mut String, p: &Problem) {
+    use std::fmt::Write;
     let _ = writeln!(o, "materials:");
     for m in &p.materials {
         let law = match &m.spec {
@@ -627,7 +644,11 @@ fn describe(scene: &Path, p: &Problem) -> String {
         };
         let _ = writeln!(o, "  {}: {law}", m.name);
     }
+}
 
+/// The bodies: elements by kind, nodes, material and their sets.
+fn describe_bodies(o: &mut String, p: &Problem) {
+    use std::fmt::Write;
     let _ = writeln!(o, "bodies:");
     for b in &p.bodies {
         let elements = p.mesh.elements.get(b.elements.clone()).unwrap_or(&[]);
@@ -669,7 +690,11 @@ fn describe(scene: &Path, p: &Problem) -> String {
             .collect();
         let _ = writeln!(o, "    sets: {}", sets.join(", "));
     }
+}
 
+/// The time functions and the drivers.
+fn describe_drivers(o: &mut String, p: &Problem) {
+    use std::fmt::Write;
     if !p.functions.is_empty() {
         let _ = writeln!(o, "functions:");
         for f in &p.functions {
@@ -696,7 +721,11 @@ fn describe(scene: &Path, p: &Problem) -> String {
             comp(1)
         );
     }
+}
 
+/// The rigid targets: points, reference point, motion.
+fn describe_rigids(o: &mut String, p: &Problem) {
+    use std::fmt::Write;
     if !p.rigids.is_empty() {
         let _ = writeln!(o, "rigid targets:");
     }
@@ -727,7 +756,11 @@ fn describe(scene: &Path, p: &Problem) -> String {
         }
         let _ = writeln!(o, "{line}");
     }
+}
 
+/// The contact pairs.
+fn describe_contacts(o: &mut String, p: &Problem) {
+    use std::fmt::Write;
     if !p.contacts.is_empty() {
         let _ = writeln!(o, "contact pairs:");
     }
@@ -766,7 +799,12 @@ fn describe(scene: &Path, p: &Problem) -> String {
             c.mu_d
         );
     }
+}
 
+/// Pressures, forces, body forces and initial stresses.
+fn describe_loads(o: &mut String, p: &Problem) {
+    use std::fmt::Write;
+    let body_name = |i: usize| p.bodies.get(i).map_or("?", |b| b.name.as_str());
     let _ = writeln!(o, "loads:");
     let loads = p.pressures.len() + p.forces.len() + p.body_forces.len() + p.initial_stresses.len();
     if loads == 0 {
@@ -807,7 +845,11 @@ fn describe(scene: &Path, p: &Problem) -> String {
             body_name(l.body)
         );
     }
+}
 
+/// The increments and the solver settings.
+fn describe_steps(o: &mut String, p: &Problem) {
+    use std::fmt::Write;
     match (p.times.first(), p.times.last()) {
         (Some(first), Some(last)) => {
             let _ = writeln!(
@@ -831,7 +873,6 @@ fn describe(scene: &Path, p: &Problem) -> String {
         s.max_iterations,
         s.max_bisections
     );
-    o
 }
 
 #[cfg(test)]
