@@ -316,23 +316,9 @@ fn run(scene: &Path, o: &RunOptions) -> ExitCode {
     };
 
     // Fail before solving when the outputs cannot be written.
-    if let Some(dir) = o.vtk
-        && let Err(e) = std::fs::create_dir_all(dir)
-    {
-        return failure(format!("cannot create {}: {e}", dir.display()));
-    }
-    for path in [o.summary, o.log].into_iter().flatten() {
-        if let Some(parent) = path.parent()
-            && !parent.as_os_str().is_empty()
-            && let Err(e) = std::fs::create_dir_all(parent)
-        {
-            return failure(format!("cannot create {}: {e}", parent.display()));
-        }
-    }
-    let log = match o.log.map(|p| (p, std::fs::File::create(p))) {
-        None => None,
-        Some((p, Ok(f))) => Some((p.to_path_buf(), std::io::BufWriter::new(f))),
-        Some((p, Err(e))) => return failure(format!("cannot create {}: {e}", p.display())),
+    let log = match prepare_outputs(o) {
+        Ok(log) => log,
+        Err(e) => return failure(e),
     };
     let stem = scene
         .file_stem()
@@ -366,7 +352,7 @@ fn run(scene: &Path, o: &RunOptions) -> ExitCode {
 
     let mut summary = Summary::new(scene.display().to_string(), title, solver.dofs());
     let mut series = o.vtk.map(|dir| VtkSeries::new(dir, &stem));
-    let mut failed = None;
+    let (mut solve_time, mut failed) = (Duration::ZERO, None);
     if let Some(series) = &mut series {
         let rest = contact2d::contact::outputs::rest_step(
             solver.problem(),
@@ -380,51 +366,15 @@ fn run(scene: &Path, o: &RunOptions) -> ExitCode {
             ));
         }
     }
-    let mut solve_time = Duration::ZERO;
-    for (i, &t) in times.iter().enumerate() {
-        if failed.is_some() {
-            break;
-        }
-        let mut newton_lines = 0;
-        let started = Instant::now();
-        let result = solver.advance(t, &mut |cat, msg| {
-            if cat == LogCategory::Newton {
-                newton_lines += 1;
-            }
-            out.solver(cat, msg);
-        });
-        solve_time += started.elapsed();
-        let step = match result {
-            Ok(step) => step,
-            Err(e) => {
-                summary.steps.push(Summary::failed_step(
-                    t,
-                    newton_lines,
-                    max_bisections,
-                    driver_names.iter().cloned(),
-                    rigid_names.iter().cloned(),
-                    pair_names.iter().cloned(),
-                ));
-                failed = Some(e.to_string());
-                break;
-            }
+    if failed.is_none() {
+        let names = [driver_names, rigid_names, pair_names];
+        let mut run = Increments {
+            solver: &mut solver,
+            out: &mut out,
+            summary: &mut summary,
+            series: series.as_mut(),
         };
-        let mut line = step_line(i + 1, times.len(), &step);
-        for (name, tie) in solver.tie_results() {
-            let [fx, fy] = tie.force;
-            line.push_str(&format!("  {name}: tie Fx = {fx:.6e} Fy = {fy:.6e}"));
-        }
-        out.line(Verbosity::Normal, &line);
-        if let Some(series) = &mut series
-            && let Err(e) = write_frame(series, i + 1, &solver, &step)
-        {
-            failed = Some(format!("cannot write the VTK frame at t = {t}: {e}"));
-        }
-        summary.steps.push(step);
-        if let Some(b) = &out.bar {
-            b.set_message(format!("t = {t}"));
-            b.inc(1);
-        }
+        (solve_time, failed) = run.solve(&times, &names, max_bisections);
     }
     summary.wall_s = solve_time.as_secs_f64();
     let mut errors: Vec<String> = failed.into_iter().collect();
@@ -465,6 +415,100 @@ fn run(scene: &Path, o: &RunOptions) -> ExitCode {
             }
             failure(last)
         }
+    }
+}
+
+/// A run's increments, with what they write to.
+struct Increments<'a> {
+    solver: &'a mut Solver,
+    out: &'a mut Reporter,
+    summary: &'a mut Summary,
+    series: Option<&'a mut VtkSeries>,
+}
+
+impl Increments<'_> {
+    /// Solves the increments to `times`, one line and one summary entry
+    /// each (a failed one's entry names the drivers, rigid targets and
+    /// pairs of `names`); the solve's wall time, and the error that
+    /// stopped it.
+    fn solve(
+        &mut self,
+        times: &[f64],
+        [drivers, rigids, pairs]: &[Vec<String>; 3],
+        max_bisections: usize,
+    ) -> (Duration, Option<String>) {
+        let mut solve_time = Duration::ZERO;
+        for (i, &t) in times.iter().enumerate() {
+            let mut newton_lines = 0;
+            let started = Instant::now();
+            let result = self.solver.advance(t, &mut |cat, msg| {
+                if cat == LogCategory::Newton {
+                    newton_lines += 1;
+                }
+                self.out.solver(cat, msg);
+            });
+            solve_time += started.elapsed();
+            let step = match result {
+                Ok(step) => step,
+                Err(e) => {
+                    self.summary.steps.push(Summary::failed_step(
+                        t,
+                        newton_lines,
+                        max_bisections,
+                        drivers.iter().cloned(),
+                        rigids.iter().cloned(),
+                        pairs.iter().cloned(),
+                    ));
+                    return (solve_time, Some(e.to_string()));
+                }
+            };
+            let mut line = step_line(i + 1, times.len(), &step);
+            for (name, tie) in self.solver.tie_results() {
+                let [fx, fy] = tie.force;
+                line.push_str(&format!("  {name}: tie Fx = {fx:.6e} Fy = {fy:.6e}"));
+            }
+            self.out.line(Verbosity::Normal, &line);
+            let written = (self.series.as_deref_mut()).map_or(Ok(()), |series| {
+                write_frame(series, i + 1, self.solver, &step)
+            });
+            self.summary.steps.push(step);
+            if let Some(b) = &self.out.bar {
+                b.set_message(format!("t = {t}"));
+                b.inc(1);
+            }
+            if let Err(e) = written {
+                return (
+                    solve_time,
+                    Some(format!("cannot write the VTK frame at t = {t}: {e}")),
+                );
+            }
+        }
+        (solve_time, None)
+    }
+}
+
+/// The folders of the outputs made, and the log file opened: an error that
+/// names the path when one cannot be.
+fn prepare_outputs(
+    o: &RunOptions,
+) -> Result<Option<(PathBuf, std::io::BufWriter<std::fs::File>)>, String> {
+    if let Some(dir) = o.vtk
+        && let Err(e) = std::fs::create_dir_all(dir)
+    {
+        return Err(format!("cannot create {}: {e}", dir.display()));
+    }
+    for path in [o.summary, o.log].into_iter().flatten() {
+        if let Some(parent) = path.parent()
+            && !parent.as_os_str().is_empty()
+            && let Err(e) = std::fs::create_dir_all(parent)
+        {
+            return Err(format!("cannot create {}: {e}", parent.display()));
+        }
+    }
+    match o.log.map(|p| (p, std::fs::File::create(p))) {
+        None => Ok(None),
+        Some((p, Ok(f))) => Ok(Some((p.to_path_buf(), std::io::BufWriter::new(f)))),
+        Some((p, Err(e))) => Err(format!("cannot create {}: {e}", p.display())),
     }
 }
 
