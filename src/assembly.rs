@@ -7,7 +7,7 @@ use crate::kinematics::{
     ElementData, ElementError, ElementOutput, geometry_len, integrate, reference_geometry,
 };
 use crate::material::{self, MaterialLaw, Voigt};
-use crate::mesh::{ElementKind, face_local_nodes};
+use crate::mesh::{ElementKind, Mesh, face_local_nodes};
 use crate::problem::{AnalysisKind, Distribution, Kinematics, Problem};
 use std::f64::consts::PI;
 
@@ -125,110 +125,10 @@ impl Model {
                 }
             }
         }
-        // A rigid force component's set is one unknown: each of its dofs
-        // is numbered as the set's first (lowest) free dof.
-        let mut leader: Vec<usize> = (0..2 * mesh.nodes.len()).collect();
-        for d in &problem.drivers {
-            for c in (0..2).filter(|&c| d.force(c).is_some()) {
-                if d.distribution != Distribution::Rigid {
-                    continue;
-                }
-                let dofs = d.nodes.iter().map(|&k| 2 * k + c);
-                let dofs: Vec<usize> = dofs.filter(|&q| !prescribed[q]).collect();
-                if let Some(&first) = dofs.iter().min() {
-                    for q in dofs {
-                        leader[q] = first;
-                    }
-                }
-            }
-        }
-        let mut eq = vec![PRESCRIBED; 2 * mesh.nodes.len()];
-        let mut n = 0u32;
-        for dof in 0..eq.len() {
-            if prescribed[dof] {
-                continue;
-            }
-            if leader[dof] != dof {
-                eq[dof] = eq[leader[dof]];
-            } else {
-                eq[dof] = n;
-                n += 1;
-            }
-        }
-        let n = n as usize;
-        // Column sets, then sorted unique rows.
-        let mut cols: Vec<Vec<usize>> = vec![Vec::new(); n];
-        let mut dofs = Vec::with_capacity(16);
-        for el in &mesh.elements {
-            dofs.clear();
-            for &node in &el.nodes {
-                for c in 0..2 {
-                    let q = eq[2 * node + c];
-                    if q != PRESCRIBED {
-                        dofs.push(q as usize);
-                    }
-                }
-            }
-            for &c in &dofs {
-                cols[c].extend(dofs.iter().copied());
-            }
-        }
-        let mut col_ptr = Vec::with_capacity(n + 1);
-        let mut row_idx = Vec::new();
-        col_ptr.push(0);
-        for c in cols.iter_mut() {
-            c.sort_unstable();
-            c.dedup();
-            row_idx.extend_from_slice(c);
-            col_ptr.push(row_idx.len());
-        }
-        drop(cols);
-        let mut scatter = Vec::new();
-        let mut scatter_offset = Vec::with_capacity(mesh.elements.len());
-        for el in &mesh.elements {
-            scatter_offset.push(scatter.len());
-            let ld: Vec<u32> = el
-                .nodes
-                .iter()
-                .flat_map(|&nd| [eq[2 * nd], eq[2 * nd + 1]])
-                .collect();
-            for &r in &ld {
-                for &c in &ld {
-                    if r == PRESCRIBED || c == PRESCRIBED {
-                        scatter.push(PRESCRIBED);
-                    } else {
-                        let (c, r) = (c as usize, r as usize);
-                        let rows = &row_idx[col_ptr[c]..col_ptr[c + 1]];
-                        let pos = rows
-                            .binary_search(&r)
-                            .expect("pattern holds every element pair");
-                        scatter.push((col_ptr[c] + pos) as u32);
-                    }
-                }
-            }
-        }
-        // The reference geometry's numbers: kept up to GEOMETRY_LIMIT.
-        let size: usize = mesh.elements.iter().map(|el| geometry_len(el.kind)).sum();
-        let keep = size <= GEOMETRY_LIMIT;
-        let mut geometry = Vec::with_capacity(if keep { size } else { 0 });
-        let mut geometry_offset = Vec::with_capacity(mesh.elements.len());
-        let mut x0 = Vec::with_capacity(8);
-        for (e, el) in mesh.elements.iter().enumerate() {
-            if !keep {
-                geometry_offset.push(usize::MAX);
-                continue;
-            }
-            let start = geometry.len();
-            x0.clear();
-            x0.extend(el.nodes.iter().map(|&nd| mesh.nodes[nd]));
-            let kept = reference_geometry(problem.analysis, el.kind, e, &x0, &mut geometry);
-            if kept.is_ok() {
-                geometry_offset.push(start);
-            } else {
-                geometry.truncate(start);
-                geometry_offset.push(usize::MAX);
-            }
-        }
+        let (eq, n) = equations(problem, prescribed);
+        let pattern = element_pattern(mesh, &eq, n);
+        let (scatter, scatter_offset) = scatter_map(mesh, &eq, &pattern);
+        let (geometry, geometry_offset) = kept_geometry(problem);
         let follower = problem.pressures.iter().any(|p| p.follower);
         let tl = problem.kinematics == Kinematics::TotalLagrangian;
         let linear_laws = laws.iter().all(|l| l.is_linear());
@@ -242,11 +142,7 @@ impl Model {
             element_initial_stress,
             element_body,
             eq,
-            pattern: Pattern {
-                n,
-                col_ptr,
-                row_idx,
-            },
+            pattern,
             scatter,
             scatter_offset,
             symmetric: !(tl && follower),
@@ -512,6 +408,140 @@ impl Model {
             }
         }
     }
+}
+
+/// The equation of each dof (`PRESCRIBED` for a driven one) and their
+/// count. A rigid force component's set is one unknown: each of its dofs is
+/// numbered as the set's first (lowest) free dof.
+fn equations(problem: &Problem, prescribed: &[bool]) -> (Vec<u32>, usize) {
+    let mesh = &problem.mesh;
+    let mut leader: Vec<usize> = (0..2 * mesh.nodes.len()).collect();
+    for d in &problem.drivers {
+        for c in (0..2).filter(|&c| d.force(c).is_some()) {
+            if d.distribution != Distribution::Rigid {
+                continue;
+            }
+            let dofs = d.nodes.iter().map(|&k| 2 * k + c);
+            let dofs: Vec<usize> = dofs.filter(|&q| !prescribed[q]).collect();
+            if let Some(&first) = dofs.iter().min() {
+                for q in dofs {
+                    leader[q] = first;
+                }
+            }
+        }
+    }
+    let mut eq = vec![PRESCRIBED; 2 * mesh.nodes.len()];
+    let mut n = 0u32;
+    for dof in 0..eq.len() {
+        if prescribed[dof] {
+            continue;
+        }
+        if leader[dof] != dof {
+            eq[dof] = eq[leader[dof]];
+        } else {
+            eq[dof] = n;
+            n += 1;
+        }
+    }
+    let n = n as usize;
+    (eq, n as usize)
+}
+
+/// The tangent's sparsity pattern: per column the sorted rows its
+/// elements couple it to.
+fn element_pattern(mesh: &Mesh, eq: &[u32], n: usize) -> Pattern {
+    // Column sets, then sorted unique rows.
+    let mut cols: Vec<Vec<usize>> = vec![Vec::new(); n];
+    let mut dofs = Vec::with_capacity(16);
+    for el in &mesh.elements {
+        dofs.clear();
+        for &node in &el.nodes {
+            for c in 0..2 {
+                let q = eq[2 * node + c];
+                if q != PRESCRIBED {
+                    dofs.push(q as usize);
+                }
+            }
+        }
+        for &c in &dofs {
+            cols[c].extend(dofs.iter().copied());
+        }
+    }
+    let mut col_ptr = Vec::with_capacity(n + 1);
+    let mut row_idx = Vec::new();
+    col_ptr.push(0);
+    for c in cols.iter_mut() {
+        c.sort_unstable();
+        c.dedup();
+        row_idx.extend_from_slice(c);
+        col_ptr.push(row_idx.len());
+    }
+    drop(cols);
+    Pattern {
+        n,
+        col_ptr,
+        row_idx,
+    }
+}
+
+/// Per element, where each entry of its matrix goes in the pattern's
+/// values (`PRESCRIBED` where its row or column is driven), and each
+/// element's offset in that list.
+fn scatter_map(mesh: &Mesh, eq: &[u32], pattern: &Pattern) -> (Vec<u32>, Vec<usize>) {
+    let (col_ptr, row_idx) = (&pattern.col_ptr, &pattern.row_idx);
+    let mut scatter = Vec::new();
+    let mut scatter_offset = Vec::with_capacity(mesh.elements.len());
+    for el in &mesh.elements {
+        scatter_offset.push(scatter.len());
+        let ld: Vec<u32> = el
+            .nodes
+            .iter()
+            .flat_map(|&nd| [eq[2 * nd], eq[2 * nd + 1]])
+            .collect();
+        for &r in &ld {
+            for &c in &ld {
+                if r == PRESCRIBED || c == PRESCRIBED {
+                    scatter.push(PRESCRIBED);
+                } else {
+                    let (c, r) = (c as usize, r as usize);
+                    let rows = &row_idx[col_ptr[c]..col_ptr[c + 1]];
+                    let pos = rows
+                        .binary_search(&r)
+                        .expect("pattern holds every element pair");
+                    scatter.push((col_ptr[c] + pos) as u32);
+                }
+            }
+        }
+    }
+    (scatter, scatter_offset)
+}
+
+/// The reference geometry's numbers of every element and each one's offset
+/// (`usize::MAX` where not kept): kept up to GEOMETRY_LIMIT.
+fn kept_geometry(problem: &Problem) -> (Vec<f64>, Vec<usize>) {
+    let mesh = &problem.mesh;
+    let size: usize = mesh.elements.iter().map(|el| geometry_len(el.kind)).sum();
+    let keep = size <= GEOMETRY_LIMIT;
+    let mut geometry = Vec::with_capacity(if keep { size } else { 0 });
+    let mut geometry_offset = Vec::with_capacity(mesh.elements.len());
+    let mut x0 = Vec::with_capacity(8);
+    for (e, el) in mesh.elements.iter().enumerate() {
+        if !keep {
+            geometry_offset.push(usize::MAX);
+            continue;
+        }
+        let start = geometry.len();
+        x0.clear();
+        x0.extend(el.nodes.iter().map(|&nd| mesh.nodes[nd]));
+        let kept = reference_geometry(problem.analysis, el.kind, e, &x0, &mut geometry);
+        if kept.is_ok() {
+            geometry_offset.push(start);
+        } else {
+            geometry.truncate(start);
+            geometry_offset.push(usize::MAX);
+        }
+    }
+    (geometry, geometry_offset)
 }
 
 /// out += K_e du_e for one element's nodes.
