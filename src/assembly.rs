@@ -443,7 +443,6 @@ fn equations(problem: &Problem, prescribed: &[bool]) -> (Vec<u32>, usize) {
             n += 1;
         }
     }
-    let n = n as usize;
     (eq, n as usize)
 }
 

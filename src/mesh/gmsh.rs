@@ -418,24 +418,12 @@ fn type_name(kind: u32) -> Option<&'static str> {
     })
 }
 
-/// The mesh from what was read: quads reordered counter-clockwise, unused
-/// nodes dropped, physical groups turned into sets.
-fn build(file: File, r: &Reader) -> Result<Mesh, MeshError> {
-    let err = |line: usize, message: String| r.error_at(line, message);
-    let Some(first) = file.quads.first() else {
-        return Err(err(
-            r.line,
-            "the file has no quadrilateral elements (types 3 or 16)".into(),
-        ));
-    };
-    let kind = if first.nodes.len() == 4 {
-        ElementKind::Q4
-    } else {
-        ElementKind::Q8
-    };
-    let node_of = |tag: u64, raw: &Raw| -> Result<(usize, [f64; 2]), MeshError> {
-        file.nodes.get(&tag).copied().ok_or_else(|| {
-            err(
+impl File {
+    /// The index (in file order) and position of node `tag`, which element
+    /// `raw` refers to.
+    fn node_of(&self, r: &Reader, tag: u64, raw: &Raw) -> Result<(usize, [f64; 2]), MeshError> {
+        self.nodes.get(&tag).copied().ok_or_else(|| {
+            r.error_at(
                 raw.line,
                 format!(
                     "element {} refers to node {tag}, which $Nodes does not define",
@@ -443,12 +431,114 @@ fn build(file: File, r: &Reader) -> Result<Mesh, MeshError> {
                 ),
             )
         })
+    }
+
+    /// The physical group names of an element's entity.
+    fn groups(&self, r: &Reader, raw: &Raw) -> Result<Vec<String>, MeshError> {
+        let Some((physical, line)) = self.entities.get(&raw.entity) else {
+            return Ok(Vec::new());
+        };
+        physical
+            .iter()
+            .map(|&tag| match &self.names {
+                None => Ok(format!("group{tag}")),
+                Some(names) => names.get(&(raw.entity.0, tag)).cloned().ok_or_else(|| {
+                    r.error_at(
+                        *line,
+                        format!(
+                            "physical group {tag} (dimension {}) of entity {} has no name in $PhysicalNames",
+                            raw.entity.0, raw.entity.1
+                        ),
+                    )
+                }),
+            })
+            .collect()
+    }
+}
+
+/// The mesh's node numbering: per node of the file (in file order) its
+/// number among the nodes quads use (`usize::MAX`: unused).
+struct Numbering(Vec<usize>);
+
+impl Numbering {
+    /// Mesh node of node `tag`, which element `raw` refers to.
+    fn node(&self, file: &File, r: &Reader, tag: u64, raw: &Raw) -> Result<usize, MeshError> {
+        let (index, _) = file.node_of(r, tag, raw)?;
+        match self.0[index] {
+            usize::MAX => Err(r.error_at(
+                raw.line,
+                format!(
+                    "element {}: node {tag} is not a node of any quadrilateral",
+                    raw.tag
+                ),
+            )),
+            n => Ok(n),
+        }
+    }
+}
+
+/// The mesh from what was read: quads reordered counter-clockwise, unused
+/// nodes dropped, physical groups turned into sets.
+fn build(file: File, r: &Reader) -> Result<Mesh, MeshError> {
+    let Some(first) = file.quads.first() else {
+        return Err(r.error_at(
+            r.line,
+            "the file has no quadrilateral elements (types 3 or 16)",
+        ));
     };
-    // Quads in file numbering, counter-clockwise.
+    let kind = if first.nodes.len() == 4 {
+        ElementKind::Q4
+    } else {
+        ElementKind::Q8
+    };
+    let quads = oriented_quads(&file, r, kind)?;
+    let (nodes, numbering) = used_nodes(&file, &quads);
+    let elements: Vec<Element> = quads
+        .iter()
+        .map(|q| Element {
+            kind,
+            nodes: q.iter().map(|&n| numbering.0[n]).collect(),
+        })
+        .collect();
+    let mut mesh = Mesh {
+        nodes,
+        elements,
+        ..Mesh::default()
+    };
+    for (e, q) in file.quads.iter().enumerate() {
+        for name in file.groups(r, q)? {
+            mesh.element_sets.entry(name).or_default().push(e);
+        }
+    }
+    for (name, edges) in edge_sets(&file, r, &mesh, &numbering)? {
+        let edges = chain(edges);
+        let nodes = mesh.node_sets.entry(name.clone()).or_default();
+        nodes.extend(edge_nodes(&edges));
+        mesh.edge_sets.insert(name, edges);
+    }
+    for p in &file.points {
+        for name in file.groups(r, p)? {
+            let n = numbering.node(&file, r, p.nodes[0], p)?;
+            mesh.node_sets.entry(name).or_default().push(n);
+        }
+    }
+    for set in mesh.node_sets.values_mut() {
+        set.sort_unstable();
+        set.dedup();
+    }
+    Ok(mesh)
+}
+
+/// The quads in file numbering, counter-clockwise, all of `kind`.
+fn oriented_quads(
+    file: &File,
+    r: &Reader,
+    kind: ElementKind,
+) -> Result<Vec<Vec<usize>>, MeshError> {
     let mut quads: Vec<Vec<usize>> = Vec::with_capacity(file.quads.len());
     for q in &file.quads {
         if q.nodes.len() != kind.node_count() {
-            return Err(err(
+            return Err(r.error_at(
                 q.line,
                 format!(
                     "element {} is a {}-node quadrilateral in a mesh of {}-node ones; \
@@ -462,7 +552,7 @@ fn build(file: File, r: &Reader) -> Result<Mesh, MeshError> {
         let mut nodes = Vec::with_capacity(q.nodes.len());
         let mut corners = Vec::with_capacity(4);
         for &t in &q.nodes {
-            let (index, x) = node_of(t, q)?;
+            let (index, x) = file.node_of(r, t, q)?;
             nodes.push(index);
             corners.push(x);
         }
@@ -475,13 +565,17 @@ fn build(file: File, r: &Reader) -> Result<Mesh, MeshError> {
         }
         quads.push(nodes);
     }
-    // Keep the nodes quads use, in file order.
+    Ok(quads)
+}
+
+/// The nodes quads use, in file order, and the numbering that keeps them.
+fn used_nodes(file: &File, quads: &[Vec<usize>]) -> (Vec<[f64; 2]>, Numbering) {
     let mut coordinates = vec![[0.0; 2]; file.nodes.len()];
     for &(index, x) in file.nodes.values() {
         coordinates[index] = x;
     }
     let mut map = vec![usize::MAX; coordinates.len()];
-    for q in &quads {
+    for q in quads {
         for &n in q {
             map[n] = 0;
         }
@@ -493,60 +587,18 @@ fn build(file: File, r: &Reader) -> Result<Mesh, MeshError> {
             nodes.push(coordinates[i]);
         }
     }
-    let elements: Vec<Element> = quads
-        .iter()
-        .map(|q| Element {
-            kind,
-            nodes: q.iter().map(|&n| map[n]).collect(),
-        })
-        .collect();
-    let node = |tag: u64, raw: &Raw| -> Result<usize, MeshError> {
-        let (index, _) = node_of(tag, raw)?;
-        match map[index] {
-            usize::MAX => Err(err(
-                raw.line,
-                format!(
-                    "element {}: node {tag} is not a node of any quadrilateral",
-                    raw.tag
-                ),
-            )),
-            n => Ok(n),
-        }
-    };
+    (nodes, Numbering(map))
+}
 
-    // Physical group names of an element's entity.
-    let groups = |raw: &Raw| -> Result<Vec<String>, MeshError> {
-        let Some((physical, line)) = file.entities.get(&raw.entity) else {
-            return Ok(Vec::new());
-        };
-        physical
-            .iter()
-            .map(|&tag| match &file.names {
-                None => Ok(format!("group{tag}")),
-                Some(names) => names.get(&(raw.entity.0, tag)).cloned().ok_or_else(|| {
-                    err(
-                        *line,
-                        format!(
-                            "physical group {tag} (dimension {}) of entity {} has no name in $PhysicalNames",
-                            raw.entity.0, raw.entity.1
-                        ),
-                    )
-                }),
-            })
-            .collect()
-    };
-
-    let mut mesh = Mesh {
-        nodes,
-        elements,
-        ..Mesh::default()
-    };
-    for (e, q) in file.quads.iter().enumerate() {
-        for name in groups(q)? {
-            mesh.element_sets.entry(name).or_default().push(e);
-        }
-    }
-
+/// The edge sets of the named line elements: each line on the face of the
+/// quad it lies on (between two quads, the face running the line's way).
+fn edge_sets(
+    file: &File,
+    r: &Reader,
+    mesh: &Mesh,
+    numbering: &Numbering,
+) -> Result<BTreeMap<String, Vec<Edge>>, MeshError> {
+    let kind = mesh.elements[0].kind;
     // Faces by their corner nodes.
     let mut faces: HashMap<(usize, usize), Vec<(usize, usize)>> = HashMap::new();
     for (e, el) in mesh.elements.iter().enumerate() {
@@ -555,9 +607,10 @@ fn build(file: File, r: &Reader) -> Result<Mesh, MeshError> {
             faces.entry((a.min(b), a.max(b))).or_default().push((e, f));
         }
     }
+    let node = |tag: u64, raw: &Raw| numbering.node(file, r, tag, raw);
     let mut edge_sets: BTreeMap<String, Vec<Edge>> = BTreeMap::new();
     for l in &file.lines {
-        let names = groups(l)?;
+        let names = file.groups(r, l)?;
         if names.is_empty() {
             continue;
         }
@@ -566,7 +619,7 @@ fn build(file: File, r: &Reader) -> Result<Mesh, MeshError> {
             ElementKind::Q8 => 3,
         };
         if l.nodes.len() != wanted {
-            return Err(err(
+            return Err(r.error_at(
                 l.line,
                 format!(
                     "line element {} has {} nodes but the quadrilaterals have {}; \
@@ -590,7 +643,7 @@ fn build(file: File, r: &Reader) -> Result<Mesh, MeshError> {
                 .find(|&(e, f)| mesh.elements[e].nodes[f] == ends[0]),
         };
         let Some((e, f)) = owner else {
-            return Err(err(
+            return Err(r.error_at(
                 l.line,
                 format!(
                     "line element {} (nodes {} {}) is not on the face of any quadrilateral",
@@ -604,7 +657,7 @@ fn build(file: File, r: &Reader) -> Result<Mesh, MeshError> {
             .map(|&k| el.nodes[k])
             .collect();
         if kind == ElementKind::Q8 && node(l.nodes[2], l)? != edge_nodes[2] {
-            return Err(err(
+            return Err(r.error_at(
                 l.line,
                 format!(
                     "line element {}: mid-side node {} is not the mid-side node of the \
@@ -621,21 +674,5 @@ fn build(file: File, r: &Reader) -> Result<Mesh, MeshError> {
             });
         }
     }
-    for (name, edges) in edge_sets {
-        let edges = chain(edges);
-        let nodes = mesh.node_sets.entry(name.clone()).or_default();
-        nodes.extend(edge_nodes(&edges));
-        mesh.edge_sets.insert(name, edges);
-    }
-    for p in &file.points {
-        for name in groups(p)? {
-            let n = node(p.nodes[0], p)?;
-            mesh.node_sets.entry(name).or_default().push(n);
-        }
-    }
-    for set in mesh.node_sets.values_mut() {
-        set.sort_unstable();
-        set.dedup();
-    }
-    Ok(mesh)
+    Ok(edge_sets)
 }
