@@ -153,18 +153,22 @@ impl Variable {
     }
 }
 
-/// The variables of a problem, in value-reference order.
-pub fn variables(problem: &Problem) -> Vec<Variable> {
-    let mut list = Vec::new();
-    let mut add = |name: String,
-                   ty: Type,
-                   causality: Causality,
-                   quantity: Quantity,
-                   description: String,
-                   start: Option<Start>,
-                   binding: Binding| {
-        let vr = list.len() as u32 + 1;
-        list.push(Variable {
+/// The variables as they are made, each given the next value reference.
+struct List(Vec<Variable>);
+
+impl List {
+    fn add(
+        &mut self,
+        name: String,
+        ty: Type,
+        causality: Causality,
+        quantity: Quantity,
+        description: String,
+        start: Option<Start>,
+        binding: Binding,
+    ) {
+        let vr = self.0.len() as u32 + 1;
+        self.0.push(Variable {
             name,
             vr,
             ty,
@@ -174,12 +178,25 @@ pub fn variables(problem: &Problem) -> Vec<Variable> {
             start,
             binding,
         });
-    };
-    use Causality::*;
+    }
+}
 
-    // Parameters.
+/// The variables of a problem, in value-reference order: parameters,
+/// inputs, outputs.
+pub fn variables(problem: &Problem) -> Vec<Variable> {
+    let mut list = List(Vec::new());
+    parameters(&mut list, problem);
+    inputs(&mut list, problem);
+    outputs(&mut list, problem);
+    list.0
+}
+
+/// The scene's parameters, the materials' constants, the friction
+/// coefficients and the solver's settings.
+fn parameters(list: &mut List, problem: &Problem) {
+    use Causality::*;
     for (index, p) in problem.parameters.iter().enumerate() {
-        add(
+        list.add(
             p.name.clone(),
             Type::Real,
             Parameter,
@@ -212,7 +229,7 @@ pub fn variables(problem: &Problem) -> Vec<Variable> {
                 }
                 _ => (Quantity::None, "Poisson's ratio"),
             };
-            add(
+            list.add(
                 format!("{}.{name}", material.name),
                 Type::Real,
                 Parameter,
@@ -228,7 +245,7 @@ pub fn variables(problem: &Problem) -> Vec<Variable> {
             (false, "mu_s", pair.mu_s, "static"),
             (true, "mu_d", pair.mu_d, "dynamic"),
         ] {
-            add(
+            list.add(
                 format!("{}.{key}", pair.name),
                 Type::Real,
                 Parameter,
@@ -243,7 +260,7 @@ pub fn variables(problem: &Problem) -> Vec<Variable> {
         }
     }
     let s = &problem.solver;
-    add(
+    list.add(
         "solver.tolerance".into(),
         Type::Real,
         Parameter,
@@ -252,7 +269,7 @@ pub fn variables(problem: &Problem) -> Vec<Variable> {
         Some(Start::Real(s.force_tolerance)),
         Binding::Tolerance,
     );
-    add(
+    list.add(
         "solver.max_iterations".into(),
         Type::Integer,
         Parameter,
@@ -261,7 +278,7 @@ pub fn variables(problem: &Problem) -> Vec<Variable> {
         Some(Start::Integer(clamp_i32(s.max_iterations))),
         Binding::MaxIterations,
     );
-    add(
+    list.add(
         "solver.max_substeps".into(),
         Type::Integer,
         Parameter,
@@ -270,7 +287,7 @@ pub fn variables(problem: &Problem) -> Vec<Variable> {
         Some(Start::Integer(clamp_i32(s.max_bisections))),
         Binding::MaxSubsteps,
     );
-    add(
+    list.add(
         "output_dir".into(),
         Type::String,
         Parameter,
@@ -279,8 +296,12 @@ pub fn variables(problem: &Problem) -> Vec<Variable> {
         Some(Start::String(String::new())),
         Binding::OutputDir,
     );
+}
 
-    // Inputs: the prescribed components at the end of the step.
+/// The prescribed components at the end of the step, named pressures and
+/// the rigid targets' motion.
+fn inputs(list: &mut List, problem: &Problem) {
+    use Causality::*;
     let f = &problem.functions;
     for (d, driver) in problem.drivers.iter().enumerate() {
         for component in 0..2 {
@@ -309,7 +330,7 @@ pub fn variables(problem: &Problem) -> Vec<Variable> {
                 ),
                 (None, None) => continue,
             };
-            add(
+            list.add(
                 format!("{}.{key}", driver.name),
                 Type::Real,
                 Input,
@@ -325,7 +346,7 @@ pub fn variables(problem: &Problem) -> Vec<Variable> {
     }
     for (i, pressure) in problem.pressures.iter().enumerate() {
         let Some(name) = &pressure.name else { continue };
-        add(
+        list.add(
             format!("{name}.p"),
             Type::Real,
             Input,
@@ -344,7 +365,7 @@ pub fn variables(problem: &Problem) -> Vec<Variable> {
         .into_iter()
         .enumerate()
         {
-            add(
+            list.add(
                 format!("{}.{key}", rigid.name),
                 Type::Real,
                 Input,
@@ -358,8 +379,12 @@ pub fn variables(problem: &Problem) -> Vec<Variable> {
             );
         }
     }
+}
 
-    // Outputs: reactions (drivers, then rigid targets, as in StepResult).
+/// Reactions (drivers, then rigid targets, as in StepResult), the drivers'
+/// displacements and the contact pairs' results.
+fn outputs(list: &mut List, problem: &Problem) {
+    use Causality::*;
     let reacting = problem
         .drivers
         .iter()
@@ -373,7 +398,7 @@ pub fn variables(problem: &Problem) -> Vec<Variable> {
             } else {
                 Quantity::Force
             };
-            add(
+            list.add(
                 format!("{name}.{key}"),
                 Type::Real,
                 Output,
@@ -387,7 +412,7 @@ pub fn variables(problem: &Problem) -> Vec<Variable> {
     for (d, driver) in problem.drivers.iter().enumerate() {
         for component in (0..2).filter(|&c| driver.force(c).is_some()) {
             let key = ["ux", "uy"][component];
-            add(
+            list.add(
                 format!("{}.{key}", driver.name),
                 Type::Real,
                 Output,
@@ -410,6 +435,40 @@ pub fn variables(problem: &Problem) -> Vec<Variable> {
             );
         }
     }
+    pair_outputs(list, problem);
+    list.add(
+        "solver.iterations".into(),
+        Type::Integer,
+        Output,
+        Quantity::None,
+        "Newton iterations of the last step (all its substeps)".into(),
+        None,
+        Binding::Iterations,
+    );
+    list.add(
+        "solver.substeps".into(),
+        Type::Integer,
+        Output,
+        Quantity::None,
+        "bisections used in the last step".into(),
+        None,
+        Binding::Substeps,
+    );
+    list.add(
+        "solver.residual".into(),
+        Type::Real,
+        Output,
+        Quantity::None,
+        "final relative force residual of the last step".into(),
+        None,
+        Binding::Residual,
+    );
+}
+
+/// Each contact pair's resultants, state counts, zone lengths and per-node
+/// results.
+fn pair_outputs(list: &mut List, problem: &Problem) {
+    use Causality::*;
     for (p, pair) in problem.contacts.iter().enumerate() {
         for (field, key, ty, quantity, what) in [
             (
@@ -476,7 +535,7 @@ pub fn variables(problem: &Problem) -> Vec<Variable> {
                 "length of the contactor surface that slides (current configuration)",
             ),
         ] {
-            add(
+            list.add(
                 format!("{}.{key}", pair.name),
                 ty,
                 Output,
@@ -526,7 +585,7 @@ pub fn variables(problem: &Problem) -> Vec<Variable> {
             ),
         ] {
             for k in 0..pair.contactor.len() {
-                add(
+                list.add(
                     format!("{}.{key}[{}]", pair.name, k + 1),
                     ty,
                     Output,
@@ -538,34 +597,6 @@ pub fn variables(problem: &Problem) -> Vec<Variable> {
             }
         }
     }
-    add(
-        "solver.iterations".into(),
-        Type::Integer,
-        Output,
-        Quantity::None,
-        "Newton iterations of the last step (all its substeps)".into(),
-        None,
-        Binding::Iterations,
-    );
-    add(
-        "solver.substeps".into(),
-        Type::Integer,
-        Output,
-        Quantity::None,
-        "bisections used in the last step".into(),
-        None,
-        Binding::Substeps,
-    );
-    add(
-        "solver.residual".into(),
-        Type::Real,
-        Output,
-        Quantity::None,
-        "final relative force residual of the last step".into(),
-        None,
-        Binding::Residual,
-    );
-    list
 }
 
 fn clamp_i32(v: usize) -> i32 {
