@@ -220,35 +220,7 @@ fn integrate_kind<const NN: usize>(
             }
             None => point(d.kind, d.index, d.x0, xi, w, analysis)?,
         };
-        // Displacement gradient h[i][j] = du_i/dX_j and radial displacement.
-        let mut h = [[0.0; 2]; 2];
-        let mut ur = 0.0;
-        for a in 0..nn {
-            for i in 0..2 {
-                for jx in 0..2 {
-                    h[i][jx] += d.u[a][i] * p.g[a][jx];
-                }
-            }
-            ur += p.n[a] * d.u[a][0];
-        }
-        let hoop = if axi { ur / p.r } else { 0.0 };
-        // F (only meaningful for TL); F33 = 1 + u/r axisymmetric, 1 planar.
-        let f = if tl {
-            [[1.0 + h[0][0], h[0][1]], [h[1][0], 1.0 + h[1][1]]]
-        } else {
-            [[1.0, 0.0], [0.0, 1.0]]
-        };
-        let f33 = if tl { 1.0 + hoop } else { 1.0 };
-        let strain: Voigt = if tl {
-            [
-                h[0][0] + 0.5 * (h[0][0] * h[0][0] + h[1][0] * h[1][0]),
-                h[1][1] + 0.5 * (h[0][1] * h[0][1] + h[1][1] * h[1][1]),
-                hoop + 0.5 * hoop * hoop,
-                h[0][1] + h[1][0] + h[0][0] * h[0][1] + h[1][0] * h[1][1],
-            ]
-        } else {
-            [h[0][0], h[1][1], hoop, h[0][1] + h[1][0]]
-        };
+        let Strain { f, f33, strain } = strain_at::<NN>(&p, d.u, axi, tl);
         let det_f = (f[0][0] * f[1][1] - f[0][1] * f[1][0]) * f33;
         if tl && det_f <= 0.0 {
             return Err(ElementError::Inverted {
@@ -270,20 +242,7 @@ fn integrate_kind<const NN: usize>(
         if s.iter().any(|v| !v.is_finite()) {
             return Err(ElementError::NonFinite { element: d.index });
         }
-        // B: row r of strain variation per dof (a, i).
-        let mut b = [[0.0; MAX_DOFS]; 4];
-        for a in 0..nn {
-            let (gx, gy) = (p.g[a][0], p.g[a][1]);
-            b[0][2 * a] = f[0][0] * gx;
-            b[0][2 * a + 1] = f[1][0] * gx;
-            b[1][2 * a] = f[0][1] * gy;
-            b[1][2 * a + 1] = f[1][1] * gy;
-            if axi {
-                b[2][2 * a] = f33 * p.n[a] / p.r;
-            }
-            b[3][2 * a] = f[0][0] * gy + f[0][1] * gx;
-            b[3][2 * a + 1] = f[1][0] * gy + f[1][1] * gx;
-        }
+        let b = strain_variation::<NN>(&p, f, f33, axi);
         for q in 0..nd {
             let mut v = 0.0;
             for r in 0..4 {
@@ -296,37 +255,9 @@ fn integrate_kind<const NN: usize>(
             out.f[2 * a + 1] -= p.n[a] * d.body_force[1] * p.dv;
         }
         if tangent {
-            // Material part: B^T C B.
-            let mut cb = [[0.0; MAX_DOFS]; 4];
-            for r in 0..4 {
-                for q in 0..nd {
-                    cb[r][q] = (0..4).map(|t| c[r][t] * b[t][q]).sum();
-                }
-            }
-            for q1 in 0..nd {
-                for q2 in 0..nd {
-                    let mut v = 0.0;
-                    for r in 0..4 {
-                        v += b[r][q1] * cb[r][q2];
-                    }
-                    out.k[q1][q2] += v * p.dv;
-                }
-            }
+            add_material_tangent::<NN>(&b, &c, p.dv, &mut out.k);
             if tl {
-                // Geometric part: (g_a . S g_b) I, and S33 N_a N_b / r^2 radially.
-                for a in 0..nn {
-                    for bb in 0..nn {
-                        let (ga, gb) = (p.g[a], p.g[bb]);
-                        let mut v = ga[0] * (s[0] * gb[0] + s[3] * gb[1])
-                            + ga[1] * (s[3] * gb[0] + s[1] * gb[1]);
-                        v *= p.dv;
-                        out.k[2 * a][2 * bb] += v;
-                        out.k[2 * a + 1][2 * bb + 1] += v;
-                        if axi {
-                            out.k[2 * a][2 * bb] += s[2] * p.n[a] * p.n[bb] / (p.r * p.r) * p.dv;
-                        }
-                    }
-                }
+                add_geometric_tangent::<NN>(&p, &s, axi, &mut out.k);
             }
         }
         // Cauchy stress sigma = F S F^T / det F; in plane stress det F takes the
@@ -337,24 +268,7 @@ fn integrate_kind<const NN: usize>(
             }
             _ => det_f,
         };
-        let sigma = if tl {
-            let sm = [[s[0], s[3]], [s[3], s[1]]];
-            let mut fs = [[0.0; 2]; 2];
-            for i in 0..2 {
-                for k in 0..2 {
-                    fs[i][k] = f[i][0] * sm[0][k] + f[i][1] * sm[1][k];
-                }
-            }
-            let mut sig = [[0.0; 2]; 2];
-            for i in 0..2 {
-                for k in 0..2 {
-                    sig[i][k] = (fs[i][0] * f[k][0] + fs[i][1] * f[k][1]) / det_f;
-                }
-            }
-            [sig[0][0], sig[1][1], f33 * f33 * s[2] / det_f, sig[0][1]]
-        } else {
-            s
-        };
+        let sigma = if tl { cauchy(f, f33, &s, det_f) } else { s };
         for i in 0..4 {
             out.cauchy[i] += sigma[i] * p.dv;
         }
@@ -364,6 +278,138 @@ fn integrate_kind<const NN: usize>(
         *v /= volume;
     }
     Ok(())
+}
+
+/// The strain measures at a point: the deformation gradient `f` (the
+/// identity under small strain) with `f33` (1 + u/r axisymmetric, 1 planar),
+/// and the strain (Green-Lagrange under total Lagrangian kinematics, else
+/// the small strain), Voigt [xx, yy, zz, 2 xy].
+struct Strain {
+    f: [[f64; 2]; 2],
+    f33: f64,
+    strain: Voigt,
+}
+
+#[inline(always)]
+fn strain_at<const NN: usize>(p: &Point, u: &[[f64; 2]], axi: bool, tl: bool) -> Strain {
+    // Displacement gradient h[i][j] = du_i/dX_j and radial displacement.
+    let mut h = [[0.0; 2]; 2];
+    let mut ur = 0.0;
+    for a in 0..NN {
+        for i in 0..2 {
+            for jx in 0..2 {
+                h[i][jx] += u[a][i] * p.g[a][jx];
+            }
+        }
+        ur += p.n[a] * u[a][0];
+    }
+    let hoop = if axi { ur / p.r } else { 0.0 };
+    let f = if tl {
+        [[1.0 + h[0][0], h[0][1]], [h[1][0], 1.0 + h[1][1]]]
+    } else {
+        [[1.0, 0.0], [0.0, 1.0]]
+    };
+    let f33 = if tl { 1.0 + hoop } else { 1.0 };
+    let strain: Voigt = if tl {
+        [
+            h[0][0] + 0.5 * (h[0][0] * h[0][0] + h[1][0] * h[1][0]),
+            h[1][1] + 0.5 * (h[0][1] * h[0][1] + h[1][1] * h[1][1]),
+            hoop + 0.5 * hoop * hoop,
+            h[0][1] + h[1][0] + h[0][0] * h[0][1] + h[1][0] * h[1][1],
+        ]
+    } else {
+        [h[0][0], h[1][1], hoop, h[0][1] + h[1][0]]
+    };
+    Strain { f, f33, strain }
+}
+
+/// B: row r of the strain's variation per dof (a, i).
+#[inline(always)]
+fn strain_variation<const NN: usize>(
+    p: &Point,
+    f: [[f64; 2]; 2],
+    f33: f64,
+    axi: bool,
+) -> [[f64; MAX_DOFS]; 4] {
+    let mut b = [[0.0; MAX_DOFS]; 4];
+    for a in 0..NN {
+        let (gx, gy) = (p.g[a][0], p.g[a][1]);
+        b[0][2 * a] = f[0][0] * gx;
+        b[0][2 * a + 1] = f[1][0] * gx;
+        b[1][2 * a] = f[0][1] * gy;
+        b[1][2 * a + 1] = f[1][1] * gy;
+        if axi {
+            b[2][2 * a] = f33 * p.n[a] / p.r;
+        }
+        b[3][2 * a] = f[0][0] * gy + f[0][1] * gx;
+        b[3][2 * a + 1] = f[1][0] * gy + f[1][1] * gx;
+    }
+    b
+}
+
+/// The material part of the tangent, `B^T C B dv`, into `k`.
+#[inline(always)]
+fn add_material_tangent<const NN: usize>(
+    b: &[[f64; MAX_DOFS]; 4],
+    c: &Tangent,
+    dv: f64,
+    k: &mut ElementMatrix,
+) {
+    let nd = 2 * NN;
+    let mut cb = [[0.0; MAX_DOFS]; 4];
+    for r in 0..4 {
+        for q in 0..nd {
+            cb[r][q] = (0..4).map(|t| c[r][t] * b[t][q]).sum();
+        }
+    }
+    for q1 in 0..nd {
+        for q2 in 0..nd {
+            let mut v = 0.0;
+            for r in 0..4 {
+                v += b[r][q1] * cb[r][q2];
+            }
+            k[q1][q2] += v * dv;
+        }
+    }
+}
+
+/// The geometric part of the total Lagrangian tangent, `(g_a . S g_b) I`,
+/// and `S33 N_a N_b / r^2` radially, into `k`.
+#[inline(always)]
+fn add_geometric_tangent<const NN: usize>(p: &Point, s: &Voigt, axi: bool, k: &mut ElementMatrix) {
+    for a in 0..NN {
+        for bb in 0..NN {
+            let (ga, gb) = (p.g[a], p.g[bb]);
+            let mut v =
+                ga[0] * (s[0] * gb[0] + s[3] * gb[1]) + ga[1] * (s[3] * gb[0] + s[1] * gb[1]);
+            v *= p.dv;
+            k[2 * a][2 * bb] += v;
+            k[2 * a + 1][2 * bb + 1] += v;
+            if axi {
+                k[2 * a][2 * bb] += s[2] * p.n[a] * p.n[bb] / (p.r * p.r) * p.dv;
+            }
+        }
+    }
+}
+
+/// The Cauchy stress `F S F^T / det F` (Voigt), `det_f` including the
+/// thickness stretch in plane stress.
+#[inline(always)]
+fn cauchy(f: [[f64; 2]; 2], f33: f64, s: &Voigt, det_f: f64) -> Voigt {
+    let sm = [[s[0], s[3]], [s[3], s[1]]];
+    let mut fs = [[0.0; 2]; 2];
+    for i in 0..2 {
+        for k in 0..2 {
+            fs[i][k] = f[i][0] * sm[0][k] + f[i][1] * sm[1][k];
+        }
+    }
+    let mut sig = [[0.0; 2]; 2];
+    for i in 0..2 {
+        for k in 0..2 {
+            sig[i][k] = (fs[i][0] * f[k][0] + fs[i][1] * f[k][1]) / det_f;
+        }
+    }
+    [sig[0][0], sig[1][1], f33 * f33 * s[2] / det_f, sig[0][1]]
 }
 
 impl ElementOutput {
