@@ -261,41 +261,12 @@ impl Solver {
         let p = &self.problem;
         let (eq, n) = (&self.model.eq, self.model.free_dofs());
         let ndof = self.state.u.len();
-        // The seeds: prescribed motion, load (dr/dx dx), poses, forces.
-        let mut du = vec![0.0; ndof];
-        let mut load = vec![0.0; ndof];
-        let mut dpose = vec![[0.0; 3]; p.rigids.len()];
-        let mut dforce = vec![[0.0; 2]; p.drivers.len()];
-        for &(input, v) in seeds {
-            match input {
-                Input::Driver { driver, component } => {
-                    let d = &p.drivers[driver];
-                    if d.force(component).is_some() {
-                        // Each node carries an equal share of the resultant
-                        // (summed into one equation on a rigid set).
-                        let share = v / d.nodes.len().max(1) as f64;
-                        for &node in &d.nodes {
-                            load[2 * node + component] -= share;
-                        }
-                        dforce[driver][component] += v;
-                    } else {
-                        for q in &self.prescribed {
-                            if (q.driver, q.component) == (driver, component) {
-                                du[q.dof] += v;
-                            }
-                        }
-                    }
-                }
-                Input::Pressure { pressure } => {
-                    let mut unit = vec![0.0; ndof];
-                    (self.model).pressure_load(p, pressure, &self.state.u, &mut unit, &mut lin.ws);
-                    for (l, x) in load.iter_mut().zip(unit) {
-                        *l += v * x;
-                    }
-                }
-                Input::Rigid { rigid, component } => dpose[rigid][component] += v,
-            }
-        }
+        let Seeds {
+            mut du,
+            load,
+            dpose,
+            dforce,
+        } = self.seeds(lin, seeds);
         // Right-hand side: the prescribed motion through the tangent and
         // the contact forces, the load, the poses through the rows.
         let mut moved = load.clone();
@@ -346,44 +317,125 @@ impl Solver {
         let (pairs, rigids) =
             lin.contact
                 .resultant_changes([p.contacts.len(), p.rigids.len()], &du, &dr, eq, &dpose);
-        responses
-            .iter()
-            .map(|&response| {
-                let missing = || format!("{response:?} is not a result of this problem");
-                match response {
-                    Response::Reaction { index, component } if index < p.drivers.len() => {
-                        let d = &p.drivers[index];
-                        if component > 1 {
-                            Err(missing())
-                        } else if d.force(component).is_some() {
-                            Ok(dforce[index][component])
-                        } else {
-                            // As `driver_results`: the residual at the
-                            // driver's dofs less the contact forces there.
-                            Ok((self.prescribed.iter())
-                                .filter(|q| (q.driver, q.component) == (index, component))
-                                .map(|q| dr[q.dof] - dfc[q.dof])
-                                .sum())
-                        }
-                    }
-                    Response::Reaction { index, component } => rigids
-                        .get(index - p.drivers.len())
-                        .and_then(|r| r.get(component).copied())
-                        .ok_or_else(missing),
-                    Response::DriverDisplacement { driver, component } => {
-                        let d = p.drivers.get(driver).ok_or_else(missing)?;
-                        if component > 1 || d.force(component).is_none() {
-                            return Err(missing());
-                        }
-                        let sum: f64 = d.nodes.iter().map(|&k| du[2 * k + component]).sum();
-                        Ok(sum / d.nodes.len().max(1) as f64)
-                    }
-                    Response::Pair { pair, component } => pairs
-                        .get(pair)
-                        .and_then(|r| r.get(component).copied())
-                        .ok_or_else(missing),
-                }
-            })
+        let changes = Changes {
+            du: &du,
+            dr: &dr,
+            dfc: &dfc,
+            dforce: &dforce,
+            pairs: &pairs,
+            rigids: &rigids,
+        };
+        (responses.iter())
+            .map(|&response| self.response_change(response, &changes))
             .collect()
+    }
+}
+
+/// What the inputs' changes are: the prescribed motion per dof, the load
+/// (dr/dx dx), the rigid targets' pose changes and the drivers' force
+/// changes.
+struct Seeds {
+    du: Vec<f64>,
+    load: Vec<f64>,
+    dpose: Vec<[f64; 3]>,
+    dforce: Vec<[f64; 2]>,
+}
+
+/// A sensitivity solve's changes, from which each response is read:
+/// displacements, out-of-balance and contact forces per dof, the drivers'
+/// force changes, and the pairs' and rigid targets' resultant changes.
+struct Changes<'a> {
+    du: &'a [f64],
+    dr: &'a [f64],
+    dfc: &'a [f64],
+    dforce: &'a [[f64; 2]],
+    pairs: &'a [[f64; 4]],
+    rigids: &'a [[f64; 3]],
+}
+
+impl Solver {
+    /// The changes `seeds` make to the inputs.
+    fn seeds(&self, lin: &mut Linearization, seeds: &[(Input, f64)]) -> Seeds {
+        let p = &self.problem;
+        let ndof = self.state.u.len();
+        let mut du = vec![0.0; ndof];
+        let mut load = vec![0.0; ndof];
+        let mut dpose = vec![[0.0; 3]; p.rigids.len()];
+        let mut dforce = vec![[0.0; 2]; p.drivers.len()];
+        for &(input, v) in seeds {
+            match input {
+                Input::Driver { driver, component } => {
+                    let d = &p.drivers[driver];
+                    if d.force(component).is_some() {
+                        // Each node carries an equal share of the resultant
+                        // (summed into one equation on a rigid set).
+                        let share = v / d.nodes.len().max(1) as f64;
+                        for &node in &d.nodes {
+                            load[2 * node + component] -= share;
+                        }
+                        dforce[driver][component] += v;
+                    } else {
+                        for q in &self.prescribed {
+                            if (q.driver, q.component) == (driver, component) {
+                                du[q.dof] += v;
+                            }
+                        }
+                    }
+                }
+                Input::Pressure { pressure } => {
+                    let mut unit = vec![0.0; ndof];
+                    (self.model).pressure_load(p, pressure, &self.state.u, &mut unit, &mut lin.ws);
+                    for (l, x) in load.iter_mut().zip(unit) {
+                        *l += v * x;
+                    }
+                }
+                Input::Rigid { rigid, component } => dpose[rigid][component] += v,
+            }
+        }
+        Seeds {
+            du,
+            load,
+            dpose,
+            dforce,
+        }
+    }
+
+    /// One response's change, read from the solve's `c`.
+    fn response_change(&self, response: Response, c: &Changes) -> Result<f64, String> {
+        let p = &self.problem;
+        let missing = || format!("{response:?} is not a result of this problem");
+        match response {
+            Response::Reaction { index, component } if index < p.drivers.len() => {
+                let d = &p.drivers[index];
+                if component > 1 {
+                    Err(missing())
+                } else if d.force(component).is_some() {
+                    Ok(c.dforce[index][component])
+                } else {
+                    // As `driver_results`: the residual at the
+                    // driver's dofs less the contact forces there.
+                    Ok((self.prescribed.iter())
+                        .filter(|q| (q.driver, q.component) == (index, component))
+                        .map(|q| c.dr[q.dof] - c.dfc[q.dof])
+                        .sum())
+                }
+            }
+            Response::Reaction { index, component } => (c.rigids)
+                .get(index - p.drivers.len())
+                .and_then(|r| r.get(component).copied())
+                .ok_or_else(missing),
+            Response::DriverDisplacement { driver, component } => {
+                let d = p.drivers.get(driver).ok_or_else(missing)?;
+                if component > 1 || d.force(component).is_none() {
+                    return Err(missing());
+                }
+                let sum: f64 = d.nodes.iter().map(|&k| c.du[2 * k + component]).sum();
+                Ok(sum / d.nodes.len().max(1) as f64)
+            }
+            Response::Pair { pair, component } => (c.pairs)
+                .get(pair)
+                .and_then(|r| r.get(component).copied())
+                .ok_or_else(missing),
+        }
     }
 }
