@@ -6,22 +6,15 @@
 
 #![allow(non_snake_case)]
 
+use super::boundary::{
+    Component, Value, null, panic_text, resource_path, slice, slice_mut, status as fmi_status,
+    string, unsupported, with,
+};
 use super::instance::{Instance, LogFn, Snapshot, Status};
 use fmi_sys::fmi2::*;
-use std::ffi::{CStr, CString, c_char};
+use std::ffi::{CString, c_char};
 use std::panic::{AssertUnwindSafe, catch_unwind};
-use std::path::PathBuf;
 use std::sync::{Mutex, TryLockError};
-
-/// What `fmi2Component` (and `fmi3Instance`) points to.
-pub(super) struct Component {
-    pub(super) instance: Mutex<Instance>,
-    /// Strings handed out by fmi2GetString live until the next call.
-    pub(super) strings: Mutex<Vec<CString>>,
-    /// The FMI 3.0 variables (arrays of FMI 2.0 ones) of an instance made
-    /// by fmi3InstantiateCoSimulation; None for FMI 2.0.
-    pub(super) fmi3: Option<super::ffi3::Variables3>,
-}
 
 /// The master's logger; the environment pointer is the master's and stays
 /// valid for the instance's life (FMI 2.0, 2.1.5).
@@ -50,12 +43,7 @@ impl Logger {
         let Some(logger) = self.logger else {
             return;
         };
-        let status = match status {
-            Status::Ok => fmi2Status_fmi2OK,
-            Status::Warning => fmi2Status_fmi2Warning,
-            Status::Discard => fmi2Status_fmi2Discard,
-            Status::Error => fmi2Status_fmi2Error,
-        };
+        let status = fmi_status(status);
         let clean = |s: &str| CString::new(s.replace('\0', " ")).unwrap_or_default();
         let (category, message) = (clean(category), clean(message));
         // printf-style: the message goes in as an argument of "%s".
@@ -70,116 +58,6 @@ impl Logger {
             )
         };
     }
-}
-
-fn status(s: Status) -> fmi2Status {
-    match s {
-        Status::Ok => fmi2Status_fmi2OK,
-        Status::Warning => fmi2Status_fmi2Warning,
-        Status::Discard => fmi2Status_fmi2Discard,
-        Status::Error => fmi2Status_fmi2Error,
-    }
-}
-
-pub(super) fn panic_text(p: &(dyn std::any::Any + Send)) -> String {
-    p.downcast_ref::<&str>()
-        .map(|s| s.to_string())
-        .or_else(|| p.downcast_ref::<String>().cloned())
-        .unwrap_or_else(|| "unknown panic".into())
-}
-
-/// Runs `f` on the instance behind `c`: a NULL component is refused, a
-/// panic is caught and marks the instance failed.
-pub(super) fn with(
-    c: fmi2Component,
-    call: &str,
-    f: impl FnOnce(&mut Instance, &Component) -> Status,
-) -> fmi2Status {
-    if c.is_null() {
-        return fmi2Status_fmi2Error;
-    }
-    let outcome = catch_unwind(AssertUnwindSafe(|| {
-        let comp = unsafe { &*(c as *const Component) };
-        // Held already: a call from inside the master's logger while this
-        // instance is logging (or a second thread on one instance, which
-        // FMI forbids). Waiting would deadlock: refuse the call.
-        let mut guard = match comp.instance.try_lock() {
-            Ok(guard) => guard,
-            Err(TryLockError::Poisoned(poisoned)) => poisoned.into_inner(),
-            Err(TryLockError::WouldBlock) => return fmi2Status_fmi2Error,
-        };
-        let result = catch_unwind(AssertUnwindSafe(|| f(&mut guard, comp)));
-        match result {
-            Ok(s) => status(s),
-            Err(p) => {
-                guard.fail(&format!(
-                    "{call}: internal error: {}; the instance is failed (reset it or restore a saved state)",
-                    panic_text(&*p)
-                ));
-                fmi2Status_fmi2Error
-            }
-        }
-    }));
-    outcome.unwrap_or(fmi2Status_fmi2Error)
-}
-
-/// A slice from a C array; NULL with n > 0 is an error, n = 0 is empty.
-pub(super) unsafe fn slice<'a, T>(p: *const T, n: usize) -> Option<&'a [T]> {
-    if n == 0 {
-        Some(&[])
-    } else if p.is_null() {
-        None
-    } else {
-        Some(unsafe { std::slice::from_raw_parts(p, n) })
-    }
-}
-
-pub(super) unsafe fn slice_mut<'a, T>(p: *mut T, n: usize) -> Option<&'a mut [T]> {
-    if n == 0 {
-        Some(&mut [])
-    } else if p.is_null() {
-        None
-    } else {
-        Some(unsafe { std::slice::from_raw_parts_mut(p, n) })
-    }
-}
-
-pub(super) fn null(inst: &mut Instance, call: &str, what: &str) -> Status {
-    inst.log(
-        crate::results::LogCategory::Error,
-        &format!("{call}: {what} is NULL"),
-    );
-    Status::Error
-}
-
-pub(super) unsafe fn string(p: fmi2String) -> Option<String> {
-    (!p.is_null()).then(|| unsafe { CStr::from_ptr(p) }.to_string_lossy().into_owned())
-}
-
-/// `file:///a/b%20c/resources` (or a plain path) to a path.
-pub(super) fn resource_path(uri: &str) -> PathBuf {
-    let rest = uri
-        .strip_prefix("file://localhost")
-        .or_else(|| uri.strip_prefix("file://"))
-        .or_else(|| uri.strip_prefix("file:"))
-        .unwrap_or(uri);
-    let bytes = rest.as_bytes();
-    let mut out = Vec::with_capacity(bytes.len());
-    let mut i = 0;
-    while i < bytes.len() {
-        let hex = |b: u8| (b as char).to_digit(16);
-        if bytes[i] == b'%'
-            && i + 2 < bytes.len()
-            && let (Some(h), Some(l)) = (hex(bytes[i + 1]), hex(bytes[i + 2]))
-        {
-            out.push((h * 16 + l) as u8);
-            i += 3;
-        } else {
-            out.push(bytes[i]);
-            i += 1;
-        }
-    }
-    PathBuf::from(String::from_utf8_lossy(&out).into_owned())
 }
 
 // ---------------------------------------------------------------------------
@@ -355,6 +233,25 @@ pub extern "C" fn fmi2Reset(c: fmi2Component) -> fmi2Status {
     with(c, "fmi2Reset", |inst, _| inst.reset())
 }
 
+/// fmi2Get/SetReal and fmi2Get/SetInteger: the value references, then
+/// `values` reads the values' array and calls the instance's getter or
+/// setter of that type (`Value`); a NULL array is the error naming
+/// "vr or value".
+fn transfer(
+    c: fmi2Component,
+    call: &str,
+    vr: *const fmi2ValueReference,
+    nvr: usize,
+    values: impl FnOnce(&mut Instance, &[u32]) -> Option<Status>,
+) -> fmi2Status {
+    with(c, call, |inst, _| {
+        match unsafe { slice(vr, nvr) }.and_then(|vr| values(inst, vr)) {
+            Some(status) => status,
+            None => null(inst, call, "vr or value"),
+        }
+    })
+}
+
 const _: fmi2GetRealTYPE = Some(fmi2GetReal);
 #[unsafe(no_mangle)]
 pub extern "C" fn fmi2GetReal(
@@ -363,11 +260,8 @@ pub extern "C" fn fmi2GetReal(
     nvr: usize,
     value: *mut fmi2Real,
 ) -> fmi2Status {
-    with(c, "fmi2GetReal", |inst, _| {
-        match unsafe { (slice(vr, nvr), slice_mut(value, nvr)) } {
-            (Some(vr), Some(out)) => inst.get_real(vr, out),
-            _ => null(inst, "fmi2GetReal", "vr or value"),
-        }
+    transfer(c, "fmi2GetReal", vr, nvr, |inst, vr| {
+        unsafe { slice_mut(value, nvr) }.map(|out| Value::get(inst, vr, out))
     })
 }
 
@@ -379,11 +273,8 @@ pub extern "C" fn fmi2GetInteger(
     nvr: usize,
     value: *mut fmi2Integer,
 ) -> fmi2Status {
-    with(c, "fmi2GetInteger", |inst, _| {
-        match unsafe { (slice(vr, nvr), slice_mut(value, nvr)) } {
-            (Some(vr), Some(out)) => inst.get_integer(vr, out),
-            _ => null(inst, "fmi2GetInteger", "vr or value"),
-        }
+    transfer(c, "fmi2GetInteger", vr, nvr, |inst, vr| {
+        unsafe { slice_mut(value, nvr) }.map(|out| Value::get(inst, vr, out))
     })
 }
 
@@ -450,11 +341,8 @@ pub extern "C" fn fmi2SetReal(
     nvr: usize,
     value: *const fmi2Real,
 ) -> fmi2Status {
-    with(c, "fmi2SetReal", |inst, _| {
-        match unsafe { (slice(vr, nvr), slice(value, nvr)) } {
-            (Some(vr), Some(v)) => inst.set_real(vr, v),
-            _ => null(inst, "fmi2SetReal", "vr or value"),
-        }
+    transfer(c, "fmi2SetReal", vr, nvr, |inst, vr| {
+        unsafe { slice(value, nvr) }.map(|v| Value::set(inst, vr, v))
     })
 }
 
@@ -466,11 +354,8 @@ pub extern "C" fn fmi2SetInteger(
     nvr: usize,
     value: *const fmi2Integer,
 ) -> fmi2Status {
-    with(c, "fmi2SetInteger", |inst, _| {
-        match unsafe { (slice(vr, nvr), slice(value, nvr)) } {
-            (Some(vr), Some(v)) => inst.set_integer(vr, v),
-            _ => null(inst, "fmi2SetInteger", "vr or value"),
-        }
+    transfer(c, "fmi2SetInteger", vr, nvr, |inst, vr| {
+        unsafe { slice(value, nvr) }.map(|v| Value::set(inst, vr, v))
     })
 }
 
@@ -684,16 +569,6 @@ pub extern "C" fn fmi2GetDirectionalDerivative(
             }
             _ => null(inst, CALL, "vUnknown_ref, vKnown_ref, dvKnown or dvUnknown"),
         }
-    })
-}
-
-pub(super) fn unsupported(c: fmi2Component, call: &str, why: &str) -> fmi2Status {
-    with(c, call, |inst, _| {
-        inst.log(
-            crate::results::LogCategory::Error,
-            &format!("{call} is not supported: {why}"),
-        );
-        Status::Error
     })
 }
 

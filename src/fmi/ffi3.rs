@@ -11,86 +11,18 @@
 
 #![allow(non_snake_case)]
 
-use super::ffi::{
-    self, Component, null, panic_text, resource_path, slice, slice_mut, string, with,
+use super::boundary::{
+    Component, Value, Variables3, error, null, panic_text, resource_path, slice, slice_mut, string,
+    unsupported, with,
 };
-use super::fmi3::{TIME_VR, variables3};
+use super::ffi;
+use super::fmi3::TIME_VR;
 use super::instance::{Instance, LogFn, Status};
 use super::variables::Type;
-use crate::results::LogCategory;
 use fmi_sys::fmi3::*;
-use std::collections::HashMap;
 use std::ffi::{CString, c_char};
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::sync::Mutex;
-
-/// An instance's FMI 3.0 variables: per value reference, its type and the
-/// FMI 2.0 value references of its elements (`time` has none).
-pub(crate) struct Variables3 {
-    by_vr: HashMap<u32, (Type, Vec<u32>)>,
-}
-
-impl Variables3 {
-    fn of(inst: &Instance) -> Variables3 {
-        let vars = inst.variables();
-        let by_vr = variables3(vars)
-            .into_iter()
-            .map(|v| {
-                let ty = v.members.first().map_or(Type::Real, |&i| vars[i].ty);
-                let members = v.members.iter().map(|&i| vars[i].vr).collect();
-                (v.vr, (ty, members))
-            })
-            .collect();
-        Variables3 { by_vr }
-    }
-
-    /// The FMI 2.0 value references of `vrs`, in order, element by
-    /// element (None for `time`), checked against `ty` and `n_values`.
-    fn expand(
-        &self,
-        inst: &mut Instance,
-        call: &str,
-        vrs: &[u32],
-        ty: Type,
-        n_values: usize,
-    ) -> Result<Vec<Option<u32>>, Status> {
-        let mut out = Vec::with_capacity(n_values);
-        for &vr in vrs {
-            match self.by_vr.get(&vr) {
-                Some((t, _)) if *t != ty => {
-                    return Err(error(
-                        inst,
-                        format!("{call}: valueReference {vr} is a {t:?} variable, not {ty:?}"),
-                    ));
-                }
-                Some(_) if vr == TIME_VR => out.push(None),
-                Some((_, members)) => out.extend(members.iter().map(|&m| Some(m))),
-                None => {
-                    return Err(error(
-                        inst,
-                        format!("{call}: no variable has valueReference {vr}"),
-                    ));
-                }
-            }
-        }
-        if out.len() != n_values {
-            return Err(error(
-                inst,
-                format!(
-                    "{call}: nValues = {n_values}, but the {} value references hold {} values (an array counts its elements)",
-                    vrs.len(),
-                    out.len()
-                ),
-            ));
-        }
-        Ok(out)
-    }
-}
-
-fn error(inst: &mut Instance, msg: String) -> Status {
-    inst.log(LogCategory::Error, &msg);
-    Status::Error
-}
 
 /// The FMI 2.0 call names in the instance's messages, as an FMI 3.0 master
 /// knows them.
@@ -352,30 +284,28 @@ fn table<'a>(
 
 /// fmi3GetFloat64 and fmi3GetInt32: element by element through the FMI 2.0
 /// getter; `time` is the end of the last converged step.
-fn get<T: Copy + Default>(
+fn get<T: Value>(
     instance: fmi3Instance,
     call: &str,
-    ty: Type,
     vrs: *const fmi3ValueReference,
     nvr: usize,
     values: *mut T,
     n_values: usize,
-    fetch: fn(&mut Instance, &[u32], &mut [T]) -> Status,
-    time: fn(f64) -> T,
 ) -> fmi3Status {
     with(instance, call, |inst, comp| {
         let (Some(vrs), Some(out)) = (unsafe { (slice(vrs, nvr), slice_mut(values, n_values)) })
         else {
             return null(inst, call, "valueReferences or values");
         };
-        let elements =
-            match table(inst, comp, call).and_then(|t| t.expand(inst, call, vrs, ty, n_values)) {
-                Ok(e) => e,
-                Err(s) => return s,
-            };
+        let elements = match table(inst, comp, call)
+            .and_then(|t| t.expand(inst, call, vrs, T::TYPE, n_values))
+        {
+            Ok(e) => e,
+            Err(s) => return s,
+        };
         let members: Vec<u32> = elements.iter().flatten().copied().collect();
         let mut got = vec![T::default(); members.len()];
-        let status = fetch(inst, &members, &mut got);
+        let status = T::get(inst, &members, &mut got);
         if status != Status::Ok {
             return status;
         }
@@ -383,7 +313,7 @@ fn get<T: Copy + Default>(
         for (o, e) in out.iter_mut().zip(&elements) {
             *o = match e {
                 Some(_) => next.next().unwrap_or_default(),
-                None => time(inst.last_successful_time()),
+                None => T::time(inst.last_successful_time()),
             };
         }
         Status::Ok
@@ -392,25 +322,24 @@ fn get<T: Copy + Default>(
 
 /// fmi3SetFloat64 and fmi3SetInt32: element by element through the FMI 2.0
 /// setter (which accepts only parameters and inputs, all scalars).
-fn set<T: Copy>(
+fn set<T: Value>(
     instance: fmi3Instance,
     call: &str,
-    ty: Type,
     vrs: *const fmi3ValueReference,
     nvr: usize,
     values: *const T,
     n_values: usize,
-    store: fn(&mut Instance, &[u32], &[T]) -> Status,
 ) -> fmi3Status {
     with(instance, call, |inst, comp| {
         let (Some(vrs), Some(v)) = (unsafe { (slice(vrs, nvr), slice(values, n_values)) }) else {
             return null(inst, call, "valueReferences or values");
         };
-        let elements =
-            match table(inst, comp, call).and_then(|t| t.expand(inst, call, vrs, ty, n_values)) {
-                Ok(e) => e,
-                Err(s) => return s,
-            };
+        let elements = match table(inst, comp, call)
+            .and_then(|t| t.expand(inst, call, vrs, T::TYPE, n_values))
+        {
+            Ok(e) => e,
+            Err(s) => return s,
+        };
         if elements.iter().any(Option::is_none) {
             return error(
                 inst,
@@ -420,7 +349,7 @@ fn set<T: Copy>(
             );
         }
         let members: Vec<u32> = elements.into_iter().flatten().collect();
-        store(inst, &members, v)
+        T::set(inst, &members, v)
     })
 }
 
@@ -436,13 +365,10 @@ pub extern "C" fn fmi3GetFloat64(
     get(
         instance,
         "fmi3GetFloat64",
-        Type::Real,
         valueReferences,
         nValueReferences,
         values,
         nValues,
-        Instance::get_real,
-        |t| t,
     )
 }
 
@@ -458,13 +384,10 @@ pub extern "C" fn fmi3GetInt32(
     get(
         instance,
         "fmi3GetInt32",
-        Type::Integer,
         valueReferences,
         nValueReferences,
         values,
         nValues,
-        Instance::get_integer,
-        |_| 0,
     )
 }
 
@@ -480,12 +403,10 @@ pub extern "C" fn fmi3SetFloat64(
     set(
         instance,
         "fmi3SetFloat64",
-        Type::Real,
         valueReferences,
         nValueReferences,
         values,
         nValues,
-        Instance::set_real,
     )
 }
 
@@ -501,12 +422,10 @@ pub extern "C" fn fmi3SetInt32(
     set(
         instance,
         "fmi3SetInt32",
-        Type::Integer,
         valueReferences,
         nValueReferences,
         values,
         nValues,
-        Instance::set_integer,
     )
 }
 
@@ -820,7 +739,7 @@ macro_rules! not_offered {
         #[unsafe(no_mangle)]
         pub extern "C" fn $name(instance: fmi3Instance, $($arg: $ty),*) -> fmi3Status {
             $(let _ = $arg;)*
-            ffi::unsupported(instance, stringify!($name), $why)
+            unsupported(instance, stringify!($name), $why)
         }
     )*};
 }

@@ -3,6 +3,7 @@
 //! one instance's state machine, the C interfaces, and `export`, which zips
 //! them with the shared library.
 
+mod boundary;
 pub mod description;
 pub mod export;
 mod ffi;
