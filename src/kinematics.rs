@@ -64,16 +64,11 @@ fn point(
 ) -> Result<Point, ElementError> {
     let nn = kind.node_count();
     let s = shape(kind, xi[0], xi[1]);
-    let mut j = [[0.0; 2]; 2]; // j[i][k] = dX_i / dxi_k
-    let mut r = 0.0;
-    for a in 0..nn {
-        for i in 0..2 {
-            for k in 0..2 {
-                j[i][k] += x0[a][i] * s.dn[a][k];
-            }
-        }
-        r += s.n[a] * x0[a][0];
-    }
+    // j[i][k] = dX_i / dxi_k, and the radius.
+    let (j, r) = match kind {
+        ElementKind::Q4 => gradient::<4>(x0, &s.dn, &s.n),
+        ElementKind::Q8 => gradient::<8>(x0, &s.dn, &s.n),
+    };
     let det = j[0][0] * j[1][1] - j[0][1] * j[1][0];
     if det <= 0.0 || !det.is_finite() {
         return Err(ElementError::BadJacobian {
@@ -280,6 +275,23 @@ fn integrate_kind<const NN: usize>(
     Ok(())
 }
 
+/// The gradient `d[i][k] = sum_a v[a][i] dn[a][k]` of a nodal field `v`
+/// and its interpolated first component `sum_a n[a] v[a][0]`.
+#[inline(always)]
+fn gradient<const NN: usize>(v: &[[f64; 2]], dn: &[[f64; 2]], n: &[f64]) -> ([[f64; 2]; 2], f64) {
+    let mut d = [[0.0; 2]; 2];
+    let mut first = 0.0;
+    for a in 0..NN {
+        for i in 0..2 {
+            for k in 0..2 {
+                d[i][k] += v[a][i] * dn[a][k];
+            }
+        }
+        first += n[a] * v[a][0];
+    }
+    (d, first)
+}
+
 /// The strain measures at a point: the deformation gradient `f` (the
 /// identity under small strain) with `f33` (1 + u/r axisymmetric, 1 planar),
 /// and the strain (Green-Lagrange under total Lagrangian kinematics, else
@@ -293,16 +305,7 @@ struct Strain {
 #[inline(always)]
 fn strain_at<const NN: usize>(p: &Point, u: &[[f64; 2]], axi: bool, tl: bool) -> Strain {
     // Displacement gradient h[i][j] = du_i/dX_j and radial displacement.
-    let mut h = [[0.0; 2]; 2];
-    let mut ur = 0.0;
-    for a in 0..NN {
-        for i in 0..2 {
-            for jx in 0..2 {
-                h[i][jx] += u[a][i] * p.g[a][jx];
-            }
-        }
-        ur += p.n[a] * u[a][0];
-    }
+    let (h, ur) = gradient::<NN>(u, &p.g, &p.n);
     let hoop = if axi { ur / p.r } else { 0.0 };
     let f = if tl {
         [[1.0 + h[0][0], h[0][1]], [h[1][0], 1.0 + h[1][1]]]
