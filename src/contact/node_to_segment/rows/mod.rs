@@ -16,6 +16,7 @@ type Dofs = [Option<usize>; 6];
 
 /// A row's entries over `dofs`, the coefficient of local dof `l` being
 /// `v(l)`.
+#[inline(always)]
 fn entries(dofs: &Dofs, v: &dyn Fn(usize) -> f64) -> Entries {
     let mut e = Entries::default();
     for (l, dof) in dofs.iter().enumerate() {

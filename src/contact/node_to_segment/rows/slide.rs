@@ -12,6 +12,7 @@ use nalgebra::Vector2;
 
 /// The node's contact force, gradient entries (`flexible`: a target body)
 /// and row into `out`.
+#[inline]
 pub(super) fn row(
     dofs: &Dofs,
     flexible: bool,

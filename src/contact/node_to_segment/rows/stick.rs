@@ -8,6 +8,7 @@ use crate::contact::system::{ContactSystem, Entries, Row};
 use nalgebra::Vector2;
 
 /// The node's contact force and its two rows into `out`.
+#[inline]
 pub(super) fn rows(dofs: &Dofs, cp: &ContactPoint, lambda: Vector2<f64>, out: &mut ContactSystem) {
     let c = cp.sticking(lambda);
     for l in 0..6 {
