@@ -7,7 +7,7 @@
 use crate::assembly::{Model, PRESCRIBED, Workspace};
 use crate::constraint::TieResult;
 use crate::contact::{self, ContactSystem, Flips, PairMemory, Switched};
-use crate::linsolve::{Augmented, LinearSolver, LinearTimes};
+use crate::linsolve::{Augmented, LinearError, LinearSolver, LinearTimes};
 use crate::problem::Problem;
 use crate::results::{DriverResult, LogCategory, StepResult};
 use crate::state::State;
@@ -27,6 +27,29 @@ const MAX_INNER: usize = 50;
 
 /// Times a node may open or close in one iteration's inner solves.
 const INNER_FLIPS: usize = 1;
+
+/// The inner solves of one correction: how many were made, the sets of
+/// states met (`contact::state_key`), and per pair and node how often one
+/// opened or closed.
+#[derive(Default)]
+struct InnerSolves {
+    count: usize,
+    seen: Vec<u64>,
+    flipped: Vec<Vec<usize>>,
+}
+
+/// A solve before the decisions the linearised problem took from it: its
+/// solution, the contact memory and rows it was made with, and, when it
+/// was deferred, its right-hand side and entries.
+struct KeptSolve {
+    full: Vec<f64>,
+    memory: Vec<PairMemory>,
+    system: Option<ContactSystem>,
+    deferred: Option<Deferred>,
+}
+
+/// A deferred solve's right-hand side and entries beside the tangent.
+type Deferred = (Vec<f64>, Vec<(usize, usize, f64)>);
 
 /// Rows and displacement entries by which an inner solve's system of order
 /// n may differ from the iteration's factored one and still be solved with
@@ -1501,10 +1524,11 @@ impl Solver {
     /// The correction with contact rows or ties: Eq. (18), `[K + K_c, C^T;
     /// C, 0] [du; dlambda] = [r; overlap]`, the contact rows first, then the
     /// tie rows (`C u = 0`; `constraint_system`); under the nodal decisions
-    /// solved again while the linearised problem decides a node's
-    /// stick/slip state otherwise than the iterate did (docs/contact.md
-    /// section 8, inner solves: `linearised_states`, `contact_update`).
-    /// Returns `[du; multipliers]` and the contact system it solves.
+    /// solved again while the linearised problem decides a node's state
+    /// otherwise than the iterate did (docs/contact.md section 8, inner
+    /// solves: `next_inner_states`, `contact_update`), its rows changing,
+    /// the tangent and the out-of-balance forces not. Returns `[du;
+    /// multipliers]` and the contact system it solves.
     #[allow(clippy::too_many_arguments)]
     fn constrained_correction(
         &mut self,
@@ -1518,129 +1542,37 @@ impl Solver {
         solves: &mut usize,
         log: &mut dyn FnMut(LogCategory, &str),
     ) -> Result<(Vec<f64>, Option<ContactSystem>), String> {
-        let (t, it, n) = (step.t, step.it, self.model.free_dofs());
         let inner_solves = contact::inner_solves(&self.problem);
-        // Solved again while the linearised problem decides a node's
-        // stick/slip state otherwise than this iterate did (a slip
-        // front crossing a stick zone): its rows change, the
-        // tangent and the out-of-balance forces do not.
         let mut system: Option<ContactSystem> = contact;
         let mut rhs_now = rhs.to_vec();
-        let mut inner = 0usize;
-        let mut seen: Vec<u64> = Vec::new();
-        let mut flipped: Vec<Vec<usize>> = Vec::new();
-        // Bordered inner solves against rigid targets only (`rigid_targets`).
-        let bordering = self.rigid_targets;
-        // A solve before the decisions the linearised problem takes from
-        // it, with its right-hand side and entries when it was deferred.
-        type Kept = (
-            Vec<f64>,
-            Vec<PairMemory>,
-            Option<ContactSystem>,
-            Option<(Vec<f64>, Vec<(usize, usize, f64)>)>,
-        );
-        let mut kept: Option<Kept> = None;
+        let mut inner = InnerSolves::default();
+        // The solve before the decisions the linearised problem takes from
+        // it, kept until the next solve shows those decisions hold.
+        let mut kept: Option<KeptSolve> = None;
         let full = loop {
             let mut full = self.constraint_system(step, system.as_ref(), &rhs_now, extra);
-            let neqc = system.as_ref().map_or(0, |c| c.rows.len());
             *solves += 1;
-            // Another inner solve may follow this one: the linearised
-            // problem's decisions read the contact nodes' motion alone, so
-            // an inner solve on the factor's trailing block leaves the
-            // interior, and a bordered one its step of refinement, until
-            // one is accepted (`finish_inner`).
-            let more = inner_solves && inner < MAX_INNER && system.is_some() && rhs_base.is_some();
-            let watch = more.then_some(&self.contact_eqs[..]);
-            // An inner solve borders the iteration's factorization with the
-            // rows that changed (`Augmented::solve_modified`); the first, or
-            // one that changes too much, factors the system. Under a
-            // constant tangent the first takes the last factor's trailing
-            // block when its rows changed there alone.
-            let (pattern, k) = (&self.model.pattern, &self.k);
-            let bordered = bordering
-                && if inner > 0 {
-                    (self.augmented).solve_modified_watching(
-                        pattern,
-                        k,
-                        extra,
-                        &mut full,
-                        max_bordered(n),
-                        watch,
-                    )
-                } else {
-                    let reused = self.k_constant
-                        && (self.augmented)
-                            .solve_on_trailing_block(pattern, k, extra, &mut full, watch);
-                    self.times.reused += usize::from(reused);
-                    reused
-                };
-            let partial = bordered && self.augmented.deferred();
-            let solved = if bordered {
-                Ok(())
-            } else {
-                self.augmented
-                    .solve(&self.model.pattern, &self.k, extra, &mut full)
-                    .map_err(|e| format!("constraint system (NEQC {neqc}): {e}"))
-            };
-            // The states the linearised problem chose leave no
-            // equilibrium near (every node of a free body sliding
-            // where the iterate's linearisation is poor): keep the
-            // solve before them; the outer iteration decides.
-            if let Some((previous, states, rows, deferred)) = kept.take() {
-                let wild = solved.is_err()
-                    || largest(&full[..n]).is_nan()
-                    || largest(&full[..n]) > 1e3 * self.size;
-                if wild {
-                    *memory = states;
-                    system = rows;
-                    let Some((rhs_prev, extra_prev)) = deferred else {
-                        break previous;
-                    };
-                    // That solve was deferred: solved again in full.
-                    *extra = extra_prev;
-                    let mut x = rhs_prev;
-                    let (pattern, k) = (&self.model.pattern, &self.k);
-                    if !self
-                        .augmented
-                        .solve_modified(pattern, k, extra, &mut x, max_bordered(n))
-                    {
-                        (self.augmented.solve(pattern, k, extra, &mut x))
-                            .map_err(|e| format!("constraint system: {e}"))?;
-                    }
-                    break x;
-                }
+            let more =
+                inner_solves && inner.count < MAX_INNER && system.is_some() && rhs_base.is_some();
+            let neqc = system.as_ref().map_or(0, |c| c.rows.len());
+            let (solved, partial) =
+                self.solve_constraint_system(&mut full, extra, inner.count, more);
+            let solved = solved.map_err(|e| format!("constraint system (NEQC {neqc}): {e}"));
+            if let Some(previous) = kept.take()
+                && let Some(x) =
+                    self.rolled_back(previous, &solved, &full, memory, &mut system, extra)?
+            {
+                break x;
             }
             solved?;
             let Some((sys, rhs_base)) = system.as_ref().zip(rhs_base).filter(|_| more) else {
                 break self.finish_inner(partial, full, extra)?;
             };
-            let clock = Instant::now();
-            let predicted = self.linearised_states(step, sys, &full, memory);
-            self.times.contact += clock.elapsed();
-            let Some(mut switched) = predicted? else {
+            let Some(switched) =
+                self.next_inner_states(step, sys, &full, memory, &mut inner, log)?
+            else {
                 break self.finish_inner(partial, full, extra)?;
             };
-            let flips_allowed = if self.iterate_opens { 0 } else { INNER_FLIPS };
-            switched.limit_flips(&mut flipped, flips_allowed);
-            if switched.count() == 0 {
-                break self.finish_inner(partial, full, extra)?;
-            }
-            // The linearised problem's decisions may cycle (a set of
-            // states met before): the outer iteration decides then.
-            let key = contact::state_key(memory, &switched);
-            if seen.contains(&key) {
-                break self.finish_inner(partial, full, extra)?;
-            }
-            seen.push(key);
-            inner += 1;
-            let [opened, closed, slips] = switched.counts();
-            self.inner_flips += opened + closed;
-            log(LogCategory::Contact, &{
-                format!(
-                    "t = {t:.6e} it {it}: solve {inner}: the linearised problem opens {opened}, \
-                         closes {closed} and changes {slips} between stick and slip"
-                )
-            });
             let deferred = (self.augmented.deferred_rhs())
                 .filter(|_| partial)
                 .map(|b| (b, extra.clone()));
@@ -1652,9 +1584,139 @@ impl Solver {
                     rhs_now[self.model.eq[d] as usize] += f;
                 }
             }
-            kept = Some((full, states, system.replace(rebuilt), deferred));
+            kept = Some(KeptSolve {
+                full,
+                memory: states,
+                system: system.replace(rebuilt),
+                deferred,
+            });
         };
         Ok((full, system))
+    }
+
+    /// One solve of the constraint system `full` (entries `extra` beside
+    /// the tangent): an inner solve (`inner` > 0) borders the iteration's
+    /// factorization with the rows that changed (`Augmented::solve_modified`;
+    /// against rigid targets only, `rigid_targets`), the first under a
+    /// constant tangent takes the last factor's trailing block when its rows
+    /// changed there alone, any other is factored. With `more` (another
+    /// inner solve may follow) a bordered or trailing solve leaves the
+    /// interior until one is accepted (`finish_inner`). Returns the solve's
+    /// outcome and whether it was left partial so.
+    fn solve_constraint_system(
+        &mut self,
+        full: &mut [f64],
+        extra: &mut [(usize, usize, f64)],
+        inner: usize,
+        more: bool,
+    ) -> (Result<(), LinearError>, bool) {
+        let n = self.model.free_dofs();
+        let watch = more.then_some(&self.contact_eqs[..]);
+        let (pattern, k) = (&self.model.pattern, &self.k);
+        let bordered = self.rigid_targets
+            && if inner > 0 {
+                (self.augmented).solve_modified_watching(
+                    pattern,
+                    k,
+                    extra,
+                    full,
+                    max_bordered(n),
+                    watch,
+                )
+            } else {
+                let reused = self.k_constant
+                    && (self.augmented).solve_on_trailing_block(pattern, k, extra, full, watch);
+                self.times.reused += usize::from(reused);
+                reused
+            };
+        if bordered {
+            return (Ok(()), self.augmented.deferred());
+        }
+        (self.augmented.solve(pattern, k, extra, full), false)
+    }
+
+    /// After an inner solve, whether the states the linearised problem chose
+    /// before it leave no equilibrium near (every node of a free body
+    /// sliding where the iterate's linearisation is poor: the solve failed,
+    /// or moves a node by more than 1000 times the model's size). Then the
+    /// solve before them (`previous`) is kept, its memory and rows restored
+    /// (solved again in full if it was deferred), and the outer iteration
+    /// decides: Some(that solve). None: the inner solve stands.
+    fn rolled_back(
+        &mut self,
+        previous: KeptSolve,
+        solved: &Result<(), String>,
+        full: &[f64],
+        memory: &mut Vec<PairMemory>,
+        system: &mut Option<ContactSystem>,
+        extra: &mut Vec<(usize, usize, f64)>,
+    ) -> Result<Option<Vec<f64>>, String> {
+        let n = self.model.free_dofs();
+        let wild = solved.is_err()
+            || largest(&full[..n]).is_nan()
+            || largest(&full[..n]) > 1e3 * self.size;
+        if !wild {
+            return Ok(None);
+        }
+        *memory = previous.memory;
+        *system = previous.system;
+        let Some((rhs_prev, extra_prev)) = previous.deferred else {
+            return Ok(Some(previous.full));
+        };
+        // That solve was deferred: solved again in full.
+        *extra = extra_prev;
+        let mut x = rhs_prev;
+        let (pattern, k) = (&self.model.pattern, &self.k);
+        if !(self.augmented).solve_modified(pattern, k, extra, &mut x, max_bordered(n)) {
+            (self.augmented.solve(pattern, k, extra, &mut x))
+                .map_err(|e| format!("constraint system: {e}"))?;
+        }
+        Ok(Some(x))
+    }
+
+    /// The nodes the linearised problem decides otherwise than `sys`'s rows
+    /// did, after the solve `full` (`linearised_states`), for the next inner
+    /// solve: None when none changes, when each change would open or close a
+    /// node once too often in this iteration (`INNER_FLIPS`; none while the
+    /// increment leaves opening and closing to the iterate), or when the
+    /// states were met before in this iteration (the decisions cycle: the
+    /// outer iteration decides then).
+    fn next_inner_states(
+        &mut self,
+        step: &Step,
+        sys: &ContactSystem,
+        full: &[f64],
+        memory: &[PairMemory],
+        inner: &mut InnerSolves,
+        log: &mut dyn FnMut(LogCategory, &str),
+    ) -> Result<Option<Switched>, String> {
+        let clock = Instant::now();
+        let predicted = self.linearised_states(step, sys, full, memory);
+        self.times.contact += clock.elapsed();
+        let Some(mut switched) = predicted? else {
+            return Ok(None);
+        };
+        let flips_allowed = if self.iterate_opens { 0 } else { INNER_FLIPS };
+        switched.limit_flips(&mut inner.flipped, flips_allowed);
+        if switched.count() == 0 {
+            return Ok(None);
+        }
+        let key = contact::state_key(memory, &switched);
+        if inner.seen.contains(&key) {
+            return Ok(None);
+        }
+        inner.seen.push(key);
+        inner.count += 1;
+        let [opened, closed, slips] = switched.counts();
+        self.inner_flips += opened + closed;
+        let (t, it, count) = (step.t, step.it, inner.count);
+        log(LogCategory::Contact, &{
+            format!(
+                "t = {t:.6e} it {it}: solve {count}: the linearised problem opens {opened}, \
+                 closes {closed} and changes {slips} between stick and slip"
+            )
+        });
+        Ok(Some(switched))
     }
 
     /// The accepted inner solve `full`: as solved, or, when it was
