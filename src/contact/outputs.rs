@@ -1,6 +1,6 @@
 //! Per contactor node quantities of a converged state that the outputs
 //! report and the iteration does not need: the gap to the target and the
-//! slip over the last step.
+//! slip over the last step; and the outputs of a problem at rest.
 
 use super::memory::PairMemory;
 use super::search::{self, RigidSegments, TargetSegment, TargetSet};

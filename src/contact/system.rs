@@ -1,8 +1,9 @@
 //! What a contact formulation gives Newton at an iterate, and what it is
 //! given: the iterate (`Iterate`, `Start`), the contact part of the system
 //! of Eq. (18) (`ContactSystem`: forces, gradient entries, constraint rows,
-//! reported results), the nodes an inner solve switches (`Switched`), and
-//! the per-increment change counters that fail an oscillating increment.
+//! reported results), the nodes an inner solve switches (`Switched`,
+//! `Forced`), a formulation's own record of its decisions (`Kept`), and the
+//! per-increment change counters that fail an oscillating increment.
 
 use super::memory::PairMemory;
 use super::search::RigidSegments;
