@@ -115,8 +115,8 @@ pub(crate) trait Formulation: Sync {
 /// The formulation a pair uses: the registration of every formulation.
 fn formulation(pair: &ContactPair) -> &'static dyn Formulation {
     match pair.decisions {
-        Decisions::Nodal => &node_to_segment::NODAL,
-        Decisions::Paper => &node_to_segment::PAPER,
+        Decisions::Nodal => &node_to_segment::Nodal,
+        Decisions::Paper => &node_to_segment::Paper,
     }
 }
 

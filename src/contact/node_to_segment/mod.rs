@@ -18,6 +18,3 @@ pub(super) struct Nodal;
 /// Node-to-segment contact decided by the paper's Section 3
 /// (`decisions = "paper"`).
 pub(super) struct Paper;
-
-pub(super) const NODAL: Nodal = Nodal;
-pub(super) const PAPER: Paper = Paper;

@@ -46,7 +46,7 @@ pub(super) struct Decision {
     held_back: bool,
 }
 
-/// What `update_pair` does: decide every node from the iterate, or keep
+/// What `Nodal::update` does: decide every node from the iterate, or keep
 /// the decisions it made at this iterate except the forced nodes'.
 enum Plan<'a> {
     Decide,
@@ -152,12 +152,8 @@ impl Formulation for Nodal {
         kept: &Kept,
         out: &mut Linearised,
     ) -> Result<(), String> {
-        let kept = kept.get::<Decided>().ok_or_else(|| {
-            format!(
-                "contact pair '{}': no decisions at this state (internal)",
-                pair.1.name
-            )
-        })?;
+        let kept =
+            (kept.get::<Decided>()).ok_or("linearisation without nodal decisions (internal)")?;
         linearise::linearise_pair(at, pair, &kept.decisions, out)
     }
 }
