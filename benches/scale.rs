@@ -9,9 +9,8 @@
 //! with 4-node elements, pressed in one increment (the contact zone closed
 //! from nothing), on the disk generator's meshes of 38 to 1200 divisions.
 //! Per mesh: unknowns, Newton iterations, numeric factorizations (and how
-//! many were LDLT, LU, and how many inner solves bordered an existing
-//! factor instead; in parentheses, how many of those solved on the
-//! factor's trailing block, docs/contact.md section 8), wall time of the
+//! many were LDLT, LU and LDU, and how many solves took an existing
+//! factor's trailing block instead, docs/contact.md section 8), wall time of the
 //! increment and per iteration, the mean time of one numeric
 //! factorization, their ratio, and the split of the
 //! time into phases (assembly; contact search, recovery and decisions;
@@ -51,7 +50,7 @@ fn main() {
     println!("Hertz (plane strain, q4), pressed to uy = -0.07 in one increment");
     println!(
         "{:>5} {:>8} {:>3} {:>4} {:>18} {:>9} {:>9} {:>9} {:>6}  phases (% of the increment)                            rms/p0",
-        "div", "unknowns", "it", "fac", "ldlt/lu/ldu/bd(tr)", "incr s", "s/it", "s/fac", "it/fac"
+        "div", "unknowns", "it", "fac", "ldlt/lu/ldu/trail", "incr s", "s/it", "s/fac", "it/fac"
     );
     let mut sizes = vec![38, 120, 380];
     if full {
@@ -100,10 +99,7 @@ fn hertz(div: usize, friction: bool) {
         solver.dofs(),
         step.iterations,
         p.factorizations,
-        format!(
-            "{}/{}/{}/{}({})",
-            p.ldlt, p.lu, p.ldu, p.bordered, p.trailing
-        ),
+        format!("{}/{}/{}/{}", p.ldlt, p.lu, p.ldu, p.trailing),
         per_it / per_fac,
         p.split(),
         h.rms,
@@ -201,15 +197,15 @@ fn capstan_fmu() {
             "  drawn steps of the last run by phase (%): {}",
             p.summary()
         );
-        // What an iteration is made of: its solves (the first factors or
-        // reuses, the inner ones border or factor again), in the last run.
+        // What an iteration is made of: its solves (each factored, or on
+        // the last factor's trailing block), in the last run.
         let its = last_its;
         if its > 0.0 {
             println!(
-                "  per drawn iteration: {:.1} solves ({:.1} factored, {:.1} bordered)",
-                (p.factorizations + p.bordered) as f64 / its,
+                "  per drawn iteration: {:.1} solves ({:.1} factored, {:.1} on a trailing block)",
+                (p.factorizations + p.trailing) as f64 / its,
                 p.factorizations as f64 / its,
-                p.bordered as f64 / its,
+                p.trailing as f64 / its,
             );
         }
     }

@@ -61,7 +61,7 @@ pub struct LinearTimes {
     pub symbolic: Duration,
     /// Numeric factorization.
     pub numeric: Duration,
-    /// Triangular solves, refinement and backward errors, bordered solves.
+    /// Triangular solves, refinement and backward errors, trailing solves.
     pub solve: Duration,
 }
 
@@ -308,6 +308,29 @@ struct SlotKey {
     column: Vec<usize>,
 }
 
+/// The slots of a new analysis for multipliers of `keys`: the kept
+/// analysis's `slots` and the keys that find no free slot among them, or,
+/// when those would be more than twice the keys (and 8), the keys alone.
+fn new_slots(slots: &[SlotKey], keys: &[SlotKey]) -> Vec<SlotKey> {
+    let mut free: HashMap<&SlotKey, usize> = HashMap::default();
+    for s in slots {
+        *free.entry(s).or_default() += 1;
+    }
+    let mut added = Vec::new();
+    for key in keys {
+        match free.get_mut(key) {
+            Some(c) if *c > 0 => *c -= 1,
+            _ => added.push(key.clone()),
+        }
+    }
+    if slots.len() + added.len() > 2 * keys.len() + 8 {
+        return keys.to_vec();
+    }
+    let mut all = slots.to_vec();
+    all.extend(added);
+    all
+}
+
 /// The keys of the `m` multipliers (unknowns `n_disp..`) of a system given
 /// by the entries `extra`; None when two multipliers are coupled.
 fn slot_keys(extra: &[(usize, usize, f64)], n_disp: usize, m: usize) -> Option<Vec<SlotKey>> {
@@ -403,9 +426,9 @@ pub struct Augmented {
     last: Option<Method>,
     /// Solve every system by LU (comparisons); LDLT is tried only when false.
     pub force_lu: bool,
-    /// No trailing set (`trailing`): inner solves border the factor
+    /// No trailing set (`trailing`): every solve is factored
     /// (comparisons).
-    pub border_only: bool,
+    pub no_trailing: bool,
     /// Numeric factorizations done (LDLT attempts that failed included).
     pub factorizations: usize,
     /// Symbolic analyses done (LDLT or LU; at most one of each per distinct
@@ -419,32 +442,19 @@ pub struct Augmented {
     pub ldu: usize,
     /// The numeric LDU factor of the last system `solve` factored by it.
     ldu_numeric: ldu::Numeric,
-    /// The last factorization, kept for `solve_modified`.
-    kept: Option<Kept>,
-    /// Solves done with the kept factorization of another system
-    /// (`solve_modified`).
-    pub bordered: usize,
-    /// Of those, the solves on the factor's trailing block (`trailing`).
+    /// The last LDLT factor's Schur complement onto its trailing set and
+    /// the inverse of its diagonal (`trailing::Factor`), kept for the
+    /// solves on the trailing block; None after any other factorization.
+    schur: Option<(Mat<f64>, Vec<f64>)>,
+    /// Solves done on the kept factor's trailing block (`trailing`).
     pub trailing_solves: usize,
-    /// Of those, the deferred ones (`solve_modified_watching`): on the
-    /// trailing block, the interior left; bordered, the refinement left.
+    /// Of those, the ones left partial (`solve_watching`).
     pub deferred_solves: usize,
-    /// The right-hand side of the last bordered solve and its largest
-    /// number of changes, when it was not refined (`bordering::solve`'s
-    /// `defer`).
-    bordered_pending: Option<(Vec<f64>, usize)>,
-    /// The numeric LU factor of the last system `solve` factored by LU
-    /// (`Kept::Lu`), its arrays kept for the next.
+    /// The numeric LU factor of the last system factored by LU, its arrays
+    /// kept for the next.
     lu_numeric: NumericLu<usize, f64>,
     lu_order: usize,
-    /// Bordered solves that read their system from the tangent and its
-    /// entries beside it (`bordering::Split`: the tangent counted the
-    /// factored system's, `new_tangent`).
-    pub split_solves: usize,
     trailing_work: TrailingWork,
-    /// Right-hand sides those solves solved with the kept factor (columns
-    /// of `A0^-1 E`, right-hand sides, refinements).
-    pub columns: usize,
     pub times: LinearTimes,
     /// The fill-reducing order of the displacement block (AMD), made on the
     /// first pattern and kept for every later one: the block is the
@@ -478,17 +488,6 @@ pub struct Augmented {
     extra_asymmetry: Option<f64>,
 }
 
-/// The factorization of the last system `solve` factored (LDLT: the
-/// analysis and `l_values` of `Augmented`), with what `solve_modified`
-/// borders it with.
-enum Kept {
-    /// With the Schur complement onto the trailing set when the analysis
-    /// has one (`trailing`).
-    Ldlt(bordering::Base, Option<(faer::Mat<f64>, Vec<f64>)>),
-    /// The factor is `Augmented::lu_numeric` on its analysis's symbolic.
-    Lu(bordering::Base),
-}
-
 /// Largest normwise backward error `|b - A x|_inf / (|A|_inf |x|_inf +
 /// |b|_inf)` accepted from the unpivoted LDLT before falling back to LU.
 const LDLT_BACKWARD_ERROR: f64 = 1e-8;
@@ -510,7 +509,7 @@ impl Augmented {
     pub fn restart(&mut self) {
         if self.slots {
             self.analysis = None;
-            self.kept = None;
+            self.schur = None;
             self.last_slots.clear();
         }
     }
@@ -537,12 +536,10 @@ impl Augmented {
     }
 
     /// The caller's tangent has changed (or may have). A caller that says
-    /// so after every change it makes (the Newton solver, after each
-    /// assembly of K) spares the trailing solves their `fingerprint` of
-    /// the tangent while it has not changed since the factored solve: one
-    /// read of the whole tangent per inner solve (1 ms of a 35 ms Hertz
-    /// increment at 1e4 unknowns). A caller that never says it keeps the
-    /// check.
+    /// so after every change it makes (the Newton solver, before each
+    /// assembly of K) has its systems solved on the kept factor's trailing
+    /// block while the tangent is the factored one's (`solve`); a caller
+    /// that never says it has every system factored.
     pub fn new_tangent(&mut self) {
         self.tangent = Some(self.tangent.map_or(0, |g| g + 1));
     }
@@ -552,66 +549,58 @@ impl Augmented {
         self.last
     }
 
-    /// Solve `A x = rhs` in place, A of order `rhs.len()` given as the CSC
-    /// tangent `k` over `pattern` (the first `pattern.n` unknowns) plus the
-    /// entries `extra` (row, col, value; duplicates are summed).
-    pub fn solve(
+    /// Factors `A` (as given to `solve`) and solves `A x = rhs` in place:
+    /// the multipliers placed in the kept analysis's slots, or a new
+    /// analysis made; then `solve_kept`.
+    fn factor_and_solve(
         &mut self,
         pattern: &Pattern,
         k: &[f64],
         extra: &mut [(usize, usize, f64)],
         rhs: &mut [f64],
     ) -> Result<(), LinearError> {
-        self.kept = None;
+        self.schur = None;
         self.trailing_work.pending = None;
-        self.bordered_pending = None;
         let clock = Instant::now();
         let n = rhs.len();
         let n_disp = pattern.n.min(n);
         let keys = (n > n_disp && self.slots)
             .then(|| slot_keys(extra, n_disp, n - n_disp))
             .flatten();
-        // The multipliers in the slots of the kept analysis, when they fit
-        // and the pattern is the same; else a new analysis, its slots the
-        // old ones and the new keys (while they stay few), else the keys.
+        let slot_of = self.lay_out(pattern, k, extra, n, keys.as_deref());
+        self.solve_laid_out(pattern, k, extra, rhs, keys.is_some(), &slot_of, clock)
+    }
+
+    /// Lays the system out over the kept analysis (its values in `values`)
+    /// and returns the slot of each multiplier: the multipliers in the
+    /// slots of the kept analysis, when they fit and the pattern is the
+    /// same; else a new analysis, its slots the old ones and the new keys
+    /// (while they stay few), else the keys. Without `keys` (no slots), the
+    /// system as given, the kept analysis while its pattern holds.
+    fn lay_out(
+        &mut self,
+        pattern: &Pattern,
+        k: &[f64],
+        extra: &mut [(usize, usize, f64)],
+        n: usize,
+        keys: Option<&[SlotKey]>,
+    ) -> Vec<usize> {
+        let n_disp = pattern.n.min(n);
         let mut fresh = false;
-        let mut extra0 = Vec::new();
-        let slot_of = loop {
+        loop {
             let kept = self
                 .analysis
                 .as_ref()
                 .filter(|a| a.n_disp == n_disp && !fresh);
-            let placed = keys
-                .as_ref()
-                .zip(kept)
-                .and_then(|(k, a)| a.slot_groups.place(k));
-            let (slots, slot_of, reuse, groups) = match (placed, &keys) {
+            let placed = keys.zip(kept).and_then(|(k, a)| a.slot_groups.place(k));
+            let (slots, slot_of, reuse, groups) = match (placed, keys) {
                 (Some(slot_of), _) => {
                     let slots =
                         kept.map_or(Cow::Owned(Vec::new()), |a| Cow::Borrowed(&a.slots[..]));
                     (slots, slot_of, true, None)
                 }
                 (None, Some(keys)) => {
-                    let mut slots: Vec<SlotKey> = Vec::new();
-                    if let Some(a) = kept {
-                        slots.clone_from(&a.slots);
-                    }
-                    let mut free: HashMap<&SlotKey, usize> = HashMap::default();
-                    for s in &slots {
-                        *free.entry(s).or_default() += 1;
-                    }
-                    let mut added = Vec::new();
-                    for key in keys {
-                        match free.get_mut(key) {
-                            Some(c) if *c > 0 => *c -= 1,
-                            _ => added.push(key.clone()),
-                        }
-                    }
-                    if slots.len() + added.len() > 2 * keys.len() + 8 {
-                        slots.clone_from(keys);
-                    } else {
-                        slots.extend(added);
-                    }
+                    let slots = new_slots(kept.map_or(&[], |a| &a.slots[..]), keys);
                     let groups = SlotGroups::of(&slots);
                     let slot_of = groups.place(keys).expect("every key has a slot");
                     (Cow::Owned(slots), slot_of, false, Some(groups))
@@ -632,13 +621,6 @@ impl Augmented {
             } else {
                 &mut *extra
             };
-            // What the inner solves border it with on the same tangent
-            // (`bordering::Split`; sorted where a base takes it,
-            // `counted_base`).
-            if self.tangent.is_some() {
-                extra0.clear();
-                extra0.extend_from_slice(extra_now);
-            }
             // The kept analysis's pattern, its values written in place.
             let in_place = (reuse || keys.is_none()).then_some(kept).flatten();
             if in_place.is_some_and(|a| {
@@ -652,7 +634,7 @@ impl Augmented {
                         &mut self.terms,
                     )
             }) {
-                break slot_of;
+                return slot_of;
             }
             let [mut col_ptr, mut row_idx] = std::mem::take(&mut self.spare);
             bordered(
@@ -669,7 +651,7 @@ impl Augmented {
             let unslotted = keys.is_none() && kept.is_some();
             if (reuse || unslotted) && same {
                 self.spare = [col_ptr, row_idx];
-                break slot_of;
+                return slot_of;
             }
             if reuse {
                 // The slots fit but the displacement block changed.
@@ -693,20 +675,38 @@ impl Augmented {
                 slot_groups: groups.unwrap_or_else(|| SlotGroups::of(&slots)),
                 slots: slots.into_owned(),
             });
-            break slot_of;
-        };
+            return slot_of;
+        }
+    }
+
+    /// Solves the system laid out by `lay_out` (`slot_of`: each
+    /// multiplier's slot, with `slotted`) by `solve_kept`, `rhs` in place,
+    /// and keeps what the trailing solves compare their systems with.
+    #[allow(clippy::too_many_arguments)]
+    fn solve_laid_out(
+        &mut self,
+        pattern: &Pattern,
+        k: &[f64],
+        extra: &[(usize, usize, f64)],
+        rhs: &mut [f64],
+        slotted: bool,
+        slot_of: &[usize],
+        clock: Instant,
+    ) -> Result<(), LinearError> {
+        let n = rhs.len();
+        let n_disp = pattern.n.min(n);
         // An LDLT that failed is tried again once the multipliers take
         // other slots (a new contact set, as a new pattern did before).
-        if self.last_slots != slot_of
+        if self.last_slots != *slot_of
             && let Some(a) = self.analysis.as_mut()
         {
             a.ldlt_failed = false;
         }
-        self.last_slots.clone_from(&slot_of);
+        self.last_slots.clone_from(&slot_of.to_vec());
         // The right-hand side in the slots' order (an empty slot's 0).
         let order = self.analysis.as_ref().map_or(n, |a| a.mat.nrows());
         let mut full = vec![0.0; order];
-        if keys.is_some() {
+        if slotted {
             full[..n_disp].copy_from_slice(&rhs[..n_disp]);
             for (m, &s) in slot_of.iter().enumerate() {
                 full[n_disp + s] = rhs[n_disp + m];
@@ -726,22 +726,21 @@ impl Augmented {
         self.extra_asymmetry =
             (self.symmetric_tangent && 32 * extra.len() < k.len()).then(|| asymmetry(extra));
         self.times.system += clock.elapsed();
-        let split = self.solve_kept(pattern, k, n_disp, &mut full, &extra0)?;
+        let split = self.solve_kept(pattern, k, n_disp, &mut full)?;
         // What the trailing solves compare their systems with: this one's
         // tangent and its entries beside it, in the slots (with `split`,
         // the factored system's: every slot empty).
-        if matches!(self.kept, Some(Kept::Ldlt(_, Some(_))))
+        if self.schur.is_some()
             && let Some(a) = self.analysis.as_ref()
         {
             let clock = Instant::now();
             let work = &mut self.trailing_work;
-            work.k0 = fingerprint(k);
             work.k0_tangent = self.tangent;
             work.k_rows.clear();
             work.extra0 = if split {
                 summed(in_slots(&[], n_disp, &a.slots, &[]))
             } else {
-                summed(in_slots(extra, n_disp, &a.slots, &slot_of))
+                summed(in_slots(extra, n_disp, &a.slots, slot_of))
             };
             self.times.system += clock.elapsed();
         }
@@ -758,11 +757,11 @@ impl Augmented {
             if let Some(a) = self.analysis.as_mut() {
                 a.split_failed = true;
             }
-            self.kept = None;
+            self.schur = None;
             std::mem::swap(&mut self.values, &mut self.split_values);
-            self.solve_kept(pattern, k, n_disp, &mut full, &extra0)?;
+            self.solve_kept(pattern, k, n_disp, &mut full)?;
         }
-        if keys.is_some() {
+        if slotted {
             rhs[..n_disp].copy_from_slice(&full[..n_disp]);
             for (m, &s) in slot_of.iter().enumerate() {
                 rhs[n_disp + m] = full[n_disp + s];
@@ -788,10 +787,7 @@ impl Augmented {
         k: &[f64],
         n_disp: usize,
         rhs: &mut [f64],
-        extra0: &[(usize, usize, f64)],
     ) -> Result<bool, LinearError> {
-        let tangent = self.tangent;
-        let on_tangent = |base, extra0: &[_]| counted_base(base, tangent, extra0);
         let clock = Instant::now();
         self.trailing_work.forward = None;
         self.trailing_work.bases = DenseBases::default();
@@ -810,7 +806,7 @@ impl Augmented {
         let split_dofs = (!symmetric
             && !self.force_lu
             && self.slots
-            && !self.border_only
+            && !self.no_trailing
             && !analysis.split_failed)
             .then(|| trailing_dofs(&analysis.slots, n_disp, n))
             .flatten();
@@ -887,13 +883,9 @@ impl Augmented {
                     });
                 self.times.solve += clock.elapsed();
                 if let Some(schur) = schur {
-                    // The kept system is the factored one, its solution 0
-                    // for a right-hand side 0 (`bordering::Base`).
+                    // The kept system is the factored one.
                     self.split_values = std::mem::replace(&mut self.values, values);
-                    let zeros = vec![0.0; n];
-                    let base = bordering::Base::new(n, n_disp, zeros.clone(), zeros);
-                    let base = on_tangent(base, &base_extra);
-                    self.kept = Some(Kept::Ldlt(base, Some(schur)));
+                    self.schur = Some(schur);
                     return Ok(true);
                 }
             }
@@ -904,7 +896,7 @@ impl Augmented {
             if analysis.ldlt.is_none() {
                 let clock = Instant::now();
                 self.analyses += 1;
-                let trailing = (self.slots && !self.border_only)
+                let trailing = (self.slots && !self.no_trailing)
                     .then(|| trailing_dofs(&analysis.slots, n_disp, n))
                     .flatten();
                 match analyse_ldlt(
@@ -944,17 +936,15 @@ impl Augmented {
                         .flatten()
                         .map(|f| (f.schur(), f.d_inv()));
                     self.times.solve += clock.elapsed();
-                    let base = bordering::Base::new(n, n_disp, b, rhs.to_vec());
-                    let base = on_tangent(base, extra0);
-                    self.kept = Some(Kept::Ldlt(base, schur));
+                    self.schur = schur;
                     return Ok(false);
                 }
                 analysis.ldlt_failed = true;
                 // The tangent's own LDLT with the contact dofs last may
                 // still hold (a body held by contact alone): as for an
                 // unsymmetric system, before LU.
-                if self.slots && !self.border_only && !analysis.split_failed {
-                    return self.solve_kept(pattern, k, n_disp, rhs, extra0);
+                if self.slots && !self.no_trailing && !analysis.split_failed {
+                    return self.solve_kept(pattern, k, n_disp, rhs);
                 }
             }
         }
@@ -982,10 +972,8 @@ impl Augmented {
         let (lu, mem) = analysis.lu.as_mut().expect("set above");
         let mat = SparseColMatRef::new(analysis.mat.as_ref(), &self.values);
         self.factorizations += 1;
-        // Into the kept factor's arrays (the last factor is replaced: the
-        // kept system is this one from here on), on the same analysis:
-        // faer keeps the column pointers of a larger factor it refills.
-        self.kept = None;
+        // Into the last LU's arrays, on the same analysis: faer keeps the
+        // column pointers of a larger factor it refills.
         if self.lu_order != n {
             self.lu_numeric = NumericLu::new();
             self.lu_order = n;
@@ -1008,172 +996,82 @@ impl Augmented {
         }
         self.lu += 1;
         self.last = Some(Method::Lu);
-        let base = bordering::Base::new(n, n_disp, b, rhs.to_vec());
-        let base = on_tangent(base, extra0);
-        self.kept = Some(Kept::Lu(base));
         Ok(false)
     }
 
-    /// Solves `A x = rhs` in place, A given as in `solve`, without
-    /// factoring it: by bordering the factorization of the last system
-    /// `solve` factored, when A differs from it in at most `max_rank`
-    /// multipliers and displacement rows (the inner solves of a Newton
-    /// iteration: the tangent is the same, some contact rows differ;
-    /// `bordering`). False when it cannot (nothing kept, too many changes,
-    /// a singular or inaccurate bordered solve): then `solve` it.
-    pub fn solve_modified(
+    /// Solves `A x = rhs` in place, A of order `rhs.len()` given as the CSC
+    /// tangent `k` over `pattern` (the first `pattern.n` unknowns) plus the
+    /// entries `extra` (row, col, value; duplicates are summed). The one
+    /// policy: on the trailing block of the kept LDLT factor when the
+    /// caller's tangent is the factored one (`new_tangent`) and A differs
+    /// from the factored system inside the trailing set alone (`trailing`:
+    /// the inner solves of a Newton iteration, and its first solve under a
+    /// constant tangent), refined once and checked; else factored
+    /// (`factor_and_solve`: LDLT, the unpivoted LDU or LU, each checked).
+    pub fn solve(
         &mut self,
         pattern: &Pattern,
         k: &[f64],
         extra: &mut [(usize, usize, f64)],
         rhs: &mut [f64],
-        max_rank: usize,
-    ) -> bool {
-        self.solve_modified_watching(pattern, k, extra, rhs, max_rank, None)
+    ) -> Result<(), LinearError> {
+        self.solve_watching(pattern, k, extra, rhs, None)
+            .map(|_| ())
     }
 
-    /// `solve_modified`; with `watch` (displacement unknowns), a solve on
-    /// the trailing block may stop short of the interior: `rhs` then holds
-    /// the multipliers, the trailing set's and the watched unknowns'
-    /// solution and NaN elsewhere, and `deferred` says so until `complete`
-    /// finishes it (the inner solves of an iteration need the contact
+    /// `solve`; with `watch` (displacement unknowns) a solve on the
+    /// trailing block may stop short of the interior: `rhs` then holds the
+    /// multipliers, the trailing set's and the watched unknowns' solution
+    /// and NaN elsewhere, and the call returns false until `finish`
+    /// completes it (the inner solves of an iteration need the contact
     /// nodes' motion alone until one is accepted; the interior's back
     /// substitution and the refinement are three passes over the factor).
-    pub fn solve_modified_watching(
+    /// True: `rhs` holds the whole solution.
+    pub fn solve_watching(
         &mut self,
         pattern: &Pattern,
         k: &[f64],
         extra: &mut [(usize, usize, f64)],
         rhs: &mut [f64],
-        max_rank: usize,
         watch: Option<&[usize]>,
-    ) -> bool {
-        self.bordered_pending = None;
-        if self.solve_on_trailing_block(pattern, k, extra, rhs, watch) {
-            return true;
+    ) -> Result<bool, LinearError> {
+        let same_tangent = self.tangent.is_some() && self.trailing_work.k0_tangent == self.tangent;
+        if same_tangent && self.solve_on_trailing_block(pattern, k, extra, rhs, watch) {
+            return Ok(self.trailing_work.pending.is_none());
         }
-        let clock = Instant::now();
-        // Unrefined while another inner solve may follow (`watch`): its
-        // right-hand side kept to solve it again refined (`complete`).
-        let defer = watch.is_some();
-        let b = defer.then(|| rhs.to_vec());
-        let border = || -> bool {
-            let Some(kept) = self.kept.as_mut() else {
-                return false;
-            };
-            let n = rhs.len();
-            let base = match kept {
-                Kept::Ldlt(base, _) | Kept::Lu(base) => &*base,
-            };
-            // On the factored system's tangent the system is read from its
-            // entries beside it; else built whole.
-            let built;
-            let a1 = if base.splits(self.tangent) && pattern.n <= n {
-                sort_by_column(extra);
-                let nd = pattern.n;
-                bordering::System::Split(bordering::Split {
-                    k: bordering::Csc {
-                        col_ptr: &pattern.col_ptr[..=nd],
-                        row_idx: &pattern.row_idx,
-                        values: k,
-                    },
-                    extra,
-                    n,
-                })
-            } else {
-                built = bordered_new(pattern, k, extra, n);
-                bordering::System::Built(bordering::Csc {
-                    col_ptr: &built.0,
-                    row_idx: &built.1,
-                    values: &built.2,
-                })
-            };
-            let analysis = self.analysis.as_ref();
-            let Some(mat) = analysis.map(|a| &a.mat) else {
-                return false;
-            };
-            let a0 = bordering::Csc {
-                col_ptr: mat.col_ptr(),
-                row_idx: mat.row_idx(),
-                values: &self.values,
-            };
-            let l_values = &self.l_values;
-            let columns = &mut self.columns;
-            let outcome = match kept {
-                Kept::Ldlt(base, _) => {
-                    let Some((symbolic, _)) = analysis.and_then(|a| a.ldlt.as_ref()) else {
-                        return false;
-                    };
-                    // Each change costs a triangular solve, about 2 nnz(L)
-                    // flops; the factorization at least nnz(L)^2 / n (the sum
-                    // of the squared column counts): bordered, r changes cost
-                    // half a factorization at r = nnz(L) / (4 n). Measured on
-                    // Hertz at 1e5 unknowns: nnz(L) / n = 107, so 26 changes;
-                    // the solves are memory-bound (one column 25-50 ms, 19
-                    // at once 200 ms, a factorization 230 ms), so bordering
-                    // there saves little: 5 bordered solves took 1.1 s.
-                    let max_rank = max_rank.min(symbolic.len_val() / (4 * n).max(1)).max(1);
-                    let mut solve0 = |block: &mut [f64], cols: usize| {
-                        *columns += cols;
-                        let rows = symbolic.nrows();
-                        let req = symbolic.solve_in_place_scratch::<f64>(cols, Par::Seq);
-                        let Ok(mut mem) = MemBuffer::try_new(req) else {
-                            return false;
-                        };
-                        let ldlt = faer::sparse::linalg::cholesky::LdltRef::new(symbolic, l_values);
-                        ldlt.solve_in_place_with_conj(
-                            Conj::No,
-                            MatMut::from_column_major_slice_mut(block, rows, cols),
-                            Par::Seq,
-                            MemStack::new(&mut mem),
-                        );
-                        true
-                    };
-                    bordering::solve(base, a0, a1, rhs, max_rank, defer, &mut solve0)
-                }
-                Kept::Lu(base) => {
-                    let Some((symbolic, _)) = analysis.and_then(|a| a.lu.as_ref()) else {
-                        return false;
-                    };
-                    let numeric = &self.lu_numeric;
-                    let mut solve0 = |block: &mut [f64], cols: usize| {
-                        *columns += cols;
-                        lu_solve(LuRef::new_unchecked(symbolic, numeric), block, cols);
-                        true
-                    };
-                    bordering::solve(base, a0, a1, rhs, max_rank, defer, &mut solve0)
-                }
-            };
-            match outcome {
-                Ok(refined) => {
-                    if !refined {
-                        self.bordered_pending = b.map(|b| (b, max_rank));
-                        self.deferred_solves += 1;
-                    }
-                    self.bordered += 1;
-                    self.split_solves += usize::from(matches!(a1, bordering::System::Split(_)));
-                    true
-                }
-                Err(_) => false,
-            }
-        };
-        let done = border();
-        self.times.solve += clock.elapsed();
-        done
+        self.factor_and_solve(pattern, k, extra, rhs)?;
+        Ok(true)
     }
-}
 
-impl Augmented {
-    /// `solve_modified_watching` on the trailing block of the kept LDLT
-    /// factor alone (`trailing`; never bordering), refined once against the
-    /// system and accepted below the factored solves' backward error: the
-    /// inner solves, a Newton iteration's first solve whose tangent is the
-    /// kept factor's (a constant tangent) and whose contact rows moved
-    /// within the trailing set, and a system split off its tangent's LDLT
-    /// (`solve_kept`). False when the factor has no trailing set, a
-    /// multiplier finds no slot of the kept pattern, or the system differs
-    /// from the factored one outside the trailing set.
-    pub fn solve_on_trailing_block(
+    /// Completes into `rhs` the last solve when `solve_watching` left it
+    /// partial (`pattern`, `k` and `extra` as given to it): the interior's
+    /// back substitution, one step of refinement and the backward error
+    /// check of every trailing solve; should that check fail, the system is
+    /// factored. Nothing to do after a whole solve.
+    pub fn finish(
+        &mut self,
+        pattern: &Pattern,
+        k: &[f64],
+        extra: &mut [(usize, usize, f64)],
+        rhs: &mut [f64],
+    ) -> Result<(), LinearError> {
+        let Some(b) = self.deferred_rhs() else {
+            return Ok(());
+        };
+        if self.complete(pattern, k, rhs) {
+            return Ok(());
+        }
+        rhs.copy_from_slice(&b);
+        self.factor_and_solve(pattern, k, extra, rhs)
+    }
+
+    /// `solve` on the trailing block of the kept LDLT factor alone
+    /// (`trailing`), refined once against the system and accepted below
+    /// the factored solves' backward error (`complete_trailing`). False
+    /// when the factor has no trailing set, a multiplier finds no slot of
+    /// the kept pattern, or the system differs from the factored one
+    /// outside the trailing set.
+    fn solve_on_trailing_block(
         &mut self,
         pattern: &Pattern,
         k: &[f64],
@@ -1187,8 +1085,6 @@ impl Augmented {
         let done = self.trailing_into(pattern, k, extra, rhs, &mut work, watch);
         self.trailing_work = work;
         if done {
-            self.bordered += 1;
-            self.columns += 2;
             self.trailing_solves += 1;
             self.deferred_solves += usize::from(self.trailing_work.pending.is_some());
         }
@@ -1196,17 +1092,8 @@ impl Augmented {
         done
     }
 
-    /// Whether the last solve was deferred (`solve_modified_watching`).
-    pub fn deferred(&self) -> bool {
-        self.trailing_work.pending.is_some() || self.bordered_pending.is_some()
-    }
-
-    /// The right-hand side of the deferred last solve, in the caller's
-    /// order (to solve its system again another way).
-    pub fn deferred_rhs(&self) -> Option<Vec<f64>> {
-        if let Some((b, _)) = &self.bordered_pending {
-            return Some(b.clone());
-        }
+    /// The right-hand side of a partial last solve, in the caller's order.
+    fn deferred_rhs(&self) -> Option<Vec<f64>> {
         let p = self.trailing_work.pending.as_ref()?;
         let n_disp = self.analysis.as_ref()?.n_disp;
         let mut rhs = p.b[..n_disp].to_vec();
@@ -1214,33 +1101,14 @@ impl Augmented {
         Some(rhs)
     }
 
-    /// Finishes the deferred last solve into `rhs` (`pattern`, `k` and
-    /// `extra` as given to it): on the trailing block, the interior's back
-    /// substitution, one step of refinement and the backward error check of
-    /// every trailing solve; bordered, the system solved again with its
-    /// refinement. False when it fails the check (then `solve` the system)
-    /// or nothing is deferred.
-    pub fn complete(
-        &mut self,
-        pattern: &Pattern,
-        k: &[f64],
-        extra: &mut [(usize, usize, f64)],
-        rhs: &mut [f64],
-    ) -> bool {
-        // An unrefined bordered solve: solved again, refined.
-        if let Some((mut x, max_rank)) = self.bordered_pending.take() {
-            if !self.solve_modified(pattern, k, extra, &mut x, max_rank) {
-                return false;
-            }
-            rhs.copy_from_slice(&x);
-            return true;
-        }
+    /// Finishes a partial last solve into `rhs` (`finish`); false when it
+    /// fails its check or nothing is pending.
+    fn complete(&mut self, pattern: &Pattern, k: &[f64], rhs: &mut [f64]) -> bool {
         let clock = Instant::now();
         let Some(pending) = self.trailing_work.pending.take() else {
             return false;
         };
-        let (Some(Kept::Ldlt(_, Some((_, d_inv)))), Some(analysis)) = (&self.kept, &self.analysis)
-        else {
+        let (Some((_, d_inv)), Some(analysis)) = (&self.schur, &self.analysis) else {
             return false;
         };
         let Some(f) = (analysis.ldlt.as_ref()).and_then(|(symbolic, _)| {
@@ -1261,7 +1129,8 @@ impl Augmented {
         done
     }
 
-    /// `solve_on_trailing_block` with its buffers.
+    /// `solve_on_trailing_block` with its buffers (the caller has checked
+    /// that the tangent is the factored one's).
     fn trailing_into(
         &self,
         pattern: &Pattern,
@@ -1271,8 +1140,7 @@ impl Augmented {
         work: &mut TrailingWork,
         watch: Option<&[usize]>,
     ) -> bool {
-        let (Some(Kept::Ldlt(_, Some((s0, d_inv)))), Some(analysis)) = (&self.kept, &self.analysis)
-        else {
+        let (Some((s0, d_inv)), Some(analysis)) = (&self.schur, &self.analysis) else {
             return false;
         };
         let Some((symbolic, _)) = analysis.ldlt.as_ref() else {
@@ -1293,9 +1161,7 @@ impl Augmented {
         };
         let order = analysis.mat.nrows();
         let TrailingWork {
-            k0,
-            k0_tangent,
-            fingerprints,
+            k0_tangent: _,
             k_rows,
             extra0,
             forward,
@@ -1306,13 +1172,6 @@ impl Augmented {
         // The tangent is the factored one's; the entries beside it differ
         // (a merge of the two sorted lists): the change, which must lie
         // inside the trailing set, added to S0.
-        let same_tangent = k0_tangent.is_some() && *k0_tangent == self.tangent;
-        if !same_tangent {
-            *fingerprints += 1;
-            if *k0 != fingerprint(k) {
-                return false;
-            }
-        }
         let extra1 = summed(in_slots(extra, n_disp, &analysis.slots, &slot_of));
         let mut delta: Vec<(usize, usize, f64)> = Vec::new();
         for (i, j, d) in difference(&extra1, extra0) {
@@ -1642,7 +1501,7 @@ fn complete_trailing(
     if inf(&dx[..n_disp]) > LDLT_REFINEMENT * inf(&x[..n_disp]) {
         return false;
     }
-    let backward = bordering::backward_error(&residual(&x, &p.b), p.norm_a, &x, &p.b);
+    let backward = backward_error(&residual(&x, &p.b), p.norm_a, &x, &p.b);
     // (NaN fails too.)
     if backward.is_nan() || backward > LDLT_BACKWARD_ERROR {
         return false;
@@ -1654,58 +1513,33 @@ fn complete_trailing(
     true
 }
 
+/// The normwise backward error of `x` from its residual `r = b - A x`:
+/// `|r|_inf / (|A|_inf |x|_inf + |b|_inf)`.
+fn backward_error(r: &[f64], norm_a: f64, x: &[f64], b: &[f64]) -> f64 {
+    let inf = |v: &[f64]| v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    inf(r) / (norm_a * inf(x) + inf(b))
+}
+
 /// What the solves on the trailing block keep of the factored system (set
-/// by `solve`): its tangent's `fingerprint`, the row sums of the tangent's
-/// magnitudes (made by the first solve), its entries beside the tangent in
+/// by `factor_and_solve`): the caller's count of its tangent then, the row
+/// sums of the tangent's magnitudes (made by the first solve), its entries beside the tangent in
 /// the slots (`summed`), and the last forward substitution (the permuted
 /// right-hand side and its result), which serves the next inner solve.
 #[derive(Default)]
 struct TrailingWork {
-    k0: (usize, u64),
     /// The caller's tangent count then (`Augmented::new_tangent`).
     k0_tangent: Option<u64>,
-    /// How many times a trailing solve read the tangent for its
-    /// fingerprint.
-    fingerprints: usize,
     k_rows: Vec<f64>,
     extra0: Vec<(usize, usize, f64)>,
     forward: Option<(Vec<f64>, Vec<f64>)>,
     /// The last solve's refinement step relative to its solution (round-off
     /// for a sound solve; the tests read it).
     correction: f64,
-    /// The last solve, deferred (`Augmented::solve_modified_watching`).
+    /// The last solve, left partial (`Augmented::solve_watching`).
     pending: Option<Pending>,
     /// The dense LUs the trailing solves on the kept factor update
     /// (`Dense`).
     bases: DenseBases,
-}
-
-/// The length of `v` and a 64-bit FNV-1a hash of its bits, word by word
-/// in eight interleaved lanes (word `i` into lane `i % 8`), the lanes then
-/// hashed in turn: each word's step (xor, then multiplication by an odd
-/// constant) is a bijection of its lane's state, and so is each lane's step
-/// into the result, so a change of any one entry always changes it, and
-/// more changes collide with probability 2^-64. One read of `v`, where a
-/// copy to compare with would write it once and read it twice; the lanes
-/// keep the multiplications independent (for the 1.8e6 entries of the
-/// tangent at 1e5 unknowns one chain took 3 ms per solve, the lanes take
-/// 1.9 ms, what a plain sum of them takes).
-fn fingerprint(v: &[f64]) -> (usize, u64) {
-    const BASIS: u64 = 0xcbf2_9ce4_8422_2325;
-    const PRIME: u64 = 0x0000_0100_0000_01b3;
-    let step = |h: u64, x: u64| (h ^ x).wrapping_mul(PRIME);
-    let mut lanes = [BASIS; 8];
-    let chunks = v.chunks_exact(8);
-    let rest = chunks.remainder();
-    for c in chunks {
-        for (h, x) in lanes.iter_mut().zip(c) {
-            *h = step(*h, x.to_bits());
-        }
-    }
-    for (h, x) in lanes.iter_mut().zip(rest) {
-        *h = step(*h, x.to_bits());
-    }
-    (v.len(), lanes.into_iter().fold(BASIS, step))
 }
 
 /// The entries sorted by (column, row), duplicates summed.
@@ -1763,7 +1597,6 @@ impl Augmented {
         let symbolic = analysis.ldu.as_ref().expect("set above");
         let clock = Instant::now();
         self.factorizations += 1;
-        self.kept = None;
         let factored = symbolic.factor(&self.values, &mut self.ldu_numeric);
         self.times.numeric += clock.elapsed();
         let clock = Instant::now();
@@ -1786,35 +1619,10 @@ impl Augmented {
         rhs.copy_from_slice(&self.x);
         self.ldu += 1;
         self.last = Some(Method::Ldu);
-        // Nothing kept for `solve_modified`: an inner solve on this pattern
-        // is factored again, not bordered. The LDU takes only patterns
-        // whose factorization is cheap (`LDU_FLOPS_PER_ENTRY`), and there
-        // the bordering's own work (matching the multipliers, the change
-        // columns, the Schur complement, the refinement and the completion
-        // of deferred solves) cost more than the factorization it spared:
-        // the capstan FMU (7.3-7.8 multiply-adds per entry) took 1.03-1.07
-        // ms per Newton iteration bordered (up to 48 changes), 0.99-1.02
-        // bordered up to 1 or 3, 0.88-0.90 not bordered (alternating
-        // runs).
+        // Nothing is kept: an inner solve on this pattern is factored
+        // again (the LDU takes only patterns whose factorization is cheap,
+        // `LDU_FLOPS_PER_ENTRY`).
         true
-    }
-}
-
-/// A kept factor's base, on the caller's tangent when it counts it
-/// (`tangent`, `Augmented::new_tangent`) with the factored system's entries
-/// beside it (`extra0`: `bordering::Split`).
-fn counted_base(
-    base: bordering::Base,
-    tangent: Option<u64>,
-    extra0: &[(usize, usize, f64)],
-) -> bordering::Base {
-    match tangent {
-        Some(t) => {
-            let mut extra0 = extra0.to_vec();
-            sort_by_column(&mut extra0);
-            base.on_tangent(t, extra0)
-        }
-        None => base,
     }
 }
 
@@ -2440,7 +2248,6 @@ fn refined_solve(
     true
 }
 
-mod bordering;
 mod ldu;
 #[cfg(test)]
 mod tests;

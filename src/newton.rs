@@ -40,7 +40,8 @@ struct InnerSolves {
 
 /// A solve before the decisions the linearised problem took from it: its
 /// solution, the contact memory and rows it was made with, and, when it
-/// was deferred, its right-hand side and entries.
+/// was left partial (`Augmented::solve_watching`), its right-hand side and
+/// entries.
 struct KeptSolve {
     full: Vec<f64>,
     memory: Vec<PairMemory>,
@@ -48,29 +49,8 @@ struct KeptSolve {
     deferred: Option<Deferred>,
 }
 
-/// A deferred solve's right-hand side and entries beside the tangent.
+/// A partial solve's right-hand side and entries beside the tangent.
 type Deferred = (Vec<f64>, Vec<(usize, usize, f64)>);
-
-/// Rows and displacement entries by which an inner solve's system of order
-/// n may differ from the iteration's factored one and still be solved with
-/// its factorization (`Augmented::solve_modified`); beyond, it is factored.
-/// A bordered solve of rank r costs a triangular solve per change not seen
-/// before in the iteration and two more, passes over the system's entries,
-/// and a dense r x r Schur complement (its LU r^3 / 3) applied to n entries
-/// per change; a 2D mesh's sparse factorization costs about n^1.5. The
-/// limit grows as sqrt(n), from 48: on the capstan FMU at 516 unknowns
-/// (LU: the strip is held by contact alone; a factorization of its
-/// 650-770 unknowns takes about 0.35 ms with its system) a limit of 28
-/// took 2.5 ms per Newton iteration, 48 2.4 ms, 64 2.5 ms, 96 2.7 ms, and
-/// 256 4.7 ms (bordered solves of 1 ms); over the stress suite's 48
-/// capstan cases of 130 to 7177 unknowns, 48 against sqrt(n) changed no
-/// median iteration count, took 1 fewer at most in one, fewer solves, and
-/// the 29 cases whose factorizations it changed (25 to 9 on the coarsest)
-/// 5-20 % less time but one (+5 %). (Those figures predate the unpivoted
-/// LDU, whose factors are not bordered at all: `Augmented::try_ldu`.)
-fn max_bordered(n: usize) -> usize {
-    ((n as f64).sqrt().ceil() as usize).clamp(48, 256)
-}
 
 /// An iterate is still settling while the correction that reached it is
 /// above this fraction of the increment's first correction (and always
@@ -216,21 +196,15 @@ pub struct Phases {
     /// Symbolic analyses of bordered systems (a new contact pattern).
     pub analyses: usize,
     /// Bordered systems solved by LDLT, by LU, by the unpivoted LDU, and
-    /// without a factorization of their own (an inner solve bordering its
-    /// iteration's factor).
+    /// without a factorization of their own, on the last LDLT factor's
+    /// trailing block (`linsolve::Augmented::trailing_solves`).
     pub ldlt: usize,
     pub lu: usize,
     pub ldu: usize,
-    pub bordered: usize,
-    /// Of the bordered, those solved on the factor's trailing block
-    /// (`linsolve::Augmented::trailing_solves`).
     pub trailing: usize,
     /// Of those, the ones whose interior waited until an inner solve was
     /// accepted (`linsolve::Augmented::deferred_solves`).
     pub deferred: usize,
-    /// Of the bordered, those that read their system from the tangent and
-    /// the entries beside it (`linsolve::Augmented::split_solves`).
-    pub split_solves: usize,
     /// Newton iterations whose first solve took the last factor's trailing
     /// block instead of a factorization (a constant tangent, its contact
     /// rows changed on the trailing set alone).
@@ -262,16 +236,14 @@ impl Phases {
     /// `split` and the counts, one line (the CLI's `-v` and the benchmark).
     pub fn summary(&self) -> String {
         format!(
-            "{}; {} factorizations ({} LDLT, {} LU, {} LDU), {} bordered solves ({} on the trailing block, {} deferred, {} split, {} first of an iteration), {} symbolic analyses",
+            "{}; {} factorizations ({} LDLT, {} LU, {} LDU), {} solves on the trailing block ({} deferred, {} first of an iteration), {} symbolic analyses",
             self.split(),
             self.factorizations,
             self.ldlt,
             self.lu,
             self.ldu,
-            self.bordered,
             self.trailing,
             self.deferred,
-            self.split_solves,
             self.reused,
             self.analyses
         )
@@ -349,7 +321,7 @@ pub struct Solver {
     /// The free equations of every contactor node (with rigid targets):
     /// what the linearised problem's decisions read of an inner solve's
     /// displacements (`contact::predict`), so its solve may be deferred
-    /// (`Augmented::solve_modified_watching`).
+    /// (`Augmented::solve_watching`).
     contact_eqs: Vec<usize>,
     /// The last increment failed at its first solve because nothing held
     /// a body (`correction`).
@@ -539,10 +511,8 @@ impl Solver {
             ldlt: self.augmented.ldlt,
             lu: self.augmented.lu,
             ldu: self.augmented.ldu,
-            bordered: self.augmented.bordered,
             trailing: self.augmented.trailing_solves,
             deferred: self.augmented.deferred_solves,
-            split_solves: self.augmented.split_solves,
             reused: self.times.reused,
             tangents: self.times.tangents,
         }
@@ -1477,14 +1447,14 @@ impl Solver {
     /// constant tangent) or on its analysis: one symbolic analysis and one
     /// factorization where the plain tangent (`linear`) and then the
     /// contact system took two of each. False when this does not apply
-    /// (no slots, comparisons forcing LU or bordering, a failed solve):
+    /// (no slots, comparisons forcing LU or no trailing set, a failed solve):
     /// `linear` solves then.
     fn solve_in_contact_slots(&mut self, inc: &mut Increment) -> Result<bool, String> {
         let augmented = &self.augmented;
         if !self.rigid_targets
             || self.problem.contacts.is_empty()
             || augmented.force_lu
-            || augmented.border_only
+            || augmented.no_trailing
             || !augmented.slots
         {
             return Ok(false);
@@ -1509,10 +1479,10 @@ impl Solver {
         let mut full = inc.rhs.clone();
         full.resize(n + slots.len(), 0.0);
         let (pattern, k) = (&self.model.pattern, &self.k);
-        let reused = self.k_constant
-            && (self.augmented).solve_on_trailing_block(pattern, k, extra, &mut full, None);
-        self.times.reused += usize::from(reused);
-        if !reused && self.augmented.solve(pattern, k, extra, &mut full).is_err() {
+        let trailing = self.augmented.trailing_solves;
+        let solved = self.augmented.solve(pattern, k, extra, &mut full);
+        self.times.reused += self.augmented.trailing_solves - trailing;
+        if solved.is_err() {
             self.augmented.restart();
             inc.slots = Some(Vec::new());
             return Ok(false);
@@ -1555,6 +1525,7 @@ impl Solver {
             let more =
                 inner_solves && inner.count < MAX_INNER && system.is_some() && rhs_base.is_some();
             let neqc = system.as_ref().map_or(0, |c| c.rows.len());
+            let b = more.then(|| full.clone());
             let (solved, partial) =
                 self.solve_constraint_system(&mut full, extra, inner.count, more);
             let solved = solved.map_err(|e| format!("constraint system (NEQC {neqc}): {e}"));
@@ -1573,9 +1544,7 @@ impl Solver {
             else {
                 break self.finish_inner(partial, full, extra)?;
             };
-            let deferred = (self.augmented.deferred_rhs())
-                .filter(|_| partial)
-                .map(|b| (b, extra.clone()));
+            let deferred = b.filter(|_| partial).map(|b| (b, extra.clone()));
             let states = memory.clone();
             let rebuilt = self.contact_update(step, Some((sys, &switched)), memory, flips, log)?;
             rhs_now.copy_from_slice(rhs_base);
@@ -1595,14 +1564,11 @@ impl Solver {
     }
 
     /// One solve of the constraint system `full` (entries `extra` beside
-    /// the tangent): an inner solve (`inner` > 0) borders the iteration's
-    /// factorization with the rows that changed (`Augmented::solve_modified`;
-    /// against rigid targets only, `rigid_targets`), the first under a
-    /// constant tangent takes the last factor's trailing block when its rows
-    /// changed there alone, any other is factored. With `more` (another
-    /// inner solve may follow) a bordered or trailing solve leaves the
-    /// interior until one is accepted (`finish_inner`). Returns the solve's
-    /// outcome and whether it was left partial so.
+    /// the tangent), the `inner`-th of its iteration (`Augmented::solve`
+    /// decides how). With `more` (another inner solve may follow) it may be
+    /// left partial, the contact nodes' motion solved alone until one is
+    /// accepted (`finish_inner`). Returns the solve's outcome and whether
+    /// it was left partial so.
     fn solve_constraint_system(
         &mut self,
         full: &mut [f64],
@@ -1610,29 +1576,17 @@ impl Solver {
         inner: usize,
         more: bool,
     ) -> (Result<(), LinearError>, bool) {
-        let n = self.model.free_dofs();
         let watch = more.then_some(&self.contact_eqs[..]);
         let (pattern, k) = (&self.model.pattern, &self.k);
-        let bordered = self.rigid_targets
-            && if inner > 0 {
-                (self.augmented).solve_modified_watching(
-                    pattern,
-                    k,
-                    extra,
-                    full,
-                    max_bordered(n),
-                    watch,
-                )
-            } else {
-                let reused = self.k_constant
-                    && (self.augmented).solve_on_trailing_block(pattern, k, extra, full, watch);
-                self.times.reused += usize::from(reused);
-                reused
-            };
-        if bordered {
-            return (Ok(()), self.augmented.deferred());
+        let trailing = self.augmented.trailing_solves;
+        let solved = (self.augmented).solve_watching(pattern, k, extra, full, watch);
+        if inner == 0 {
+            self.times.reused += self.augmented.trailing_solves - trailing;
         }
-        (self.augmented.solve(pattern, k, extra, full), false)
+        match solved {
+            Ok(whole) => (Ok(()), !whole),
+            Err(e) => (Err(e), false),
+        }
     }
 
     /// After an inner solve, whether the states the linearised problem chose
@@ -1663,14 +1617,12 @@ impl Solver {
         let Some((rhs_prev, extra_prev)) = previous.deferred else {
             return Ok(Some(previous.full));
         };
-        // That solve was deferred: solved again in full.
+        // That solve was left partial: solved again in full.
         *extra = extra_prev;
         let mut x = rhs_prev;
         let (pattern, k) = (&self.model.pattern, &self.k);
-        if !(self.augmented).solve_modified(pattern, k, extra, &mut x, max_bordered(n)) {
-            (self.augmented.solve(pattern, k, extra, &mut x))
-                .map_err(|e| format!("constraint system: {e}"))?;
-        }
+        (self.augmented.solve(pattern, k, extra, &mut x))
+            .map_err(|e| format!("constraint system: {e}"))?;
         Ok(Some(x))
     }
 
@@ -1719,28 +1671,21 @@ impl Solver {
         Ok(Some(switched))
     }
 
-    /// The accepted inner solve `full`: as solved, or, when it was
-    /// deferred (`partial`), finished (`Augmented::complete`); should that
-    /// fail its check, its system (entries `extra`) factored.
+    /// The accepted inner solve `full`: as solved, or, when it was left
+    /// partial, finished (`Augmented::finish`; entries `extra`).
     fn finish_inner(
         &mut self,
         partial: bool,
         mut full: Vec<f64>,
         extra: &mut [(usize, usize, f64)],
     ) -> Result<Vec<f64>, String> {
-        if !partial {
-            return Ok(full);
+        if partial {
+            (self
+                .augmented
+                .finish(&self.model.pattern, &self.k, extra, &mut full))
+            .map_err(|e| format!("constraint system: {e}"))?;
         }
-        let rhs = self.augmented.deferred_rhs();
-        if (self.augmented).complete(&self.model.pattern, &self.k, extra, &mut full) {
-            return Ok(full);
-        }
-        let mut x = rhs.ok_or("a deferred solve without its right-hand side")?;
-        (self
-            .augmented
-            .solve(&self.model.pattern, &self.k, extra, &mut x))
-        .map_err(|e| format!("constraint system: {e}"))?;
-        Ok(x)
+        Ok(full)
     }
 
     /// The nodes whose stick/slip state the linearised problem decides

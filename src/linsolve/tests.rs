@@ -284,9 +284,10 @@ fn unsymmetric_system_takes_the_unpivoted_ldu() {
     );
     let a = dense(&p, &k, &extra, n);
     assert!(residual(&a, &x, &b) < 1e-10);
-    // An inner solve with a row changed is not bordered on the LDU's
-    // factor (none is kept: `try_ldu`); factored again, on the same
+    // An inner solve with a row changed, on the same counted tangent, is
+    // factored again (the LDU keeps no factor: `try_ldu`), on the same
     // analysis.
+    aug.new_tangent();
     let mut changed = extra.clone();
     for e in changed
         .iter_mut()
@@ -296,12 +297,18 @@ fn unsymmetric_system_takes_the_unpivoted_ldu() {
     }
     changed.push((2, 3, -0.2));
     let mut x2 = b.clone();
-    assert!(!aug.solve_modified(&p, &k, &mut changed.clone(), &mut x2, 8));
-    assert_eq!(x2, b);
+    aug.solve(&p, &k, &mut changed.clone(), &mut x2).unwrap();
+    aug.solve(&p, &k, &mut changed.clone(), &mut x2).unwrap();
+    x2.clone_from(&b);
     aug.solve(&p, &k, &mut changed.clone(), &mut x2).unwrap();
     assert_eq!(
-        (aug.bordered, aug.ldu, aug.factorizations, aug.analyses),
-        (0, 2, 2, 1)
+        (
+            aug.trailing_solves,
+            aug.ldu,
+            aug.factorizations,
+            aug.analyses
+        ),
+        (0, 4, 4, 1)
     );
     assert!(residual(&dense(&p, &k, &changed, n), &x2, &b) < 1e-10);
     let (x_lu, aug) = solve(&p, &k, &extra, &b, true);
@@ -533,150 +540,10 @@ fn multipliers_in_slots_keep_the_analysis() {
     assert_eq!(check(&mut aug, &[], &[]).1, 8);
 }
 
-/// An inner solve bordered on the factor of another contact set (rows
-/// released, rows added, a friction-like unsymmetric column, a changed
-/// tangent entry, an identity row) solves its own system, whether the
-/// factored system kept its multipliers in slots (empty slots are no
-/// change) or not, by LDLT and by LU.
-#[test]
-fn bordered_solves_match_the_dense_system() {
-    let mut rng = Rng(21);
-    let (p, k) = q4(9, 8, true);
-    let rows = contact_rows(9, 8, 6, &mut rng);
-    let kept_rows: Rows = vec![rows[0].clone(), rows[2].clone(), rows[4].clone()];
-    let (n_disp, top) = (p.n, 2 * (7 * 9) + 1);
-    let cases = [(false, false), (true, false), (false, true), (true, true)];
-    // Each case twice: the systems built whole, and (the caller counting
-    // its tangent, `new_tangent`) read from the entries beside it.
-    for ((slots, force_lu), counted) in cases.into_iter().flat_map(|c| [(c, false), (c, true)]) {
-        let mut aug = Augmented {
-            force_lu,
-            border_only: true,
-            ..Augmented::with_slots(slots)
-        };
-        if counted {
-            aug.new_tangent();
-        }
-        // The factored system: rows 0..5 (and, with slots, row 5 seen once
-        // before, so that its slot is empty now).
-        if slots {
-            let mut extra = border(n_disp, &rows);
-            let mut x = rhs(n_disp + rows.len(), &mut Rng(3));
-            aug.solve(&p, &k, &mut extra, &mut x).unwrap();
-        }
-        let base = &rows[..5];
-        let mut extra = border(n_disp, base);
-        let b_base = rhs(n_disp + base.len(), &mut Rng(4));
-        let mut x = b_base.clone();
-        aug.solve(&p, &k, &mut extra, &mut x).unwrap();
-        // Rows 1 and 3 released, the right-hand side otherwise the factored
-        // one's: solved from the kept solution and columns.
-        let mut extra = border(n_disp, &kept_rows);
-        let mut b: Vec<f64> = b_base[..n_disp].to_vec();
-        b.extend([0, 2, 4].map(|i| b_base[n_disp + i]));
-        let a = dense(&p, &k, &extra, b.len());
-        let mut x = b.clone();
-        assert!(aug.solve_modified(&p, &k, &mut extra, &mut x, 16));
-        let r = residual(&a, &x, &b);
-        assert!(r < 1e-10, "slots {slots}, LU {force_lu}: residual {r:e}");
-        // One column per release and the refinement's solve: none for the
-        // right-hand side.
-        assert_eq!(aug.columns, 3, "slots {slots}, LU {force_lu}");
-        // The inner solve's system: rows 1 and 3 released, row 5 added with
-        // a column of its own, an identity row, K(top, top) changed.
-        let new_rows: Rows = vec![rows[0].clone(), rows[2].clone(), rows[4].clone()];
-        let mut extra = border(n_disp, &new_rows);
-        let m5 = n_disp + new_rows.len();
-        for &(d, c) in &rows[5] {
-            extra.push((m5, d, c));
-            extra.push((d, m5, 0.7 * c));
-        }
-        extra.push((m5 + 1, m5 + 1, 1.0));
-        extra.push((
-            top,
-            top,
-            0.25 * k.iter().fold(0.0f64, |m, v| m.max(v.abs())),
-        ));
-        let n = m5 + 2;
-        let b = rhs(n, &mut Rng(5));
-        let a = dense(&p, &k, &extra, n);
-        let mut x = b.clone();
-        assert!(
-            aug.solve_modified(&p, &k, &mut extra, &mut x, 16),
-            "slots {slots}, LU {force_lu}: not bordered"
-        );
-        assert_eq!(aug.bordered, 2);
-        let r = residual(&a, &x, &b);
-        assert!(r < 1e-10, "slots {slots}, LU {force_lu}: residual {r:e}");
-        assert_eq!(x[m5 + 1], b[m5 + 1]);
-        // The same releases and tangent change, the right-hand side the
-        // factored one's but at the changed row: every column is kept, the
-        // refinement's is the one solve with the factor.
-        let mut extra = border(n_disp, &kept_rows);
-        extra.push((
-            top,
-            top,
-            0.25 * k.iter().fold(0.0f64, |m, v| m.max(v.abs())),
-        ));
-        let mut b: Vec<f64> = b_base[..n_disp].to_vec();
-        b.extend([0, 2, 4].map(|i| b_base[n_disp + i]));
-        b[top] += 2.0;
-        let a = dense(&p, &k, &extra, b.len());
-        let mut x = b.clone();
-        let columns = aug.columns;
-        assert!(aug.solve_modified(&p, &k, &mut extra, &mut x, 16));
-        let r = residual(&a, &x, &b);
-        assert!(r < 1e-10, "slots {slots}, LU {force_lu}: residual {r:e}");
-        assert_eq!(aug.columns, columns + 1, "slots {slots}, LU {force_lu}");
-        // The factored system itself, bordered: nothing to border (with
-        // slots, A0 differs from it in an empty slot only).
-        let mut extra = border(n_disp, base);
-        let b = rhs(n_disp + base.len(), &mut Rng(6));
-        let a = dense(&p, &k, &extra, b.len());
-        let mut x = b.clone();
-        assert!(aug.solve_modified(&p, &k, &mut extra, &mut x, 16));
-        let r = residual(&a, &x, &b);
-        assert!(r < 1e-10, "slots {slots}, LU {force_lu}: residual {r:e}");
-        // Tangent entries beside K in the factored system and in the
-        // bordered one, at the same places and elsewhere (a sliding
-        // gradient against a deformable target): their difference alone
-        // is the change.
-        // (At a dof of its own: the contact rows hold `top`'s node, and a
-        // change there moves its multiplier alone.)
-        let scale = k.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-        let mid = n_disp / 2;
-        // (Symmetric, so that without `force_lu` LDLT factors it: an
-        // unsymmetric one goes to the LDU, which keeps no factor.)
-        let mut extra = border(n_disp, base);
-        extra.extend([
-            (mid, mid, 0.3 * scale),
-            (mid, mid + 1, -0.1 * scale),
-            (mid + 1, mid, -0.1 * scale),
-        ]);
-        let mut x = rhs(n_disp + base.len(), &mut Rng(7));
-        aug.solve(&p, &k, &mut extra, &mut x).unwrap();
-        let mut extra = border(n_disp, base);
-        extra.extend([
-            (mid, mid, 0.2 * scale),
-            (mid, mid, 0.1 * scale),
-            (mid + 1, mid, 0.05 * scale),
-        ]);
-        let b = rhs(n_disp + base.len(), &mut Rng(8));
-        let a = dense(&p, &k, &extra, b.len());
-        let mut x = b.clone();
-        assert!(aug.solve_modified(&p, &k, &mut extra, &mut x, 16));
-        let r = residual(&a, &x, &b);
-        assert!(r < 1e-10, "slots {slots}, LU {force_lu}: residual {r:e}");
-        assert_eq!(aug.bordered, 5, "slots {slots}, LU {force_lu}");
-        let split = if counted { 5 } else { 0 };
-        assert_eq!(aug.split_solves, split, "slots {slots}, LU {force_lu}");
-    }
-}
-
 /// Inner solves on the trailing block of the factor (the slots' dofs and
 /// multipliers eliminated last): releases, an unsymmetric row, a tangent
 /// entry changed on a contact dof, each against the dense system; a change
-/// outside the trailing set borders the factor instead, and right.
+/// outside the trailing set is factored instead, and right.
 #[test]
 fn trailing_solves_match_the_dense_system() {
     let mut rng = Rng(31);
@@ -684,6 +551,7 @@ fn trailing_solves_match_the_dense_system() {
     let rows = contact_rows(12, 10, 6, &mut rng);
     let n_disp = p.n;
     let mut aug = Augmented::with_slots(true);
+    aug.new_tangent();
     let mut extra = border(n_disp, &rows);
     let b0 = rhs(n_disp + rows.len(), &mut Rng(3));
     let mut x = b0.clone();
@@ -697,11 +565,12 @@ fn trailing_solves_match_the_dense_system() {
         let n = b.len();
         let a = dense(&p, &k, extra, n);
         let mut x = b.to_vec();
-        let before = aug.trailing_solves;
-        assert!(aug.solve_modified(&p, &k, extra, &mut x, 16));
+        let (before, factored) = (aug.trailing_solves, aug.factorizations);
+        aug.solve(&p, &k, extra, &mut x).unwrap();
         let r = residual(&a, &x, b);
         assert!(r < 1e-10, "residual {r:e}");
         assert_eq!(aug.trailing_solves - before, usize::from(trailing));
+        assert_eq!(aug.factorizations - factored, usize::from(!trailing));
         // The solve before its refinement was sound: the refinement
         // corrects round-off only (a wrong forward substitution kept from
         // the last solve would be corrected there, unseen in x).
@@ -733,65 +602,70 @@ fn trailing_solves_match_the_dense_system() {
     }
     extra.push((contact_dof, contact_dof, 0.25 * kmax));
     check(&mut extra, &rhs(n_disp + 4, &mut Rng(12)), true);
-    // A tangent entry changed away from the contact rows: bordered.
+    // A tangent entry changed away from the contact rows: factored.
     let mut extra = border(n_disp, &kept);
     extra.push((inner_dof, inner_dof, 0.25 * kmax));
     check(&mut extra, &rhs(n_disp + kept.len(), &mut Rng(13)), false);
 }
 
-/// A caller that counts its tangent's changes (`new_tangent`) spares the
-/// trailing solves the tangent's fingerprint while it holds; a change it
-/// reports brings the fingerprint back, and the changed tangent is not
-/// solved on the old factor's trailing block.
+/// The trailing block serves while the caller's counted tangent is the
+/// factored one's (`new_tangent`): a change it reports, or a caller that
+/// counts none, has the system factored, and right.
 #[test]
 fn a_counted_tangent_change_leaves_the_trailing_block() {
     let mut rng = Rng(41);
     let (p, k) = q4(12, 10, true);
     let rows = contact_rows(12, 10, 6, &mut rng);
     let n_disp = p.n;
-    let mut aug = Augmented::with_slots(true);
-    aug.new_tangent();
-    let mut x = rhs(n_disp + rows.len(), &mut Rng(3));
-    aug.solve(&p, &k, &mut border(n_disp, &rows), &mut x)
-        .unwrap();
     let kept: Rows = [0, 2, 4, 5].map(|i| rows[i].clone()).to_vec();
     let b = rhs(n_disp + kept.len(), &mut Rng(11));
+    // The trailing solves and factorizations of the released system on
+    // tangent `k`, and its residual.
     let solve = |aug: &mut Augmented, k: &[f64]| {
         let mut x = b.clone();
-        let before = aug.trailing_solves;
-        let done = aug.solve_modified(&p, k, &mut border(n_disp, &kept), &mut x, 16);
+        let counts = (aug.trailing_solves, aug.factorizations);
+        aug.solve(&p, k, &mut border(n_disp, &kept), &mut x)
+            .unwrap();
         let a = dense(&p, k, &border(n_disp, &kept), b.len());
+        let r = residual(&a, &x, &b);
+        assert!(r < 1e-10, "residual {r:e}");
         (
-            aug.trailing_solves - before,
-            done.then(|| residual(&a, &x, &b)),
+            aug.trailing_solves - counts.0,
+            aug.factorizations - counts.1,
         )
     };
-    // The same tangent, counted: on the trailing block, without reading
-    // the tangent.
-    let (trailing, r) = solve(&mut aug, &k);
-    assert_eq!(trailing, 1);
-    assert!(r.unwrap() < 1e-10);
-    assert_eq!(aug.trailing_work.fingerprints, 0);
-    // A tangent entry changed far from the contact rows, the change
-    // reported: not on the trailing block (bordered, or not at all), and
-    // whatever solved it solved the new system.
-    let mut k1 = k.clone();
-    let inner = p.col_ptr[2 * (5 * 12 + 6)];
-    k1[inner] *= 1.25;
-    aug.new_tangent();
-    let (trailing, r) = solve(&mut aug, &k1);
-    assert_eq!(trailing, 0);
-    assert_eq!(aug.trailing_work.fingerprints, 1);
-    if let Some(r) = r {
-        assert!(r < 1e-10, "residual {r:e}");
+    for counted in [true, false] {
+        let mut aug = Augmented::with_slots(true);
+        if counted {
+            aug.new_tangent();
+        }
+        let mut x = rhs(n_disp + rows.len(), &mut Rng(3));
+        aug.solve(&p, &k, &mut border(n_disp, &rows), &mut x)
+            .unwrap();
+        // The same tangent: on the trailing block when counted.
+        let want = if counted { (1, 0) } else { (0, 1) };
+        assert_eq!(solve(&mut aug, &k), want, "counted {counted}");
+        if !counted {
+            continue;
+        }
+        // A tangent entry changed far from the contact rows (an entry off
+        // the diagonal: the tangent unsymmetric), the change reported:
+        // factored (the tangent's LDLT with the slots empty, then the LDU).
+        let mut k1 = k.clone();
+        let inner = p.col_ptr[2 * (5 * 12 + 6)];
+        k1[inner] *= 1.25;
+        aug.new_tangent();
+        let (trailing, factored) = solve(&mut aug, &k1);
+        assert_eq!(trailing, 0);
+        assert!(factored >= 1);
     }
 }
 
-/// A deferred inner solve on the trailing block (`solve_modified_watching`)
-/// gives the multipliers and the watched unknowns as the whole solve does,
-/// leaves interior unknowns it did not need unsolved (NaN), and `complete`
-/// finishes it into the system's solution; a later solve drops what was
-/// deferred.
+/// A partial inner solve on the trailing block (`solve_watching`) gives
+/// the multipliers and the watched unknowns as the whole solve does,
+/// leaves interior unknowns it did not need unsolved (NaN), and `finish`
+/// completes it into the system's solution; a later solve drops what was
+/// left partial.
 #[test]
 fn deferred_trailing_solves_give_the_watched_unknowns_then_the_solution() {
     let mut rng = Rng(41);
@@ -799,13 +673,14 @@ fn deferred_trailing_solves_give_the_watched_unknowns_then_the_solution() {
     let rows = contact_rows(16, 12, 6, &mut rng);
     let n_disp = p.n;
     let mut aug = Augmented::with_slots(true);
+    aug.new_tangent();
     let mut extra = border(n_disp, &rows);
     let mut x = rhs(n_disp + rows.len(), &mut Rng(3));
     aug.solve(&p, &k, &mut extra, &mut x).unwrap();
-    assert!(
-        !aug.complete(&p, &k, &mut extra, &mut x),
-        "nothing deferred"
-    );
+    // Nothing partial: `finish` leaves the solution as it is.
+    let solved = x.clone();
+    aug.finish(&p, &k, &mut extra, &mut x).unwrap();
+    assert_eq!(x, solved);
     // Watched: a contact dof and a few dofs away from the rows (their
     // values need the supernodes above theirs).
     let contact_dof = rows[0][0].0;
@@ -818,15 +693,17 @@ fn deferred_trailing_solves_give_the_watched_unknowns_then_the_solution() {
     let b = rhs(n_disp + kept.len(), &mut Rng(11));
     let a = dense(&p, &k, &extra, b.len());
     let mut partial = b.clone();
-    assert!(aug.solve_modified_watching(&p, &k, &mut extra, &mut partial, 16, Some(&watch)));
-    assert!(aug.deferred());
+    let whole = aug.solve_watching(&p, &k, &mut extra, &mut partial, Some(&watch));
+    assert!(!whole.unwrap());
     assert_eq!(aug.deferred_rhs().as_deref(), Some(&b[..]));
-    assert_eq!(aug.trailing_solves, 1);
+    assert_eq!((aug.trailing_solves, aug.deferred_solves), (1, 1));
     let unsolved = partial[..n_disp].iter().filter(|v| v.is_nan()).count();
     assert!(unsolved > 0, "every interior unknown solved");
     let mut x = partial.clone();
-    assert!(aug.complete(&p, &k, &mut extra, &mut x));
-    assert!(!aug.deferred());
+    let factored = aug.factorizations;
+    aug.finish(&p, &k, &mut extra, &mut x).unwrap();
+    assert_eq!(aug.factorizations, factored, "finished by a factorization");
+    assert!(aug.deferred_rhs().is_none());
     let r = residual(&a, &x, &b);
     assert!(r < 1e-10, "residual {r:e}");
     // The deferred solve is the same solve, before its refinement.
@@ -841,90 +718,21 @@ fn deferred_trailing_solves_give_the_watched_unknowns_then_the_solution() {
             x[i]
         );
     }
-    // Deferred again, then another solve: nothing left to complete.
+    // Partial again, then another solve: nothing left to finish.
     let mut y = b.clone();
-    assert!(aug.solve_modified_watching(&p, &k, &mut extra, &mut y, 16, Some(&watch)));
+    let whole = aug.solve_watching(&p, &k, &mut extra, &mut y, Some(&watch));
+    assert!(!whole.unwrap());
     let mut z = b.clone();
-    assert!(aug.solve_modified(&p, &k, &mut extra, &mut z, 16));
-    assert!(!aug.deferred());
-    assert!(!aug.complete(&p, &k, &mut extra, &mut y));
+    aug.solve(&p, &k, &mut extra, &mut z).unwrap();
+    assert!(aug.deferred_rhs().is_none());
+    let unfinished = y.clone();
+    aug.finish(&p, &k, &mut extra, &mut y).unwrap();
+    assert!(
+        y.iter()
+            .zip(&unfinished)
+            .all(|(a, b)| a.to_bits() == b.to_bits())
+    );
     assert!(residual(&a, &z, &b) < 1e-10);
-}
-
-/// A bordered inner solve that another may follow (`watch`) is taken
-/// unrefined (`bordering::solve`'s `defer`): it is the refined solution to
-/// round-off, `deferred` says so and keeps its right-hand side, and
-/// `complete` solves it again refined, bit for bit the solve without
-/// `watch`; a later solve drops what was deferred. On LU (an unsymmetric
-/// row, a sliding node's multiplier column) and on LDLT, each with the
-/// system built whole and read from the entries beside the tangent.
-#[test]
-fn deferred_bordered_solves_are_refined_when_completed() {
-    let mut rng = Rng(23);
-    let (p, k) = q4(9, 8, true);
-    let rows = contact_rows(9, 8, 6, &mut rng);
-    let n_disp = p.n;
-    for (force_lu, counted) in [(false, false), (false, true), (true, false), (true, true)] {
-        let case = format!("LU {force_lu}, counted {counted}");
-        let mut aug = Augmented {
-            force_lu,
-            border_only: true,
-            ..Augmented::with_slots(false)
-        };
-        if counted {
-            aug.new_tangent();
-        }
-        let mut extra = border(n_disp, &rows[..5]);
-        let mut x = rhs(n_disp + 5, &mut Rng(4));
-        aug.solve(&p, &k, &mut extra, &mut x).unwrap();
-        // Rows 1 and 3 released, row 5 added; on LU its column is not its
-        // row (friction).
-        let new_rows: Rows = [0, 2, 4].map(|i| rows[i].clone()).to_vec();
-        let mut extra = border(n_disp, &new_rows);
-        let m5 = n_disp + new_rows.len();
-        let skew = if force_lu { 0.7 } else { 1.0 };
-        for &(d, c) in &rows[5] {
-            extra.push((m5, d, c));
-            extra.push((d, m5, skew * c));
-        }
-        let b = rhs(m5 + 1, &mut Rng(5));
-        let a = dense(&p, &k, &extra, b.len());
-        let watch: Vec<usize> = rows.iter().flatten().map(|&(d, _)| d).collect();
-        let mut unrefined = b.clone();
-        let before = aug.deferred_solves;
-        assert!(
-            aug.solve_modified_watching(&p, &k, &mut extra, &mut unrefined, 16, Some(&watch)),
-            "{case}: not bordered"
-        );
-        assert_eq!(aug.deferred_solves, before + 1, "{case}");
-        assert!(aug.deferred(), "{case}");
-        assert_eq!(aug.deferred_rhs().as_deref(), Some(&b[..]), "{case}");
-        let r = residual(&a, &unrefined, &b);
-        assert!(r < 1e-10, "{case}: unrefined residual {r:e}");
-        // Completed: the refined solve, bit for bit.
-        let mut refined = unrefined.clone();
-        assert!(aug.complete(&p, &k, &mut extra, &mut refined), "{case}");
-        assert!(!aug.deferred(), "{case}");
-        let mut direct = b.clone();
-        assert!(aug.solve_modified(&p, &k, &mut extra, &mut direct, 16));
-        assert!(!aug.deferred(), "{case}: a solve without watch deferred");
-        assert_eq!(refined, direct, "{case}");
-        let scale = direct.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-        for (i, (u, d)) in unrefined.iter().zip(&direct).enumerate() {
-            assert!(
-                (u - d).abs() <= 1e-10 * scale,
-                "{case}: unknown {i}: {u} against {d}"
-            );
-        }
-        // Deferred again, then a factored solve: nothing left to complete.
-        let mut y = b.clone();
-        assert!(aug.solve_modified_watching(&p, &k, &mut extra, &mut y, 16, Some(&watch)));
-        assert!(aug.deferred(), "{case}");
-        let mut z = b.clone();
-        aug.solve(&p, &k, &mut extra, &mut z).unwrap();
-        assert!(!aug.deferred(), "{case}");
-        assert!(!aug.complete(&p, &k, &mut extra, &mut y), "{case}");
-    }
 }
 
 /// The symmetry test against the dense definition on random sparse

@@ -17,8 +17,7 @@
 //! read from the factor. A solve is a forward substitution over the
 //! interior (it leaves the reduced right-hand side `b_T - L_TI y_I` in the
 //! trailing rows), a dense LU solve of order `t`, and a back substitution
-//! over the interior with `x_T` known: one triangular solve in all, where
-//! bordering the factor costs one per changed row (`bordering`).
+//! over the interior with `x_T` known: one triangular solve in all.
 
 use faer::linalg::matmul::matmul;
 use faer::linalg::triangular_solve::{
