@@ -1,15 +1,21 @@
-//! Sparse linear solves with faer: the symbolic analysis is done once per
-//! pattern and reused; Cholesky (LLT) for symmetric positive definite
-//! tangents, LU when the tangent is unsymmetric or LLT meets a non-positive
-//! pivot (a tangent past a limit point). The bordered contact system of
-//! Eq. (18) ([`Augmented`]) is factored by LDLT with the multipliers ordered
-//! last when it is symmetric, by LU otherwise.
+//! Sparse linear solves with faer, the symbolic analysis done once per
+//! pattern and reused:
+//! - [`LinearSolver`], the tangent alone: Cholesky (LLT) for a symmetric
+//!   positive definite tangent, LU when it is unsymmetric or LLT meets a
+//!   non-positive pivot (a tangent past a limit point);
+//! - [`Augmented`], the contact system of Eq. (18), the one solver Newton
+//!   hands its systems to (`solve`, `solve_watching`, `finish`): it solves
+//!   each on the kept LDLT factor's trailing block when it can
+//!   (`trailing.rs`), else factors it (LDLT with the multipliers last, the
+//!   unpivoted LDU of `ldu.rs`, or LU), each solve checked;
+//! - [`FactoredLu`], one factorization kept for many right-hand sides (the
+//!   sensitivities of a converged state).
 
 use crate::assembly::Pattern;
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::linalg::cholesky::ldlt::factor::LdltRegularization;
 use faer::linalg::cholesky::llt::factor::LltRegularization;
-use faer::linalg::solvers::{PartialPivLu, Solve};
+use faer::linalg::solvers::Solve;
 use faer::perm::PermRef;
 use faer::sparse::linalg::amd;
 use faer::sparse::linalg::cholesky::{
@@ -21,7 +27,6 @@ use faer::sparse::{FaerError, SparseColMatRef, SymbolicSparseColMat, SymbolicSpa
 use faer::{Conj, Mat, MatMut, Par, Side};
 use rustc_hash::FxHashMap as HashMap;
 use std::borrow::Cow;
-use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 #[derive(Debug, thiserror::Error)]
@@ -490,7 +495,7 @@ pub struct Augmented {
 
 /// Largest normwise backward error `|b - A x|_inf / (|A|_inf |x|_inf +
 /// |b|_inf)` accepted from the unpivoted LDLT before falling back to LU.
-const LDLT_BACKWARD_ERROR: f64 = 1e-8;
+pub(super) const LDLT_BACKWARD_ERROR: f64 = 1e-8;
 /// Largest correction `|dx|_inf / |x|_inf` over the displacements of one
 /// refinement step accepted from the unpivoted LDLT before falling back to
 /// LU. Measured: 129 to 8540 on a layer held by contact alone
@@ -500,7 +505,7 @@ const LDLT_BACKWARD_ERROR: f64 = 1e-8;
 /// The multipliers are not measured: they are large forces, recovered
 /// again from the out-of-balance forces (contact) or corrected by the next
 /// iteration's residual (ties).
-const LDLT_REFINEMENT: f64 = 1e-4;
+pub(super) const LDLT_REFINEMENT: f64 = 1e-4;
 
 impl Augmented {
     /// Forgets the slots (and the analysis and factor that hold them):
@@ -793,16 +798,8 @@ impl Augmented {
         self.trailing_work.bases = DenseBases::default();
         let n = rhs.len();
         let b = rhs.to_vec();
+        let symmetric = self.symmetric_system();
         let analysis = self.analysis.as_mut().expect("set above");
-        let symmetric = !self.force_lu
-            && !analysis.ldlt_failed
-            && match self.extra_asymmetry {
-                Some(a) => {
-                    let max = self.values.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-                    max.is_finite() && a <= SYMMETRY * max
-                }
-                None => is_symmetric(analysis.mat.col_ptr(), analysis.mat.row_idx(), &self.values),
-            };
         let split_dofs = (!symmetric
             && !self.force_lu
             && self.slots
@@ -817,141 +814,194 @@ impl Augmented {
             analysis.split_failed = true;
         }
         self.times.system += clock.elapsed();
-
-        if let Some(dofs) = split_dofs {
-            let clock = Instant::now();
-            let mut base_extra = in_slots(&[], n_disp, &analysis.slots, &[]);
-            let (mut col_ptr, mut row_idx, mut values) = (Vec::new(), Vec::new(), Vec::new());
-            bordered(
-                pattern,
-                k,
-                &mut base_extra,
-                n,
-                [&mut col_ptr, &mut row_idx],
-                &mut values,
-            );
-            // The system differs from it in `T x T` alone (its entries
-            // beside the tangent lie on the slots and their keys' dofs).
-            let mut in_t = vec![false; n];
-            for &d in &dofs {
-                in_t[d] = true;
-            }
-            in_t[n_disp..].fill(true);
-            let same = col_ptr == analysis.mat.col_ptr()
-                && row_idx == analysis.mat.row_idx()
-                && (0..n).all(|j| {
-                    (col_ptr[j]..col_ptr[j + 1])
-                        .all(|q| values[q] == self.values[q] || (in_t[j] && in_t[row_idx[q]]))
-                });
-            self.times.system += clock.elapsed();
-            if analysis.ldlt.is_none() && same {
-                let clock = Instant::now();
-                self.analyses += 1;
-                match analyse_ldlt(
-                    analysis.mat.as_ref(),
-                    n_disp,
-                    &mut self.disp_order,
-                    Some(&dofs),
-                ) {
-                    Ok(s) => {
-                        analysis.trailing = dofs.len() + (n - n_disp);
-                        analysis.ldlt = Some(s);
-                    }
-                    Err(_) => analysis.split_failed = true,
-                }
-                self.times.symbolic += clock.elapsed();
-            }
-            if let Some((symbolic, mem)) = analysis
-                .ldlt
-                .as_mut()
-                .filter(|_| same && analysis.trailing > 0)
-            {
-                self.factorizations += 1;
-                let mat = SparseColMatRef::new(analysis.mat.as_ref(), &values);
-                let stack = MemStack::new(mem);
-                let factored =
-                    factor_ldlt(symbolic, stack, &mut self.l_values, mat, &mut self.times)
-                        .is_some();
-                let clock = Instant::now();
-                let schur = factored
-                    .then(|| trailing::Factor::new(symbolic, &self.l_values, analysis.trailing))
-                    .flatten()
-                    .map(|f| (f.schur(), f.d_inv()))
-                    .filter(|(s0, d_inv)| {
-                        d_inv.iter().all(|v| v.is_finite())
-                            && (0..s0.ncols()).all(|j| s0.col(j).iter().all(|v| v.is_finite()))
-                    });
-                self.times.solve += clock.elapsed();
-                if let Some(schur) = schur {
-                    // The kept system is the factored one.
-                    self.split_values = std::mem::replace(&mut self.values, values);
-                    self.schur = Some(schur);
-                    return Ok(true);
-                }
-            }
-            analysis.split_failed = true;
+        if let Some(dofs) = split_dofs
+            && self.factor_split(pattern, k, n_disp, n, &dofs)
+        {
+            return Ok(true);
         }
-
         if symmetric {
-            if analysis.ldlt.is_none() {
-                let clock = Instant::now();
-                self.analyses += 1;
-                let trailing = (self.slots && !self.no_trailing)
-                    .then(|| trailing_dofs(&analysis.slots, n_disp, n))
-                    .flatten();
-                match analyse_ldlt(
-                    analysis.mat.as_ref(),
-                    n_disp,
-                    &mut self.disp_order,
-                    trailing.as_deref(),
-                ) {
-                    Ok(s) => {
-                        analysis.trailing = trailing.map_or(0, |dofs| dofs.len() + (n - n_disp));
-                        analysis.ldlt = Some(s);
-                    }
-                    Err(_) => analysis.ldlt_failed = true,
-                }
-                self.times.symbolic += clock.elapsed();
+            if self.solve_by_ldlt(n_disp, rhs) {
+                return Ok(false);
             }
-            if let Some((symbolic, mem)) = analysis.ldlt.as_mut() {
-                self.factorizations += 1;
-                let mat = SparseColMatRef::new(analysis.mat.as_ref(), &self.values);
-                if solve_ldlt(
-                    symbolic,
-                    mem,
-                    &mut self.l_values,
-                    mat,
-                    n_disp,
-                    rhs,
-                    &mut self.x,
-                    &mut self.times,
-                    !self.decoupled,
-                ) {
-                    rhs.copy_from_slice(&self.x);
-                    self.ldlt += 1;
-                    self.last = Some(Method::Ldlt);
-                    let clock = Instant::now();
-                    let schur = (analysis.trailing > 0)
-                        .then(|| trailing::Factor::new(symbolic, &self.l_values, analysis.trailing))
-                        .flatten()
-                        .map(|f| (f.schur(), f.d_inv()));
-                    self.times.solve += clock.elapsed();
-                    self.schur = schur;
-                    return Ok(false);
-                }
-                analysis.ldlt_failed = true;
-                // The tangent's own LDLT with the contact dofs last may
-                // still hold (a body held by contact alone): as for an
-                // unsymmetric system, before LU.
-                if self.slots && !self.no_trailing && !analysis.split_failed {
-                    return self.solve_kept(pattern, k, n_disp, rhs);
-                }
+            // The tangent's own LDLT with the contact dofs last may still
+            // hold (a body held by contact alone): as for an unsymmetric
+            // system, before LU.
+            let a = self.analysis.as_ref().expect("set above");
+            if a.ldlt.is_some() && self.slots && !self.no_trailing && !a.split_failed {
+                return self.solve_kept(pattern, k, n_disp, rhs);
             }
         }
-
         if !symmetric && self.try_ldu(n_disp, rhs, &b) {
             return Ok(false);
         }
+        self.solve_by_lu(rhs)?;
+        Ok(false)
+    }
+
+    /// Whether the system in `values` is symmetric (to `SYMMETRY`), LDLT
+    /// allowed on its pattern.
+    fn symmetric_system(&self) -> bool {
+        let analysis = self.analysis.as_ref().expect("set above");
+        !self.force_lu
+            && !analysis.ldlt_failed
+            && match self.extra_asymmetry {
+                Some(a) => {
+                    let max = self.values.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+                    max.is_finite() && a <= SYMMETRY * max
+                }
+                None => is_symmetric(analysis.mat.col_ptr(), analysis.mat.row_idx(), &self.values),
+            }
+    }
+
+    /// The unsymmetric system's split (`solve_kept`): the tangent with
+    /// every slot empty factored by LDLT with the trailing set `dofs` and
+    /// the slots last, kept with its Schur complement; false (and the
+    /// split failed for the pattern) when the system differs from it
+    /// outside the trailing set or the factor fails.
+    fn factor_split(
+        &mut self,
+        pattern: &Pattern,
+        k: &[f64],
+        n_disp: usize,
+        n: usize,
+        dofs: &[usize],
+    ) -> bool {
+        let analysis = self.analysis.as_mut().expect("set above");
+        let clock = Instant::now();
+        let mut base_extra = in_slots(&[], n_disp, &analysis.slots, &[]);
+        let (mut col_ptr, mut row_idx, mut values) = (Vec::new(), Vec::new(), Vec::new());
+        bordered(
+            pattern,
+            k,
+            &mut base_extra,
+            n,
+            [&mut col_ptr, &mut row_idx],
+            &mut values,
+        );
+        // The system differs from it in `T x T` alone (its entries
+        // beside the tangent lie on the slots and their keys' dofs).
+        let mut in_t = vec![false; n];
+        for &d in dofs {
+            in_t[d] = true;
+        }
+        in_t[n_disp..].fill(true);
+        let same = col_ptr == analysis.mat.col_ptr()
+            && row_idx == analysis.mat.row_idx()
+            && (0..n).all(|j| {
+                (col_ptr[j]..col_ptr[j + 1])
+                    .all(|q| values[q] == self.values[q] || (in_t[j] && in_t[row_idx[q]]))
+            });
+        self.times.system += clock.elapsed();
+        if analysis.ldlt.is_none() && same {
+            let clock = Instant::now();
+            self.analyses += 1;
+            match analyse_ldlt(
+                analysis.mat.as_ref(),
+                n_disp,
+                &mut self.disp_order,
+                Some(dofs),
+            ) {
+                Ok(s) => {
+                    analysis.trailing = dofs.len() + (n - n_disp);
+                    analysis.ldlt = Some(s);
+                }
+                Err(_) => analysis.split_failed = true,
+            }
+            self.times.symbolic += clock.elapsed();
+        }
+        if let Some((symbolic, mem)) = analysis
+            .ldlt
+            .as_mut()
+            .filter(|_| same && analysis.trailing > 0)
+        {
+            self.factorizations += 1;
+            let mat = SparseColMatRef::new(analysis.mat.as_ref(), &values);
+            let stack = MemStack::new(mem);
+            let factored =
+                factor_ldlt(symbolic, stack, &mut self.l_values, mat, &mut self.times).is_some();
+            let clock = Instant::now();
+            let schur = factored
+                .then(|| trailing::Factor::new(symbolic, &self.l_values, analysis.trailing))
+                .flatten()
+                .map(|f| (f.schur(), f.d_inv()))
+                .filter(|(s0, d_inv)| {
+                    d_inv.iter().all(|v| v.is_finite())
+                        && (0..s0.ncols()).all(|j| s0.col(j).iter().all(|v| v.is_finite()))
+                });
+            self.times.solve += clock.elapsed();
+            if let Some(schur) = schur {
+                // The kept system is the factored one.
+                self.split_values = std::mem::replace(&mut self.values, values);
+                self.schur = Some(schur);
+                return true;
+            }
+        }
+        analysis.split_failed = true;
+        false
+    }
+
+    /// The symmetric system in `values` factored by LDLT (its analysis made
+    /// on the pattern's first, the trailing set last where it holds) and
+    /// solved, checked (`solve_ldlt`), into `rhs`; the factor kept. False
+    /// when the analysis or the checked solve fails (`ldlt_failed` then).
+    fn solve_by_ldlt(&mut self, n_disp: usize, rhs: &mut [f64]) -> bool {
+        let n = rhs.len();
+        let analysis = self.analysis.as_mut().expect("set above");
+        if analysis.ldlt.is_none() {
+            let clock = Instant::now();
+            self.analyses += 1;
+            let trailing = (self.slots && !self.no_trailing)
+                .then(|| trailing_dofs(&analysis.slots, n_disp, n))
+                .flatten();
+            match analyse_ldlt(
+                analysis.mat.as_ref(),
+                n_disp,
+                &mut self.disp_order,
+                trailing.as_deref(),
+            ) {
+                Ok(s) => {
+                    analysis.trailing = trailing.map_or(0, |dofs| dofs.len() + (n - n_disp));
+                    analysis.ldlt = Some(s);
+                }
+                Err(_) => analysis.ldlt_failed = true,
+            }
+            self.times.symbolic += clock.elapsed();
+        }
+        if let Some((symbolic, mem)) = analysis.ldlt.as_mut() {
+            self.factorizations += 1;
+            let mat = SparseColMatRef::new(analysis.mat.as_ref(), &self.values);
+            if solve_ldlt(
+                symbolic,
+                mem,
+                &mut self.l_values,
+                mat,
+                n_disp,
+                rhs,
+                &mut self.x,
+                &mut self.times,
+                !self.decoupled,
+            ) {
+                rhs.copy_from_slice(&self.x);
+                self.ldlt += 1;
+                self.last = Some(Method::Ldlt);
+                let clock = Instant::now();
+                let schur = (analysis.trailing > 0)
+                    .then(|| trailing::Factor::new(symbolic, &self.l_values, analysis.trailing))
+                    .flatten()
+                    .map(|f| (f.schur(), f.d_inv()));
+                self.times.solve += clock.elapsed();
+                self.schur = schur;
+                return true;
+            }
+            analysis.ldlt_failed = true;
+        }
+        false
+    }
+
+    /// The system in `values` factored by faer's sparse LU (its analysis
+    /// made on the pattern's first) and solved into `rhs`.
+    fn solve_by_lu(&mut self, rhs: &mut [f64]) -> Result<(), LinearError> {
+        let n = rhs.len();
         let analysis = self.analysis.as_mut().expect("set above");
         if analysis.lu.is_none() {
             let clock = Instant::now();
@@ -996,7 +1046,7 @@ impl Augmented {
         }
         self.lu += 1;
         self.last = Some(Method::Lu);
-        Ok(false)
+        Ok(())
     }
 
     /// Solves `A x = rhs` in place, A of order `rhs.len()` given as the CSC
@@ -1202,26 +1252,7 @@ impl Augmented {
         for (m, &s) in slot_of.iter().enumerate() {
             b[n_disp + s] = rhs[n_disp + m];
         }
-        // The inner solves of an iteration change the right-hand side on
-        // the contact dofs only: the forward substitution of the last one
-        // serves, its trailing part shifted by the change there.
-        let mut y: Vec<f64> = f.fwd.iter().map(|&i| b[i]).collect();
-        match forward {
-            Some((b_last, y_last)) if b_last[..f.b] == y[..f.b] => {
-                for p in f.b..order {
-                    let shifted = y_last[p] + (y[p] - b_last[p]);
-                    b_last[p] = y[p];
-                    y[p] = shifted;
-                }
-                y[..f.b].copy_from_slice(&y_last[..f.b]);
-                y_last[f.b..].copy_from_slice(&y[f.b..]);
-            }
-            _ => {
-                let b_perm = y.clone();
-                f.forward(&mut y);
-                *forward = Some((b_perm, y.clone()));
-            }
-        }
+        let mut y = forward_substituted(&f, &b, forward);
         dense.solve(&mut y[f.b..]);
         let solved = Pending {
             dense,
@@ -1234,325 +1265,12 @@ impl Augmented {
         let Some(watch) = watch else {
             return complete_trailing(&f, d_inv, &solved, pattern, k, rhs, correction);
         };
-        // Deferred: the trailing unknowns and the watched ones (with the
-        // supernodes above them), the rest of the interior NaN until
-        // `complete`.
-        let need = f.needed(watch.iter().filter(|&&i| i < n_disp).map(|&i| f.inv[i]));
-        let mut x = solved.y.clone();
-        f.backward(d_inv, &mut x, Some(&need));
-        let known = |i: usize| x[f.inv[i]];
-        if !(x[f.b..].iter().all(|v| v.is_finite())
-            && watch.iter().all(|&i| i >= n_disp || known(i).is_finite()))
-        {
+        if !watched(&f, d_inv, &solved, watch, n_disp, rhs) {
             return false;
-        }
-        for (i, out) in rhs[..n_disp].iter_mut().enumerate() {
-            *out = known(i);
-        }
-        for (m, &s) in solved.slot_of.iter().enumerate() {
-            rhs[n_disp + m] = known(n_disp + s);
         }
         *pending = Some(solved);
         true
     }
-}
-
-/// A trailing solve whose interior back substitution, refinement and
-/// check wait for `Augmented::complete`: its dense solver of `S0 + Delta`,
-/// the factor-order vector with the interior forward-substituted and the
-/// trailing unknowns solved, the right-hand side (slots' order), the
-/// entries beside the tangent (`summed`, slots' order), the slot of each
-/// multiplier and `|A1|_inf`.
-struct Pending {
-    dense: Dense,
-    y: Vec<f64>,
-    b: Vec<f64>,
-    extra1: Vec<(usize, usize, f64)>,
-    slot_of: Vec<usize>,
-    norm_a: f64,
-}
-
-/// The dense solver of a trailing solve's `S1 = S0 + Delta` (trailing
-/// positions): an LU of its own, or the LU of a block it differs from in
-/// few columns (a base: `S0`, or the last block that took an LU of its
-/// own, `DenseBases`) updated by the low-rank formula: with `B` the base,
-/// `C` the columns `S1 - B` touches, `S1 = B + U V^T` (`U` those columns of
-/// `S1 - B`, `V` the unit columns at `C`), so `S1^-1 b = y - W (I +
-/// W_C)^-1 y_C` with `y = B^-1 b`, `W = B^-1 U` and `W_C` its rows at `C`.
-/// The inner solves of an iteration change a few nodes' rows at a time:
-/// the first may take an LU of its own, the next update it.
-enum Dense {
-    /// `S1` is a base (its own LU, or an unchanged one).
-    Lu(Arc<PartialPivLu<f64>>),
-    Updated(Box<Update>),
-}
-
-/// The low-rank update of a base's LU (`Dense`).
-struct Update {
-    base: Arc<PartialPivLu<f64>>,
-    w: Mat<f64>,
-    columns: Vec<usize>,
-    capacitance: PartialPivLu<f64>,
-}
-
-/// A change of `S0` (sorted by column, then row; summed; no zeros).
-type Change = Vec<(usize, usize, f64)>;
-
-/// The bases of the dense solves on a kept factor (`Dense`): the LU of
-/// `S0`, made when first needed, and the last block that took an LU of its
-/// own, with its `Delta` (sorted by column, then row; summed; no zeros).
-#[derive(Default)]
-struct DenseBases {
-    s0: Option<Arc<PartialPivLu<f64>>>,
-    last: Option<(Change, Arc<PartialPivLu<f64>>)>,
-}
-
-/// The columns of a change, at most this fraction of the trailing set's,
-/// take the low-rank update: it costs about `2 c t^2 + c^3` flops (c
-/// columns of `W` and the capacitance), an LU `2 t^3 / 3`; measured on
-/// Hertz at 1e5 unknowns (t = 545), the inner solves change 10 to 60
-/// columns of `S0`.
-const UPDATED_COLUMNS: usize = 4;
-
-/// `a - b` of two changes (sorted by column, then row; no zeros).
-fn difference(a: &[(usize, usize, f64)], b: &[(usize, usize, f64)]) -> Vec<(usize, usize, f64)> {
-    let key = |e: &(usize, usize, f64)| (e.1, e.0);
-    let (mut p, mut q) = (0, 0);
-    let mut out = Vec::with_capacity(a.len() + b.len());
-    while p < a.len() || q < b.len() {
-        let (i, j, d) = match (a.get(p), b.get(q)) {
-            (Some(x), Some(y)) if key(x) == key(y) => {
-                p += 1;
-                q += 1;
-                (x.0, x.1, x.2 - y.2)
-            }
-            (Some(x), Some(y)) if key(x) < key(y) => {
-                p += 1;
-                *x
-            }
-            (Some(x), None) => {
-                p += 1;
-                *x
-            }
-            (_, Some(y)) => {
-                q += 1;
-                (y.0, y.1, -y.2)
-            }
-            (None, None) => break,
-        };
-        if d != 0.0 {
-            out.push((i, j, d));
-        }
-    }
-    out
-}
-
-/// The columns a change touches, ascending.
-fn columns_of(delta: &[(usize, usize, f64)]) -> Vec<usize> {
-    let mut columns: Vec<usize> = delta.iter().map(|e| e.1).collect();
-    columns.dedup();
-    columns
-}
-
-impl Dense {
-    /// The solver of `S0 + delta` (trailing positions, duplicates summed)
-    /// from the bases (made or replaced here as needed).
-    fn new(s0: &Mat<f64>, bases: &mut DenseBases, delta: &[(usize, usize, f64)], t: usize) -> Self {
-        let delta = difference(&summed(delta.to_vec()), &[]);
-        let from_s0 = columns_of(&delta);
-        let from_last = (bases.last.as_ref()).map(|(d, _)| difference(&delta, d));
-        let (change, base) = match from_last {
-            Some(change) if columns_of(&change).len() < from_s0.len() => {
-                let lu = bases.last.as_ref().map(|(_, lu)| lu.clone());
-                (change, lu.expect("a last base"))
-            }
-            _ if from_s0.len() * UPDATED_COLUMNS > t => {
-                let mut s1 = s0.clone();
-                for &(i, j, d) in &delta {
-                    s1[(i, j)] += d;
-                }
-                let lu = Arc::new(s1.partial_piv_lu());
-                bases.last = Some((delta, lu.clone()));
-                return Dense::Lu(lu);
-            }
-            _ => {
-                let lu = bases
-                    .s0
-                    .get_or_insert_with(|| Arc::new(s0.partial_piv_lu()));
-                (delta.clone(), lu.clone())
-            }
-        };
-        let columns = columns_of(&change);
-        let c = columns.len();
-        if c == 0 {
-            return Dense::Lu(base);
-        }
-        if c * UPDATED_COLUMNS > t {
-            // Too far from the last base as well: an LU of its own.
-            bases.last = None;
-            return Dense::new(s0, bases, &delta, t);
-        }
-        let mut w = Mat::<f64>::zeros(t, c);
-        for &(i, j, d) in &change {
-            let q = columns.binary_search(&j).expect("a column of the change");
-            w[(i, q)] += d;
-        }
-        base.solve_in_place(w.as_mut());
-        let capacitance = Mat::from_fn(c, c, |i, j| {
-            w[(columns[i], j)] + if i == j { 1.0 } else { 0.0 }
-        });
-        Dense::Updated(Box::new(Update {
-            base,
-            capacitance: capacitance.partial_piv_lu(),
-            w,
-            columns,
-        }))
-    }
-
-    /// `y` (the trailing positions' right-hand side) becomes `S1^-1 y`.
-    fn solve(&self, y: &mut [f64]) {
-        let t = y.len();
-        match self {
-            Dense::Lu(lu) => lu.solve_in_place(MatMut::from_column_major_slice_mut(y, t, 1)),
-            Dense::Updated(u) => {
-                let Update {
-                    base,
-                    w,
-                    columns,
-                    capacitance,
-                } = &**u;
-                base.solve_in_place(MatMut::from_column_major_slice_mut(y, t, 1));
-                let mut z: Vec<f64> = columns.iter().map(|&j| y[j]).collect();
-                let c = z.len();
-                capacitance.solve_in_place(MatMut::from_column_major_slice_mut(&mut z, c, 1));
-                faer::linalg::matmul::matmul(
-                    MatMut::from_column_major_slice_mut(y, t, 1),
-                    faer::Accum::Add,
-                    w.as_ref(),
-                    faer::MatRef::from_column_major_slice(&z, c, 1),
-                    -1.0,
-                    Par::Seq,
-                );
-            }
-        }
-    }
-}
-
-/// The back substitution of a trailing solve (`Pending`), one step of
-/// refinement against the system, and its normwise backward error checked
-/// against the factored solves' (`LDLT_BACKWARD_ERROR`); the solution into
-/// `rhs` (the caller's order), the refinement step relative to it into
-/// `correction`.
-#[allow(clippy::too_many_arguments)]
-fn complete_trailing(
-    f: &trailing::Factor,
-    d_inv: &[f64],
-    p: &Pending,
-    pattern: &Pattern,
-    k: &[f64],
-    rhs: &mut [f64],
-    correction: &mut f64,
-) -> bool {
-    let n_disp = pattern.n;
-    // `b - A1 x`, from the tangent and the entries.
-    let residual = |x: &[f64], b: &[f64]| {
-        let mut r = b.to_vec();
-        for (j, &xj) in x.iter().enumerate().take(pattern.n) {
-            for q in pattern.col_ptr[j]..pattern.col_ptr[j + 1] {
-                r[pattern.row_idx[q]] -= k[q] * xj;
-            }
-        }
-        for &(i, j, v) in &p.extra1 {
-            r[i] -= v * x[j];
-        }
-        r
-    };
-    // `x` (the factor's order) from its trailing solve, back-substituted.
-    let finish = |x: &mut Vec<f64>| -> Option<Vec<f64>> {
-        f.backward(d_inv, x, None);
-        let mut out = vec![0.0; x.len()];
-        for (q, &i) in f.fwd.iter().enumerate() {
-            out[i] = x[q];
-        }
-        x.iter().all(|v| v.is_finite()).then_some(out)
-    };
-    let mut y = p.y.clone();
-    let Some(mut x) = finish(&mut y) else {
-        return false;
-    };
-    // One step of refinement (more gain nothing: measured on Hertz at
-    // 1e5 unknowns, the residual is at its round-off after one).
-    let r = residual(&x, &p.b);
-    let mut y: Vec<f64> = f.fwd.iter().map(|&i| r[i]).collect();
-    f.forward(&mut y);
-    p.dense.solve(&mut y[f.b..]);
-    let Some(dx) = finish(&mut y) else {
-        return false;
-    };
-    for (xi, di) in x.iter_mut().zip(&dx) {
-        *xi += di;
-    }
-    let inf = |v: &[f64]| v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-    *correction = inf(&dx) / inf(&x);
-    // A factor unsound along a near-null direction of the tangent shows in
-    // the refinement step, as for the factored LDLT solves
-    // (`LDLT_REFINEMENT`); the tangent's own factor with every slot empty
-    // (an unsymmetric system's) is checked here alone.
-    if inf(&dx[..n_disp]) > LDLT_REFINEMENT * inf(&x[..n_disp]) {
-        return false;
-    }
-    let backward = backward_error(&residual(&x, &p.b), p.norm_a, &x, &p.b);
-    // (NaN fails too.)
-    if backward.is_nan() || backward > LDLT_BACKWARD_ERROR {
-        return false;
-    }
-    rhs[..n_disp].copy_from_slice(&x[..n_disp]);
-    for (m, &s) in p.slot_of.iter().enumerate() {
-        rhs[n_disp + m] = x[n_disp + s];
-    }
-    true
-}
-
-/// The normwise backward error of `x` from its residual `r = b - A x`:
-/// `|r|_inf / (|A|_inf |x|_inf + |b|_inf)`.
-fn backward_error(r: &[f64], norm_a: f64, x: &[f64], b: &[f64]) -> f64 {
-    let inf = |v: &[f64]| v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-    inf(r) / (norm_a * inf(x) + inf(b))
-}
-
-/// What the solves on the trailing block keep of the factored system (set
-/// by `factor_and_solve`): the caller's count of its tangent then, the row
-/// sums of the tangent's magnitudes (made by the first solve), its entries beside the tangent in
-/// the slots (`summed`), and the last forward substitution (the permuted
-/// right-hand side and its result), which serves the next inner solve.
-#[derive(Default)]
-struct TrailingWork {
-    /// The caller's tangent count then (`Augmented::new_tangent`).
-    k0_tangent: Option<u64>,
-    k_rows: Vec<f64>,
-    extra0: Vec<(usize, usize, f64)>,
-    forward: Option<(Vec<f64>, Vec<f64>)>,
-    /// The last solve's refinement step relative to its solution (round-off
-    /// for a sound solve; the tests read it).
-    correction: f64,
-    /// The last solve, left partial (`Augmented::solve_watching`).
-    pending: Option<Pending>,
-    /// The dense LUs the trailing solves on the kept factor update
-    /// (`Dense`).
-    bases: DenseBases,
-}
-
-/// The entries sorted by (column, row), duplicates summed.
-fn summed(mut e: Vec<(usize, usize, f64)>) -> Vec<(usize, usize, f64)> {
-    e.sort_unstable_by_key(|&(r, c, _)| (c, r));
-    let mut out: Vec<(usize, usize, f64)> = Vec::with_capacity(e.len());
-    for (r, c, v) in e {
-        match out.last_mut() {
-            Some(last) if last.0 == r && last.1 == c => last.2 += v,
-            _ => out.push((r, c, v)),
-        }
-    }
-    out
 }
 
 impl Augmented {
@@ -2252,3 +1970,8 @@ mod ldu;
 #[cfg(test)]
 mod tests;
 mod trailing;
+
+use trailing::{
+    Dense, DenseBases, Pending, TrailingWork, complete_trailing, difference, forward_substituted,
+    summed, watched,
+};

@@ -5,6 +5,7 @@
 use super::*;
 use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
 use nalgebra::{DMatrix, DVector};
+use std::sync::Arc;
 use std::time::Instant;
 
 /// A pseudo-random number in [-1, 1) (xorshift, deterministic).
