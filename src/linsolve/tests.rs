@@ -1165,3 +1165,77 @@ fn timing_ldlt_against_lu() {
         );
     }
 }
+
+/// What a kept pattern's refill costs (`values_in_pattern`) against
+/// faer's argsort: the argsort of the system's entries (the tangent's and
+/// those beside it; made again for each system, as the entries beside the
+/// tangent change from system to system) and the refill from it. Run with
+/// `cargo test --release --lib timing_pattern_refill -- --ignored
+/// --nocapture`; docs/performance-log.md holds the figures.
+#[test]
+#[ignore]
+fn timing_pattern_refill_against_argsort() {
+    use faer::sparse::{Pair, SparseColMat};
+    let best = |reps: usize, f: &mut dyn FnMut()| {
+        (0..reps)
+            .map(|_| {
+                let t = Instant::now();
+                f();
+                t.elapsed().as_secs_f64()
+            })
+            .fold(f64::INFINITY, f64::min)
+    };
+    for (side, reps) in [(71, 20), (224, 5)] {
+        let mut rng = Rng(17);
+        let (p, k) = q4(side, side, true);
+        let rows = contact_rows(side, side, 100, &mut rng);
+        let n = p.n + rows.len();
+        let extra = border(p.n, &rows);
+        let (_, aug) = solve(&p, &k, &extra, &rhs(n, &mut rng), false);
+        let mat = aug.analysis.as_ref().unwrap().mat.clone();
+        let (mut values, mut terms) = (Vec::new(), Vec::new());
+        let in_place = best(reps, &mut || {
+            assert!(values_in_pattern(
+                mat.as_ref(),
+                &p,
+                &k,
+                &extra,
+                &mut values,
+                &mut terms
+            ));
+        });
+        // The entries as faer takes them: indices, then values.
+        let mut idx = Vec::with_capacity(k.len() + extra.len());
+        let mut val = Vec::with_capacity(k.len() + extra.len());
+        for c in 0..p.n {
+            for q in p.col_ptr[c]..p.col_ptr[c + 1] {
+                idx.push(Pair::new(p.row_idx[q], c));
+                val.push(k[q]);
+            }
+        }
+        for &(r, c, v) in &extra {
+            idx.push(Pair::new(r, c));
+            val.push(v);
+        }
+        let mut argsorted = None;
+        let argsort = best(reps, &mut || {
+            argsorted = Some(SymbolicSparseColMat::try_new_from_indices(n, n, &idx).unwrap());
+        });
+        let (symbolic, order) = argsorted.unwrap();
+        let mut refilled = None;
+        let refill = best(reps, &mut || {
+            refilled =
+                Some(SparseColMat::new_from_argsort(symbolic.clone(), &order, &val).unwrap());
+        });
+        let refilled = refilled.unwrap();
+        let diff =
+            (refilled.val().iter().zip(&values)).fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+        println!(
+            "{n:>7} unknowns, {} entries: in place {:.3} ms; faer argsort {:.3} ms + refill {:.3} ms; largest difference {diff:.1e}",
+            idx.len(),
+            1e3 * in_place,
+            1e3 * argsort,
+            1e3 * refill,
+        );
+    }
+}
