@@ -260,21 +260,27 @@ struct SolverTimes {
     total: Duration,
 }
 
+/// Overrides of the scene's loads (the FMU's inputs), each the value to
+/// reach at the end of the next `advance`, linearly in time from its
+/// converged value; None: the scene's.
+struct Inputs {
+    /// Per driver, its [ux, uy] (a displacement or a force component).
+    drivers: Vec<[Option<f64>; 2]>,
+    /// Per rigid target, its pose [ux, uy, theta].
+    rigids: Vec<[Option<f64>; 3]>,
+    /// Per edge pressure, its value (`<name>.p`).
+    pressures: Vec<Option<f64>>,
+}
+
 pub struct Solver {
     problem: Problem,
     /// Driver forces of the increment being solved (`driver_forces`).
     step_forces: Vec<[f64; 2]>,
-    /// Override of each edge pressure's value at the end of the step (the
-    /// FMU's `<name>.p`), None: the scene's.
-    pressure_inputs: Vec<Option<f64>>,
     model: Model,
     linear: LinearSolver,
     prescribed: Vec<Prescribed>,
-    /// Input overrides of driver components (the FMU's inputs): the value
-    /// to reach at the end of the next `advance`.
-    inputs: Vec<[Option<f64>; 2]>,
-    /// The same for rigid targets: [ux, uy, theta].
-    rigid_inputs: Vec<[Option<f64>; 3]>,
+    /// The FMU's inputs: values to reach at the end of the next `advance`.
+    inputs: Inputs,
     state: State,
     ws: Workspace,
     r: Vec<f64>,
@@ -425,19 +431,19 @@ impl Solver {
                     })
             })
             .collect::<Result<Vec<_>, _>>()?;
-        let inputs = vec![[None, None]; problem.drivers.len()];
-        let rigid_inputs = vec![[None; 3]; problem.rigids.len()];
-        let pressure_inputs = vec![None; problem.pressures.len()];
+        let inputs = Inputs {
+            drivers: vec![[None, None]; problem.drivers.len()],
+            rigids: vec![[None; 3]; problem.rigids.len()],
+            pressures: vec![None; problem.pressures.len()],
+        };
         let step_forces = state.driver_forces.clone();
         Ok(Solver {
             step_forces,
-            pressure_inputs,
             problem,
             model,
             linear,
             prescribed,
             inputs,
-            rigid_inputs,
             state,
             ws: Workspace::new(),
             r: vec![0.0; ndof],
@@ -526,13 +532,13 @@ impl Solver {
     /// `advance`, linearly in time from its current value (None: back to the
     /// scene's time function).
     pub fn set_input(&mut self, driver: usize, component: usize, value: Option<f64>) {
-        self.inputs[driver][component] = value;
+        self.inputs.drivers[driver][component] = value;
     }
 
     /// Override a rigid target's pose component (0 ux, 1 uy, 2 theta) the
     /// same way.
     pub fn set_rigid_input(&mut self, rigid: usize, component: usize, value: Option<f64>) {
-        self.rigid_inputs[rigid][component] = value;
+        self.inputs.rigids[rigid][component] = value;
     }
 
     /// Poses of the rigid targets at time t within the step t0 -> t1: an
@@ -544,7 +550,7 @@ impl Solver {
                 let (scene, start) = (scene[r], rigid0[r]);
                 let mut pose = [0.0; 3];
                 for c in 0..3 {
-                    pose[c] = match self.rigid_inputs[r][c] {
+                    pose[c] = match self.inputs.rigids[r][c] {
                         Some(v) => toward(start[c], v, t, t0, t1),
                         None => scene[c],
                     };
@@ -557,14 +563,14 @@ impl Solver {
     /// Override edge pressure `i`'s value at the end of the step (None:
     /// the scene's); reached linearly from its converged value.
     pub fn set_pressure_input(&mut self, i: usize, value: Option<f64>) {
-        self.pressure_inputs[i] = value;
+        self.inputs.pressures[i] = value;
     }
 
     /// Each edge pressure at time t within the step t0 -> t1: an overridden
     /// one runs linearly from its value at the start of the step, `start`.
     fn pressures_at(&self, t: f64, t0: f64, t1: f64, start: &[f64]) -> Vec<f64> {
         let scene = scene_pressures(&self.problem, t);
-        (self.pressure_inputs.iter().zip(scene).enumerate())
+        (self.inputs.pressures.iter().zip(scene).enumerate())
             .map(|(i, (input, p))| match *input {
                 Some(v) => toward(start.get(i).copied().unwrap_or(0.0), v, t, t0, t1),
                 None => p,
@@ -582,7 +588,7 @@ impl Solver {
                 let mut f = scene[d];
                 for c in 0..2 {
                     if let (Some(v), Some(_)) =
-                        (self.inputs[d][c], self.problem.drivers[d].force(c))
+                        (self.inputs.drivers[d][c], self.problem.drivers[d].force(c))
                     {
                         let s = start.get(d).map_or(0.0, |s| s[c]);
                         f[c] = toward(s, v, t, t0, t1);
@@ -595,7 +601,7 @@ impl Solver {
 
     /// Value of a prescribed dof at time t within the step t0 -> t1.
     fn prescribed_value(&self, p: &Prescribed, t: f64, t0: f64, t1: f64, u0: &[f64]) -> f64 {
-        match self.inputs[p.driver][p.component] {
+        match self.inputs.drivers[p.driver][p.component] {
             Some(v) => toward(u0[p.dof], v, t, t0, t1),
             None => {
                 let d = &self.problem.drivers[p.driver];
