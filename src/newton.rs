@@ -260,6 +260,82 @@ struct SolverTimes {
     total: Duration,
 }
 
+/// The dofs the drivers prescribe (a flag per dof) and each one's driver
+/// and component, a later driver on a dof taking it over; an error names a
+/// driver's node beyond the mesh.
+fn prescribed_dofs(
+    problem: &Problem,
+    ndof: usize,
+) -> Result<(Vec<bool>, Vec<Prescribed>), SolveError> {
+    let mut is_prescribed = vec![false; ndof];
+    let mut prescribed = Vec::new();
+    for (d, driver) in problem.drivers.iter().enumerate() {
+        for (c, comp) in [&driver.ux, &driver.uy].into_iter().enumerate() {
+            if comp.is_none() {
+                continue;
+            }
+            for &n in &driver.nodes {
+                let dof = 2 * n + c;
+                if dof >= ndof {
+                    return Err(SolveError::Invalid(format!(
+                        "driver '{}' names node {n} beyond the mesh",
+                        driver.name
+                    )));
+                }
+                if is_prescribed[dof] {
+                    prescribed.retain(|p: &Prescribed| p.dof != dof);
+                }
+                is_prescribed[dof] = true;
+                prescribed.push(Prescribed {
+                    dof,
+                    driver: d,
+                    component: c,
+                });
+            }
+        }
+    }
+    Ok((is_prescribed, prescribed))
+}
+
+/// The free equations of every contactor node, ascending.
+fn contact_equations(problem: &Problem, model: &Model) -> Vec<usize> {
+    let mut eqs: Vec<usize> = (problem.contacts.iter())
+        .flat_map(|p| &p.contactor)
+        .flat_map(|&node| [2 * node, 2 * node + 1])
+        .filter(|&d| model.eq[d] != PRESCRIBED)
+        .map(|d| model.eq[d] as usize)
+        .collect();
+    eqs.sort_unstable();
+    eqs.dedup();
+    eqs
+}
+
+/// The diagonal of the bounding box of the mesh and the rigid targets
+/// (1 when it is not finite).
+fn model_size(problem: &Problem) -> f64 {
+    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+    let rigid_points = problem.rigids.iter().flat_map(|r| r.points.iter());
+    for p in problem.mesh.nodes.iter().chain(rigid_points) {
+        for c in 0..2 {
+            lo[c] = lo[c].min(p[c]);
+            hi[c] = hi[c].max(p[c]);
+        }
+    }
+    let size = (hi[0] - lo[0]).hypot(hi[1] - lo[1]);
+    if size.is_finite() { size } else { 1.0 }
+}
+
+/// Where each equation's diagonal entry sits in the tangent's pattern.
+fn diagonal_positions(pattern: &crate::assembly::Pattern) -> Result<Vec<usize>, SolveError> {
+    (0..pattern.n)
+        .map(|q| {
+            (pattern.col_ptr[q]..pattern.col_ptr[q + 1])
+                .find(|&i| pattern.row_idx[i] == q)
+                .ok_or_else(|| SolveError::Invalid(format!("no diagonal entry for equation {q}")))
+        })
+        .collect()
+}
+
 /// Overrides of the scene's loads (the FMU's inputs), each the value to
 /// reach at the end of the next `advance`, linearly in time from its
 /// converged value; None: the scene's.
@@ -357,46 +433,15 @@ impl Solver {
             crate::problem::check_model_analysis(&m.spec, problem.analysis, problem.kinematics)
                 .map_err(|e| SolveError::Invalid(format!("material '{}': {e}", m.name)))?;
         }
-        let mut is_prescribed = vec![false; ndof];
-        let mut prescribed = Vec::new();
-        for (d, driver) in problem.drivers.iter().enumerate() {
-            for (c, comp) in [&driver.ux, &driver.uy].into_iter().enumerate() {
-                if comp.is_none() {
-                    continue;
-                }
-                for &n in &driver.nodes {
-                    let dof = 2 * n + c;
-                    if dof >= ndof {
-                        return Err(SolveError::Invalid(format!(
-                            "driver '{}' names node {n} beyond the mesh",
-                            driver.name
-                        )));
-                    }
-                    if is_prescribed[dof] {
-                        // A later driver on the same dof takes it over.
-                        prescribed.retain(|p: &Prescribed| p.dof != dof);
-                    }
-                    is_prescribed[dof] = true;
-                    prescribed.push(Prescribed {
-                        dof,
-                        driver: d,
-                        component: c,
-                    });
-                }
-            }
-        }
+        let (is_prescribed, prescribed) = prescribed_dofs(&problem, ndof)?;
         let model = Model::new(&problem, &is_prescribed);
         let mut augmented = Augmented::with_slots(rigid_targets);
         augmented.symmetric_tangent = model.symmetric;
-        let mut contact_eqs: Vec<usize> = (problem.contacts.iter())
-            .filter(|_| rigid_targets)
-            .flat_map(|p| &p.contactor)
-            .flat_map(|&node| [2 * node, 2 * node + 1])
-            .filter(|&d| model.eq[d] != PRESCRIBED)
-            .map(|d| model.eq[d] as usize)
-            .collect();
-        contact_eqs.sort_unstable();
-        contact_eqs.dedup();
+        let contact_eqs = if rigid_targets {
+            contact_equations(&problem, &model)
+        } else {
+            Vec::new()
+        };
         let linear = LinearSolver::new(&model.pattern, model.symmetric)
             .map_err(|e| SolveError::Invalid(e.to_string()))?;
         let nnz = model.pattern.row_idx.len();
@@ -411,26 +456,8 @@ impl Solver {
             driver_forces: scene_forces(&problem, 0.0),
             pressures: scene_pressures(&problem, 0.0),
         };
-        let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
-        let rigid_points = problem.rigids.iter().flat_map(|r| r.points.iter());
-        for p in problem.mesh.nodes.iter().chain(rigid_points) {
-            for c in 0..2 {
-                lo[c] = lo[c].min(p[c]);
-                hi[c] = hi[c].max(p[c]);
-            }
-        }
-        let size = (hi[0] - lo[0]).hypot(hi[1] - lo[1]);
-        let size = if size.is_finite() { size } else { 1.0 };
-        let pattern = &model.pattern;
-        let diagonal_at = (0..pattern.n)
-            .map(|q| {
-                (pattern.col_ptr[q]..pattern.col_ptr[q + 1])
-                    .find(|&i| pattern.row_idx[i] == q)
-                    .ok_or_else(|| {
-                        SolveError::Invalid(format!("no diagonal entry for equation {q}"))
-                    })
-            })
-            .collect::<Result<Vec<_>, _>>()?;
+        let size = model_size(&problem);
+        let diagonal_at = diagonal_positions(&model.pattern)?;
         let inputs = Inputs {
             drivers: vec![[None, None]; problem.drivers.len()],
             rigids: vec![[None; 3]; problem.rigids.len()],

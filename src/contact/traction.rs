@@ -1168,9 +1168,31 @@ pub fn evaluate(
     let states: Vec<SegmentState> = decisions.iter().map(|d| d.state).collect();
     let node_states = node_states(&chain, active, &states)?;
 
-    let segments: Vec<SegmentEval> = tractions
-        .iter()
-        .zip(&decisions)
+    let segments = segment_evals(&tractions, &decisions);
+    let (node_tn, node_tt) = node_tractions(&chain, &segments)?;
+    let [fx, fy, fn_, ft] = resultants(&forces, &tractions, &decisions);
+    check_finite(&forces, &segments, [&node_tn, &node_tt], [fx, fy, fn_, ft])?;
+    Ok(Evaluation {
+        traction,
+        segments,
+        forces,
+        node_states,
+        node_tn,
+        node_tt,
+        fx,
+        fy,
+        fn_,
+        ft,
+    })
+}
+
+/// Each segment's evaluation: its tractions (zero when open), resultants
+/// and decision.
+fn segment_evals(
+    tractions: &[SegmentTractions],
+    decisions: &[SegmentDecision],
+) -> Vec<SegmentEval> {
+    (tractions.iter().zip(decisions))
         .map(|(s, d)| {
             let (tn, tt) = if d.state == SegmentState::Open {
                 ([0.0; 2], [0.0; 2])
@@ -1188,65 +1210,62 @@ pub fn evaluate(
                 sign: d.sign,
             }
         })
-        .collect();
-    let (node_tn, node_tt) = node_tractions(&chain, &segments)?;
+        .collect()
+}
 
+/// The pair's resultants `[fx, fy, fn, ft]`: the sums of the contact
+/// forces, and of the closed segments' normal and applied tangential
+/// resultants.
+fn resultants(
+    forces: &[[f64; 2]],
+    tractions: &[SegmentTractions],
+    decisions: &[SegmentDecision],
+) -> [f64; 4] {
     let (mut fx, mut fy) = (0.0, 0.0);
-    for f in &forces {
+    for f in forces {
         fx += f[0];
         fy += f[1];
     }
     let (mut fn_, mut ft) = (0.0, 0.0);
-    for (s, d) in tractions.iter().zip(&decisions) {
+    for (s, d) in tractions.iter().zip(decisions) {
         if d.state != SegmentState::Open {
             fn_ += s.tn_total;
             ft += applied_tangential(s, d);
         }
     }
+    [fx, fy, fn_, ft]
+}
 
-    let finite2 = |v: &[f64; 2]| v[0].is_finite() && v[1].is_finite();
-    if let Some(k) = forces.iter().position(|f| !finite2(f)) {
-        return Err(TractionError::NonFinite {
-            quantity: "contact force at node",
-            index: k,
-        });
+/// An error naming the first non-finite contact force, segment
+/// resultant, node traction or pair resultant.
+fn check_finite(
+    forces: &[[f64; 2]],
+    segments: &[SegmentEval],
+    [node_tn, node_tt]: [&[f64]; 2],
+    pair: [f64; 4],
+) -> Result<(), TractionError> {
+    let non_finite = |quantity, index| Err(TractionError::NonFinite { quantity, index });
+    if let Some(k) = forces
+        .iter()
+        .position(|f| !(f[0].is_finite() && f[1].is_finite()))
+    {
+        return non_finite("contact force at node", k);
     }
     if let Some(j) = segments
         .iter()
         .position(|s| !(s.tn_total.is_finite() && s.tt_total.is_finite() && s.tf.is_finite()))
     {
-        return Err(TractionError::NonFinite {
-            quantity: "resultant of segment",
-            index: j,
-        });
+        return non_finite("resultant of segment", j);
     }
     if let Some(k) =
         (0..node_tn.len()).find(|&k| !(node_tn[k].is_finite() && node_tt[k].is_finite()))
     {
-        return Err(TractionError::NonFinite {
-            quantity: "node traction at node",
-            index: k,
-        });
+        return non_finite("node traction at node", k);
     }
-    if !(fx.is_finite() && fy.is_finite() && fn_.is_finite() && ft.is_finite()) {
-        return Err(TractionError::NonFinite {
-            quantity: "pair resultant",
-            index: 0,
-        });
+    if !pair.iter().all(|v| v.is_finite()) {
+        return non_finite("pair resultant", 0);
     }
-
-    Ok(Evaluation {
-        traction,
-        segments,
-        forces,
-        node_states,
-        node_tn,
-        node_tt,
-        fx,
-        fy,
-        fn_,
-        ft,
-    })
+    Ok(())
 }
 
 #[cfg(test)]

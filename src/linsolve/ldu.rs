@@ -74,63 +74,70 @@ fn flops_per_entry(counts: &[usize]) -> f64 {
     flops / nnz.max(1.0)
 }
 
-impl Symbolic {
-    /// The analysis of `a` (square, `n_disp` displacement unknowns first)
-    /// in the displacement order `disp` (forward permutation of the
-    /// `n_disp` block); None when its factor would take more than
-    /// `max_flops_per_entry` multiply-adds per entry (`flops_per_entry`).
-    pub(super) fn new(
-        a: SymbolicSparseColMatRef<'_, usize>,
-        n_disp: usize,
-        disp: &[usize],
-        max_flops_per_entry: f64,
-    ) -> Option<Self> {
-        let n = a.nrows();
-        // Each multiplier after the last displacement unknown it touches
-        // (one touching none: at the end).
-        let mut pos_of = vec![0usize; n_disp];
-        for (p, &d) in disp.iter().enumerate() {
-            pos_of[d] = p;
-        }
-        let mut last = vec![usize::MAX; n - n_disp];
-        for j in 0..n {
-            for &i in a.row_idx_of_col_raw(j) {
-                let (m, d) = match (i >= n_disp, j >= n_disp) {
-                    (true, false) => (i, j),
-                    (false, true) => (j, i),
-                    _ => continue,
-                };
-                let l = &mut last[m - n_disp];
-                if *l == usize::MAX || pos_of[d] > *l {
-                    *l = pos_of[d];
-                }
+/// The order of `M` (`perm[k]`: the unknown of `a` at position `k`): the
+/// displacements in the order `disp`, each multiplier right after the
+/// last displacement it touches (one touching none: at the end).
+fn multipliers_placed(
+    a: SymbolicSparseColMatRef<'_, usize>,
+    n_disp: usize,
+    disp: &[usize],
+) -> Vec<usize> {
+    let n = a.nrows();
+    let mut pos_of = vec![0usize; n_disp];
+    for (p, &d) in disp.iter().enumerate() {
+        pos_of[d] = p;
+    }
+    let mut last = vec![usize::MAX; n - n_disp];
+    for j in 0..n {
+        for &i in a.row_idx_of_col_raw(j) {
+            let (m, d) = match (i >= n_disp, j >= n_disp) {
+                (true, false) => (i, j),
+                (false, true) => (j, i),
+                _ => continue,
+            };
+            let l = &mut last[m - n_disp];
+            if *l == usize::MAX || pos_of[d] > *l {
+                *l = pos_of[d];
             }
         }
-        // Position of each unknown in M: a displacement at its place in
-        // `disp` plus the multipliers placed before it.
-        let mut before = vec![0usize; n_disp + 1];
-        for &l in last.iter().filter(|&&l| l != usize::MAX) {
-            before[l + 1] += 1;
-        }
-        for p in 0..n_disp {
-            before[p + 1] += before[p];
-        }
-        let mut perm = vec![0usize; n];
-        let mut next: Vec<usize> = (0..=n_disp).map(|p| p + before[p]).collect();
-        for (p, &d) in disp.iter().enumerate() {
-            perm[p + before[p]] = d;
-            next[p] += 1;
-        }
-        for (m, &l) in last.iter().enumerate() {
-            let at = &mut next[if l == usize::MAX { n_disp } else { l }];
-            perm[*at] = n_disp + m;
-            *at += 1;
-        }
-        let mut inv = vec![0usize; n];
-        for (k, &j) in perm.iter().enumerate() {
-            inv[j] = k;
-        }
-        // A's entries by column (upper) and row (lower) of M.
+    }
+    // Position of each unknown in M: a displacement at its place in
+    // `disp` plus the multipliers placed before it.
+    let mut before = vec![0usize; n_disp + 1];
+    for &l in last.iter().filter(|&&l| l != usize::MAX) {
+        before[l + 1] += 1;
+    }
+    for p in 0..n_disp {
+        before[p + 1] += before[p];
+    }
+    let mut perm = vec![0usize; n];
+    let mut next: Vec<usize> = (0..=n_disp).map(|p| p + before[p]).collect();
+    for (p, &d) in disp.iter().enumerate() {
+        perm[p + before[p]] = d;
+        next[p] += 1;
+    }
+    for (m, &l) in last.iter().enumerate() {
+        let at = &mut next[if l == usize::MAX { n_disp } else { l }];
+        perm[*at] = n_disp + m;
+        *at += 1;
+    }
+    perm
+}
+
+/// `A`'s entries by `M`'s triangles (`Symbolic`'s fields of the same
+/// names): per column `k` of `M` the entries at `M(i, k)`, `i <= k` (row,
+/// index into `A`'s values), per row `k` those at `M(k, j)`, `j < k`.
+struct Triangles {
+    upper_ptr: Vec<usize>,
+    upper: Vec<(usize, usize)>,
+    lower_ptr: Vec<usize>,
+    lower: Vec<(usize, usize)>,
+}
+
+impl Triangles {
+    /// The triangles of `a` in the order whose inverse is `inv`.
+    fn of(a: SymbolicSparseColMatRef<'_, usize>, inv: &[usize]) -> Self {
+        let n = a.nrows();
         let (mut up_count, mut low_count) = (vec![0usize; n + 1], vec![0usize; n + 1]);
         for j in 0..n {
             for &i in a.row_idx_of_col_raw(j) {
@@ -163,83 +170,137 @@ impl Symbolic {
                 p += 1;
             }
         }
-        // The pattern of M + M^T above the diagonal in column k: the upper
-        // entries of column k and the lower ones of row k (a duplicate
-        // changes neither the tree nor the row patterns).
-        let sym = |k: usize| {
-            let up = upper[upper_ptr[k]..upper_ptr[k + 1]].iter().map(|e| e.0);
-            let low = lower[lower_ptr[k]..lower_ptr[k + 1]].iter().map(|e| e.0);
-            up.filter(move |&i| i < k).chain(low)
-        };
-        // Elimination tree (path compression through `ancestor`).
-        let none = usize::MAX;
-        let mut parent = vec![none; n];
-        let mut ancestor = vec![none; n];
-        for k in 0..n {
-            for i0 in sym(k) {
-                let mut i = i0;
-                while i != none && i < k {
-                    let next = ancestor[i];
-                    ancestor[i] = k;
-                    if next == none {
-                        parent[i] = k;
-                    }
-                    i = next;
+        Triangles {
+            upper_ptr,
+            upper,
+            lower_ptr,
+            lower,
+        }
+    }
+
+    /// The pattern of `M + M^T` above the diagonal in column `k`: the upper
+    /// entries of column `k` and the lower ones of row `k` (a duplicate
+    /// changes neither the tree nor the row patterns).
+    fn above(&self, k: usize) -> impl Iterator<Item = usize> + '_ {
+        let up = self.upper[self.upper_ptr[k]..self.upper_ptr[k + 1]].iter();
+        let low = self.lower[self.lower_ptr[k]..self.lower_ptr[k + 1]].iter();
+        (up.map(|e| e.0).filter(move |&i| i < k)).chain(low.map(|e| e.0))
+    }
+}
+
+/// The elimination tree of `M + M^T` (`parent`, `usize::MAX` at a root;
+/// path compression through `ancestor`).
+fn elimination_tree(t: &Triangles, n: usize) -> Vec<usize> {
+    let none = usize::MAX;
+    let mut parent = vec![none; n];
+    let mut ancestor = vec![none; n];
+    for k in 0..n {
+        for i0 in t.above(k) {
+            let mut i = i0;
+            while i != none && i < k {
+                let next = ancestor[i];
+                ancestor[i] = k;
+                if next == none {
+                    parent[i] = k;
                 }
+                i = next;
             }
         }
+    }
+    parent
+}
+
+/// Visits, row by row, the entries of row `k` of `L`: the tree paths from
+/// each entry of row `k` of `M + M^T` up to `k`, each column `i` once
+/// (`visit(k, i)`).
+fn paths_to_rows(t: &Triangles, parent: &[usize], mut visit: impl FnMut(usize, usize)) {
+    let n = parent.len();
+    let mut mark = vec![usize::MAX; n];
+    for k in 0..n {
+        mark[k] = k;
+        for i0 in t.above(k) {
+            let mut i = i0;
+            while mark[i] != k {
+                mark[i] = k;
+                visit(k, i);
+                i = parent[i];
+            }
+        }
+    }
+}
+
+/// The column storage of `L` (and of `U`'s rows) from its column counts
+/// and row patterns: column pointers, row indices, and where each row
+/// pattern's entry sits (`Symbolic::slot`).
+fn columns_of_l(
+    counts: &[usize],
+    reach_ptr: &[usize],
+    reach: &[usize],
+) -> (Vec<usize>, Vec<usize>, Vec<usize>) {
+    let n = counts.len();
+    let mut col_ptr = vec![0usize; n + 1];
+    for j in 0..n {
+        col_ptr[j + 1] = col_ptr[j] + counts[j];
+    }
+    let mut fill = col_ptr.clone();
+    let mut row = vec![0usize; col_ptr[n]];
+    let mut slot = vec![0usize; reach.len()];
+    for k in 0..n {
+        for q in reach_ptr[k]..reach_ptr[k + 1] {
+            let j = reach[q];
+            row[fill[j]] = k;
+            slot[q] = fill[j];
+            fill[j] += 1;
+        }
+    }
+    (col_ptr, row, slot)
+}
+
+impl Symbolic {
+    /// The analysis of `a` (square, `n_disp` displacement unknowns first)
+    /// in the displacement order `disp` (forward permutation of the
+    /// `n_disp` block); None when its factor would take more than
+    /// `max_flops_per_entry` multiply-adds per entry (`flops_per_entry`).
+    pub(super) fn new(
+        a: SymbolicSparseColMatRef<'_, usize>,
+        n_disp: usize,
+        disp: &[usize],
+        max_flops_per_entry: f64,
+    ) -> Option<Self> {
+        let n = a.nrows();
+        let perm = multipliers_placed(a, n_disp, disp);
+        let mut inv = vec![0usize; n];
+        for (k, &j) in perm.iter().enumerate() {
+            inv[j] = k;
+        }
+        let t = Triangles::of(a, &inv);
+        let parent = elimination_tree(&t, n);
         // Row k of L: the tree paths from each entry of row k up to k.
         // Counted first, nothing stored: a pattern too dense for these
         // scalar loops is left before its structure is built.
-        let mut mark = vec![none; n];
         let mut counts = vec![0usize; n];
-        for k in 0..n {
-            mark[k] = k;
-            for i0 in sym(k) {
-                let mut i = i0;
-                while mark[i] != k {
-                    mark[i] = k;
-                    counts[i] += 1;
-                    i = parent[i];
-                }
-            }
-        }
+        paths_to_rows(&t, &parent, |_, i| counts[i] += 1);
         if flops_per_entry(&counts) > max_flops_per_entry {
             return None;
         }
-        let mut reach_ptr = Vec::with_capacity(n + 1);
-        reach_ptr.push(0);
+        // Then stored, row by row (in `k`'s order), each row ascending.
+        let mut reach_ptr = vec![0; n + 1];
         let mut reach = Vec::with_capacity(counts.iter().sum());
-        mark.fill(none);
+        paths_to_rows(&t, &parent, |k, i| {
+            reach.push(i);
+            reach_ptr[k + 1] += 1;
+        });
         for k in 0..n {
-            mark[k] = k;
-            let from = reach.len();
-            for i0 in sym(k) {
-                let mut i = i0;
-                while mark[i] != k {
-                    mark[i] = k;
-                    reach.push(i);
-                    i = parent[i];
-                }
-            }
-            reach[from..].sort_unstable();
-            reach_ptr.push(reach.len());
+            reach_ptr[k + 1] += reach_ptr[k];
+            reach[reach_ptr[k]..reach_ptr[k + 1]].sort_unstable();
         }
-        let mut col_ptr = vec![0usize; n + 1];
-        for j in 0..n {
-            col_ptr[j + 1] = col_ptr[j] + counts[j];
-        }
-        let mut fill = col_ptr.clone();
-        let mut row = vec![0usize; col_ptr[n]];
-        let mut slot = vec![0usize; reach.len()];
-        for k in 0..n {
-            for q in reach_ptr[k]..reach_ptr[k + 1] {
-                let j = reach[q];
-                row[fill[j]] = k;
-                slot[q] = fill[j];
-                fill[j] += 1;
-            }
-        }
+        let (col_ptr, row, slot) = columns_of_l(&counts, &reach_ptr, &reach);
+        let Triangles {
+            upper_ptr,
+            upper,
+            lower_ptr,
+            lower,
+        } = t;
         Some(Symbolic {
             perm,
             upper_ptr,

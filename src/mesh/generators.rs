@@ -114,6 +114,7 @@ pub fn disk(
             [s.sin(), -s.cos()]
         }
     };
+    debug_assert_eq!(d.len() - 1 - m_axis, shell);
     let arc_d = &d[..=m_arc];
     let s_d = d[m_arc];
     let corner_d = arc(s_d);
@@ -140,42 +141,9 @@ pub fn disk(
         .iter()
         .map(|&t| [0.0, -1.0 + t])
         .collect();
-    // Arc nodes at the distances from C of the axis nodes, shifted in log
-    // scale from the core's tilt (|CD| / |CA|) to the shell's (|CE| / |CO|).
-    let left_log: Vec<f64> = d[m_axis..].iter().map(|t| t.ln()).collect();
-    let (first, last) = (left_log[0], left_log[shell]);
-    let chord = |s: f64| 2.0 * (0.5 * s).sin();
-    let (tilt0, tilt1) = (chord(s_d).ln() - first, 2f64.sqrt().ln());
-    let arc_s: Vec<f64> = left_log
-        .iter()
-        .enumerate()
-        .map(|(k, &l)| {
-            if k == shell {
-                return FRAC_PI_2;
-            }
-            let t = (l - first) / (last - first);
-            let rho = (l + tilt0 + t * (tilt1 - tilt0)).exp();
-            2.0 * (0.5 * rho).asin()
-        })
-        .collect();
+    let arc_s = shell_arc(&d[m_axis..], s_d);
     let shell_right: Vec<Point> = fine(&arc_s).iter().map(|&s| arc(s)).collect();
-    // Interpolated in log-polar coordinates about C (a conformal map), so
-    // its rings are near circles about C and its elements near squares.
-    let log_polar = |p: Point| {
-        let z = [p[0], p[1] + 1.0];
-        [norm(z).ln(), z[1].atan2(z[0])]
-    };
-    let back = |w: Point| [w[0].exp() * w[1].cos(), w[0].exp() * w[1].sin() - 1.0];
-    let map = |side: &[Point]| -> Vec<Point> { side.iter().map(|&p| log_polar(p)).collect() };
-    let mut outer = Lattice::transfinite(
-        &map(&shell_bottom),
-        &map(&shell_top),
-        &map(&shell_left),
-        &map(&shell_right),
-    );
-    outer.points = outer.points.iter().map(|&w| back(w)).collect();
-    // Boundary points exactly as given.
-    outer.set_sides(&shell_bottom, &shell_top, &shell_left, &shell_right);
+    let outer = log_polar_lattice(&shell_bottom, &shell_top, &shell_left, &shell_right);
 
     let mut blocks = vec![core, outer];
     for block in &mut blocks {
@@ -201,6 +169,45 @@ pub fn disk(
         *p = [center[0] + radius * p[0], center[1] + radius * p[1]];
     }
     Ok(mesh)
+}
+
+/// The disk's shell: arc lengths from C (on the unit circle, C = (0, -1))
+/// of its arc nodes, at the distances from C of its axis nodes (`left`,
+/// from the core's corner A to O), shifted in log scale from the core's
+/// tilt (|CD| / |CA|, D at arc length `s_d`) to the shell's (|CE| / |CO|);
+/// the last is E's, pi / 2, exactly.
+fn shell_arc(left: &[f64], s_d: f64) -> Vec<f64> {
+    let shell = left.len() - 1;
+    let left_log: Vec<f64> = left.iter().map(|t| t.ln()).collect();
+    let (first, last) = (left_log[0], left_log[shell]);
+    let chord = |s: f64| 2.0 * (0.5 * s).sin();
+    let (tilt0, tilt1) = (chord(s_d).ln() - first, 2f64.sqrt().ln());
+    (left_log.iter().enumerate())
+        .map(|(k, &l)| {
+            if k == shell {
+                return FRAC_PI_2;
+            }
+            let t = (l - first) / (last - first);
+            let rho = (l + tilt0 + t * (tilt1 - tilt0)).exp();
+            2.0 * (0.5 * rho).asin()
+        })
+        .collect()
+}
+
+/// The lattice between four sides interpolated in log-polar coordinates
+/// about C = (0, -1) (a conformal map), so its rings are near circles about
+/// C and its elements near squares; its boundary points exactly the sides'.
+fn log_polar_lattice(bottom: &[Point], top: &[Point], left: &[Point], right: &[Point]) -> Lattice {
+    let log_polar = |p: Point| {
+        let z = [p[0], p[1] + 1.0];
+        [norm(z).ln(), z[1].atan2(z[0])]
+    };
+    let back = |w: Point| [w[0].exp() * w[1].cos(), w[0].exp() * w[1].sin() - 1.0];
+    let map = |side: &[Point]| -> Vec<Point> { side.iter().map(|&p| log_polar(p)).collect() };
+    let mut lattice = Lattice::transfinite(&map(bottom), &map(top), &map(left), &map(right));
+    lattice.points = lattice.points.iter().map(|&w| back(w)).collect();
+    lattice.set_sides(bottom, top, left, right);
+    lattice
 }
 
 /// Ring sector r_inner..r_outer between the angles [a0, a1] (degrees,
@@ -324,25 +331,7 @@ pub fn plate_with_hole(
         y_max.min(2.0 * shortest),
         (-y_min).min(2.0 * shortest),
     );
-    // Split the half circle among the box's top, right and bottom by the
-    // angles of its corners (each side gets at least one element).
-    let top_right = bt.atan2(bx);
-    let bottom_right = (-bb).atan2(bx);
-    let share = |angle: f64| angle / PI * n_c as f64;
-    let n_top = (share(FRAC_PI_2 - top_right).round() as usize).clamp(1, n_c - 2);
-    let n_bottom = (share(bottom_right + FRAC_PI_2).round() as usize).clamp(1, n_c - 1 - n_top);
-    let n_right = n_c - n_top - n_bottom;
-    let mut hole_angles = Vec::with_capacity(n_c + 1);
-    for (from, to, count) in [
-        (FRAC_PI_2, top_right, n_top),
-        (top_right, bottom_right, n_right),
-        (bottom_right, -FRAC_PI_2, n_bottom),
-    ] {
-        let start = usize::from(!hole_angles.is_empty());
-        for k in start..=count {
-            hole_angles.push(from + (to - from) * k as f64 / count as f64);
-        }
-    }
+    let (hole_angles, n_top, n_right) = hole_angles(n_c, [bx, bt, bb]);
     let mut hole: Vec<Point> = fine(&hole_angles)
         .iter()
         .map(|&t| [a * t.cos(), a * t.sin()])
@@ -350,35 +339,8 @@ pub fn plate_with_hole(
     // The ends on the axis exactly.
     let fu = hole.len() - 1;
     (hole[0], hole[fu]) = ([0.0, a], [0.0, -a]);
-    let box_points: Vec<Point> = hole_angles
-        .iter()
-        .enumerate()
-        .map(|(k, &t)| {
-            if k == 0 {
-                return [0.0, bt];
-            }
-            if k == n_c {
-                return [0.0, -bb];
-            }
-            if k == n_top {
-                return [bx, bt];
-            }
-            if k == n_top + n_right {
-                return [bx, -bb];
-            }
-            let (c, s) = (t.cos(), t.sin());
-            let reach = |limit: f64, v: f64| {
-                if v.abs() > 1e-12 {
-                    limit / v
-                } else {
-                    f64::INFINITY
-                }
-            };
-            let l = reach(bx, c).min(reach(if s > 0.0 { bt } else { -bb }, s));
-            [l * c, l * s]
-        })
-        .collect();
-    let outer = midpoints(&box_points);
+    let corners = [0, n_top, n_top + n_right, n_c];
+    let outer = midpoints(&box_points(&hole_angles, corners, [bx, bt, bb]));
     let w = fine(&graded(n_r, ratio));
     // u along the hole from the top, v outward: right-handed.
     let o_grid = Lattice::new(n_c, n_r, |i, j| {
@@ -443,20 +405,76 @@ pub fn plate_with_hole(
         b.add(block);
     }
     let mut mesh = b.finish();
-    let tol = 1e-9 * size;
+    add_plate_edge_sets(&mut mesh, a, width, y_range, 1e-9 * size);
+    Ok(mesh)
+}
+
+/// The O-grid's angles along the hole (coarse, from the top at pi/2 to the
+/// bottom at -pi/2), the half circle split among the box `[0, bx] x [-bb,
+/// bt]`'s top, right and bottom by the angles of its corners (each side
+/// at least one element); with the elements along the top and along the
+/// right.
+fn hole_angles(n_c: usize, [bx, bt, bb]: [f64; 3]) -> (Vec<f64>, usize, usize) {
+    let top_right = bt.atan2(bx);
+    let bottom_right = (-bb).atan2(bx);
+    let share = |angle: f64| angle / PI * n_c as f64;
+    let n_top = (share(FRAC_PI_2 - top_right).round() as usize).clamp(1, n_c - 2);
+    let n_bottom = (share(bottom_right + FRAC_PI_2).round() as usize).clamp(1, n_c - 1 - n_top);
+    let n_right = n_c - n_top - n_bottom;
+    let mut angles = Vec::with_capacity(n_c + 1);
+    for (from, to, count) in [
+        (FRAC_PI_2, top_right, n_top),
+        (top_right, bottom_right, n_right),
+        (bottom_right, -FRAC_PI_2, n_bottom),
+    ] {
+        let start = usize::from(!angles.is_empty());
+        for k in start..=count {
+            angles.push(from + (to - from) * k as f64 / count as f64);
+        }
+    }
+    (angles, n_top, n_right)
+}
+
+/// Where each of the O-grid's rays (`angles`) meets the box `[0, bx] x
+/// [-bb, bt]`; the rays at `corners` (the top of the axis, the top right
+/// and bottom right corners, the bottom of the axis) end on them exactly.
+fn box_points(angles: &[f64], corners: [usize; 4], [bx, bt, bb]: [f64; 3]) -> Vec<Point> {
+    let corner_points = [[0.0, bt], [bx, bt], [bx, -bb], [0.0, -bb]];
+    (angles.iter().enumerate())
+        .map(|(k, &t)| {
+            // (The four are distinct: each side has an element.)
+            if let Some(c) = corners.iter().position(|&c| c == k) {
+                return corner_points[c];
+            }
+            let (c, s) = (t.cos(), t.sin());
+            let reach = |limit: f64, v: f64| {
+                if v.abs() > 1e-12 {
+                    limit / v
+                } else {
+                    f64::INFINITY
+                }
+            };
+            let l = reach(bx, c).min(reach(if s > 0.0 { bt } else { -bb }, s));
+            [l * c, l * s]
+        })
+        .collect()
+}
+
+/// The plate's edge sets: `hole`, `axis` (both sides of the hole),
+/// `right`, `top` and `bottom`, a node on one within `tol`.
+fn add_plate_edge_sets(mesh: &mut Mesh, a: f64, width: f64, [y_min, y_max]: [f64; 2], tol: f64) {
     let near = |u: f64, v: f64| (u - v).abs() <= tol;
-    add_edge_set(&mut mesh, "hole", &[&|p| near(norm(p), a)]);
+    add_edge_set(mesh, "hole", &[&|p| near(norm(p), a)]);
     add_edge_set(
-        &mut mesh,
+        mesh,
         "axis",
         &[&|p| near(p[0], 0.0) && p[1] > 0.0, &|p| {
             near(p[0], 0.0) && p[1] < 0.0
         }],
     );
-    add_edge_set(&mut mesh, "right", &[&|p| near(p[0], width)]);
-    add_edge_set(&mut mesh, "top", &[&|p| near(p[1], y_max)]);
-    add_edge_set(&mut mesh, "bottom", &[&|p| near(p[1], y_min)]);
-    Ok(mesh)
+    add_edge_set(mesh, "right", &[&|p| near(p[0], width)]);
+    add_edge_set(mesh, "top", &[&|p| near(p[1], y_max)]);
+    add_edge_set(mesh, "bottom", &[&|p| near(p[1], y_min)]);
 }
 
 /// Parameter checks naming the generator and the offending value.
