@@ -351,7 +351,7 @@ pub(super) fn watched(
 }
 
 /// A trailing solve whose interior back substitution, refinement and
-/// check wait for `Augmented::complete`: its dense solver of `S0 + Delta`,
+/// check wait for `Augmented::finish`: its dense solver of `S0 + Delta`,
 /// the factor-order vector with the interior forward-substituted and the
 /// trailing unknowns solved, the right-hand side (slots' order), the
 /// entries beside the tangent (`summed`, slots' order), the slot of each
