@@ -467,74 +467,119 @@ fn outputs(list: &mut List, problem: &Problem) {
 
 /// Each contact pair's resultants, state counts, zone lengths and per-node
 /// results.
+/// Per pair: its resultant and count outputs (`<pair>.<key>`), by field,
+/// key, type, quantity and meaning.
+const PAIR_OUTPUTS: [(PairField, &str, Type, Quantity, &str); 9] = [
+    (
+        PairField::Fx,
+        "Fx",
+        Type::Real,
+        Quantity::Force,
+        "resultant contact force on the contactor, x",
+    ),
+    (
+        PairField::Fy,
+        "Fy",
+        Type::Real,
+        Quantity::Force,
+        "resultant contact force on the contactor, y",
+    ),
+    (
+        PairField::Fn,
+        "Fn",
+        Type::Real,
+        Quantity::Force,
+        "sum of the segment normal resultants T_n",
+    ),
+    (
+        PairField::Ft,
+        "Ft",
+        Type::Real,
+        Quantity::Force,
+        "sum of the segment tangential resultants T_t",
+    ),
+    (
+        PairField::NStick,
+        "n_stick",
+        Type::Integer,
+        Quantity::None,
+        "number of sticking contactor nodes",
+    ),
+    (
+        PairField::NSlip,
+        "n_slip",
+        Type::Integer,
+        Quantity::None,
+        "number of sliding contactor nodes",
+    ),
+    (
+        PairField::NOpen,
+        "n_open",
+        Type::Integer,
+        Quantity::None,
+        "number of open contactor nodes",
+    ),
+    (
+        PairField::StickLength,
+        "stick_length",
+        Type::Real,
+        Quantity::Length,
+        "length of the contactor surface that sticks (current configuration)",
+    ),
+    (
+        PairField::SlipLength,
+        "slip_length",
+        Type::Real,
+        Quantity::Length,
+        "length of the contactor surface that slides (current configuration)",
+    ),
+];
+
+/// Per contactor node: its outputs (`<pair>.<key>[k]`), likewise.
+const NODE_OUTPUTS: [(NodeField, &str, Type, Quantity, &str); 7] = [
+    (
+        NodeField::State,
+        "state",
+        Type::Integer,
+        Quantity::None,
+        "state: 0 open, 1 stick, 2 slip",
+    ),
+    (
+        NodeField::Tn,
+        "tn",
+        Type::Real,
+        Quantity::Stress,
+        "normal traction (compression positive)",
+    ),
+    (
+        NodeField::Tt,
+        "tt",
+        Type::Real,
+        Quantity::Stress,
+        "tangential traction",
+    ),
+    (NodeField::X, "x", Type::Real, Quantity::Length, "current x"),
+    (NodeField::Y, "y", Type::Real, Quantity::Length, "current y"),
+    (
+        NodeField::Gap,
+        "gap",
+        Type::Real,
+        Quantity::Length,
+        "normal gap to the target (positive clear of it, negative into it; 0 in contact)",
+    ),
+    (
+        NodeField::Slip,
+        "slip",
+        Type::Real,
+        Quantity::Length,
+        "slip over the last step relative to the target, along the contactor (tt's direction; friction opposes it); 0 unless in contact at both ends of the step",
+    ),
+];
+
 fn pair_outputs(list: &mut List, problem: &Problem) {
     use Causality::*;
     for (p, pair) in problem.contacts.iter().enumerate() {
-        for (field, key, ty, quantity, what) in [
-            (
-                PairField::Fx,
-                "Fx",
-                Type::Real,
-                Quantity::Force,
-                "resultant contact force on the contactor, x",
-            ),
-            (
-                PairField::Fy,
-                "Fy",
-                Type::Real,
-                Quantity::Force,
-                "resultant contact force on the contactor, y",
-            ),
-            (
-                PairField::Fn,
-                "Fn",
-                Type::Real,
-                Quantity::Force,
-                "sum of the segment normal resultants T_n",
-            ),
-            (
-                PairField::Ft,
-                "Ft",
-                Type::Real,
-                Quantity::Force,
-                "sum of the segment tangential resultants T_t",
-            ),
-            (
-                PairField::NStick,
-                "n_stick",
-                Type::Integer,
-                Quantity::None,
-                "number of sticking contactor nodes",
-            ),
-            (
-                PairField::NSlip,
-                "n_slip",
-                Type::Integer,
-                Quantity::None,
-                "number of sliding contactor nodes",
-            ),
-            (
-                PairField::NOpen,
-                "n_open",
-                Type::Integer,
-                Quantity::None,
-                "number of open contactor nodes",
-            ),
-            (
-                PairField::StickLength,
-                "stick_length",
-                Type::Real,
-                Quantity::Length,
-                "length of the contactor surface that sticks (current configuration)",
-            ),
-            (
-                PairField::SlipLength,
-                "slip_length",
-                Type::Real,
-                Quantity::Length,
-                "length of the contactor surface that slides (current configuration)",
-            ),
-        ] {
+        for (field, key, ty, quantity, what) in PAIR_OUTPUTS {
             list.add(
                 format!("{}.{key}", pair.name),
                 ty,
@@ -545,45 +590,7 @@ fn pair_outputs(list: &mut List, problem: &Problem) {
                 Binding::Pair { pair: p, field },
             );
         }
-        for (field, key, ty, quantity, what) in [
-            (
-                NodeField::State,
-                "state",
-                Type::Integer,
-                Quantity::None,
-                "state: 0 open, 1 stick, 2 slip",
-            ),
-            (
-                NodeField::Tn,
-                "tn",
-                Type::Real,
-                Quantity::Stress,
-                "normal traction (compression positive)",
-            ),
-            (
-                NodeField::Tt,
-                "tt",
-                Type::Real,
-                Quantity::Stress,
-                "tangential traction",
-            ),
-            (NodeField::X, "x", Type::Real, Quantity::Length, "current x"),
-            (NodeField::Y, "y", Type::Real, Quantity::Length, "current y"),
-            (
-                NodeField::Gap,
-                "gap",
-                Type::Real,
-                Quantity::Length,
-                "normal gap to the target (positive clear of it, negative into it; 0 in contact)",
-            ),
-            (
-                NodeField::Slip,
-                "slip",
-                Type::Real,
-                Quantity::Length,
-                "slip over the last step relative to the target, along the contactor (tt's direction; friction opposes it); 0 unless in contact at both ends of the step",
-            ),
-        ] {
+        for (field, key, ty, quantity, what) in NODE_OUTPUTS {
             for k in 0..pair.contactor.len() {
                 list.add(
                     format!("{}.{key}[{}]", pair.name, k + 1),
