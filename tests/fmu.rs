@@ -886,6 +886,55 @@ fn instances_on_two_threads() {
     }
 }
 
+/// Two threads on one instance (issue 35, item 1): while one thread steps
+/// Hertz, another reads outputs of the same instance; each read waits its
+/// turn and returns fmi2OK with finite values (it was refused at once, with
+/// no log line, while a step held the instance).
+#[test]
+fn a_second_thread_on_one_instance_waits_its_turn() {
+    let u = hertz();
+    let inst = Inst::new(&u, "shared");
+    inst.init();
+    let vrs = [
+        inst.vr("contact.Fn"),
+        inst.vr("press.Ry"),
+        inst.vr("contact.gap[1]"),
+    ];
+    let addr = inst.c as usize;
+    let stepping = std::sync::atomic::AtomicBool::new(true);
+    let reads: Vec<(fmi2Status, [f64; 3])> = std::thread::scope(|s| {
+        let reader = s.spawn(|| {
+            let c = addr as fmi2Component;
+            let mut reads = Vec::new();
+            while stepping.load(std::sync::atomic::Ordering::SeqCst) {
+                let mut v = [f64::NAN; 3];
+                let status = unsafe {
+                    (lib().fmi2GetReal.as_ref().unwrap())(c, vrs.as_ptr(), 3, v.as_mut_ptr())
+                };
+                reads.push((status, v));
+            }
+            reads
+        });
+        // A failed step must still stop the reader (or the scope waits).
+        let stepped =
+            std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| step_hertz(&inst, 0, 4)));
+        stepping.store(false, std::sync::atomic::Ordering::SeqCst);
+        let reads = reader.join().unwrap();
+        if let Err(p) = stepped {
+            std::panic::resume_unwind(p);
+        }
+        reads
+    });
+    assert!(!reads.is_empty());
+    let refused = reads.iter().filter(|r| r.0 != OK).count();
+    assert_eq!(refused, 0, "{refused} of {} reads refused", reads.len());
+    assert!(
+        reads.iter().all(|r| r.1.iter().all(|v| v.is_finite())),
+        "a read gave a value that is not finite"
+    );
+    assert!(inst.messages().is_empty(), "{:?}", inst.messages());
+}
+
 /// Newton and contact lines reach the logger only when their category is on.
 #[test]
 fn log_categories() {
