@@ -731,6 +731,54 @@ fn bad_inputs_and_parameters_are_rejected_by_name() {
     );
 }
 
+/// An input that makes an output non-finite (issue 35, item 4): the rubber
+/// sheet's wall moved to y = DBL_MAX converged with 41 gaps of +inf and
+/// fmi2OK. The step is discarded with a message naming the input, the
+/// state and outputs stay at the last converged step, and a sensible input
+/// steps on from there. A non-finite value is refused when it is set.
+#[test]
+fn an_input_that_makes_an_output_non_finite_discards_the_step() {
+    let u = unpack(&repo().join("scenes/rubber_sheet.toml"), "rubber");
+    let inst = Inst::new(&u, "rubber");
+    inst.init();
+    let before = inst.outputs();
+    assert!(before.iter().all(|(_, v)| v.is_finite()));
+    for bad in [f64::INFINITY, f64::NAN] {
+        assert_eq!(inst.set_real("wall.uy", bad), ERROR);
+        assert!(
+            inst.last_message().contains("wall.uy"),
+            "{}",
+            inst.last_message()
+        );
+    }
+    assert_eq!(inst.set_real("wall.uy", f64::MAX), OK);
+    assert_eq!(inst.step(0.0, 0.5), DISCARD, "{:?}", inst.messages());
+    let msg = inst.last_message();
+    assert!(
+        msg.contains("not finite") && msg.contains("wall.uy = 1.7976931348623157e308"),
+        "{msg}"
+    );
+    let mut t = f64::NAN;
+    unsafe {
+        (lib().fmi2GetRealStatus.as_ref().unwrap())(
+            inst.c,
+            fmi2StatusKind_fmi2LastSuccessfulTime,
+            &mut t,
+        )
+    };
+    assert_eq!(t, 0.0);
+    assert_eq!(
+        inst.outputs(),
+        before,
+        "outputs stay at the last converged step"
+    );
+    assert_eq!(inst.set_real("wall.uy", 0.0), OK);
+    assert_eq!(inst.set_real("push.ux", -50.0 * 0.5 / 16.0), OK);
+    assert_eq!(inst.step(0.0, 0.5), OK, "{:?}", inst.messages());
+    assert!(inst.outputs().iter().all(|(_, v)| v.is_finite()));
+    assert!(inst.real("channel.Fn") > 0.0);
+}
+
 #[test]
 fn null_and_zero_length_arguments() {
     let u = hertz();
@@ -1933,6 +1981,54 @@ fn time_edges_have_defined_answers() {
     assert_eq!(inst.step(start + 1.0, 0.1), ERROR);
     assert!(
         inst.last_message().contains("but the FMU is at t"),
+        "{}",
+        inst.last_message()
+    );
+}
+
+/// The clock after a step to the largest f64 (issue 35, item 6):
+/// `doStep(0, DBL_MAX)` is a step (held inputs, no iteration), and after it
+/// the clock check still refuses a master at another time (the spacing of
+/// f64 at DBL_MAX was taken as infinite, so any time passed); a step past
+/// the largest f64 and one without a finite size are errors that say so.
+#[test]
+fn the_clock_stays_checked_after_a_step_to_the_largest_time() {
+    let u = hertz();
+    let inst = Inst::new(&u, "dbl_max");
+    inst.init();
+    assert_eq!(inst.step(0.0, f64::MAX), OK, "{:?}", inst.messages());
+    for t in [0.0, 5.0, 1e300, 0.5 * f64::MAX] {
+        assert_eq!(inst.step(t, 1.0), ERROR, "a master at t = {t:e}");
+        assert!(
+            inst.last_message()
+                .contains("but the FMU is at t = 1.7976931348623157e308"),
+            "{}",
+            inst.last_message()
+        );
+    }
+    assert_eq!(inst.step(f64::MAX, f64::MAX), ERROR);
+    assert!(
+        inst.last_message().contains("overflows"),
+        "{}",
+        inst.last_message()
+    );
+    for (t, h) in [
+        (f64::MAX, f64::INFINITY),
+        (f64::MAX, f64::NAN),
+        (f64::INFINITY, 1.0),
+    ] {
+        assert_eq!(inst.step(t, h), ERROR, "t = {t}, h = {h}");
+        assert!(
+            inst.last_message().contains("must be finite"),
+            "{}",
+            inst.last_message()
+        );
+    }
+    // A new input needs time to advance, which it cannot past DBL_MAX.
+    assert_eq!(inst.set_real("press.uy", -0.01), OK);
+    assert_eq!(inst.step(f64::MAX, 1.0), ERROR);
+    assert!(
+        inst.last_message().contains("rounds to t"),
         "{}",
         inst.last_message()
     );
