@@ -779,6 +779,68 @@ fn an_input_that_makes_an_output_non_finite_discards_the_step() {
     assert!(inst.real("channel.Fn") > 0.0);
 }
 
+/// Absurd solver settings (issue 35, item 5): `solver.tolerance = 5e-324`
+/// was taken and the step then Discarded after 14 s. Values outside the
+/// ranges (`contact2d::problem::SolverSettings`) are refused by the setter,
+/// at initialization and between steps, with the value and the range; the
+/// ends of each range are accepted.
+#[test]
+fn absurd_solver_settings_are_refused_with_their_range() {
+    let u = hertz();
+    let l = lib();
+    let inst = Inst::new(&u, "settings");
+    let tolerance = "must lie in [1e-14, 0.1]";
+    let refuse_real = |value: f64| {
+        assert_eq!(inst.set_real("solver.tolerance", value), ERROR, "{value:?}");
+        let msg = inst.last_message();
+        assert!(
+            msg.contains(&format!("solver.tolerance = {value:?} rejected"))
+                && msg.contains(tolerance),
+            "{msg}"
+        );
+    };
+    let refuse_int = |name: &str, value: i32, range: &str| {
+        assert_eq!(inst.set_int(name, value), ERROR, "{name} = {value}");
+        let msg = inst.last_message();
+        assert!(
+            msg.contains(&format!("{name} = {value} rejected: must lie in {range}")),
+            "{msg}"
+        );
+    };
+    let refuse_all = || {
+        for value in [5e-324, 0.0, -1e-8, 1e-15, 0.5, 1e300] {
+            refuse_real(value);
+        }
+        assert_eq!(inst.set_real("solver.tolerance", f64::NAN), ERROR);
+        for value in [0, -1, 1001, i32::MAX] {
+            refuse_int("solver.max_iterations", value, "[1, 1000]");
+        }
+        for value in [-1, 65, i32::MAX] {
+            refuse_int("solver.max_substeps", value, "[0, 64]");
+        }
+    };
+    refuse_all();
+    unsafe {
+        assert_eq!(
+            (l.fmi2EnterInitializationMode.as_ref().unwrap())(inst.c),
+            OK
+        );
+    }
+    for value in [1e-14, 0.1] {
+        assert_eq!(inst.set_real("solver.tolerance", value), OK, "{value}");
+    }
+    assert_eq!(inst.set_int("solver.max_iterations", 1000), OK);
+    assert_eq!(inst.set_int("solver.max_substeps", 64), OK);
+    assert_eq!(inst.set_real("solver.tolerance", 1e-8), OK);
+    unsafe {
+        assert_eq!((l.fmi2ExitInitializationMode.as_ref().unwrap())(inst.c), OK);
+    }
+    // Tunable between steps: the same ranges, the settings kept.
+    refuse_all();
+    step_hertz(&inst, 0, 1);
+    assert!(inst.real("contact.Fn") > 0.0);
+}
+
 #[test]
 fn null_and_zero_length_arguments() {
     let u = hertz();

@@ -9,7 +9,9 @@ use super::variables::{
 };
 use crate::contact::outputs::rest_step;
 use crate::newton::{Input, Response, SolveError, Solver};
-use crate::problem::{Problem, check_coefficient, check_modulus, check_poisson};
+use crate::problem::{
+    Problem, SolverSettings, check_coefficient, check_modulus, check_poisson, check_range,
+};
 use crate::results::{LogCategory, StepResult};
 use crate::state::State;
 use serde::{Deserialize, Serialize};
@@ -519,9 +521,7 @@ impl Instance {
                 check_poisson(self.base.analysis, value)
             }
             Binding::Friction { .. } => check_coefficient(value),
-            Binding::Tolerance if !(value > 0.0 && value < 1.0) => {
-                Err("the relative tolerance must lie in (0, 1)".into())
-            }
+            Binding::Tolerance => check_range(value, &SolverSettings::RELATIVE_TOLERANCE),
             _ => Ok(()),
         }
     }
@@ -536,12 +536,14 @@ impl Instance {
             if let Err(s) = self.settable("fmi2SetInteger", i) {
                 return s;
             }
-            let bad = match self.vars[i].binding {
-                Binding::MaxIterations => (value < 1).then_some("at least 1 iteration is needed"),
-                Binding::MaxSubsteps => (value < 0).then_some("must not be negative"),
+            let range = match self.vars[i].binding {
+                Binding::MaxIterations => Some(SolverSettings::MAX_ITERATIONS),
+                Binding::MaxSubsteps => Some(SolverSettings::MAX_BISECTIONS),
                 _ => None,
             };
-            if let Some(msg) = bad {
+            // A negative count is outside every range (usize::MAX).
+            let count = usize::try_from(value).unwrap_or(usize::MAX);
+            if let Some(Err(msg)) = range.map(|r| check_range(count, &r)) {
                 let name = self.vars[i].name.clone();
                 return self.error(format!("fmi2SetInteger: {name} = {value} rejected: {msg}"));
             }
