@@ -1101,6 +1101,30 @@ fn committed_model_descriptions_are_current() {
     );
 }
 
+/// `<DefaultExperiment stepSize>` is the increment a scene takes most often
+/// (issue 35, item 10), not its first: the sliding block's first increment
+/// is 0.5, then it steps by 0.02 and 0.01 (0.01 twenty times); the
+/// Cattaneo-Mindlin scene's 0.25 four times, then 0.125 eight times; the
+/// inclined block's 0.0002 twenty-five times; Hertz's dt = 0.25 throughout.
+#[test]
+fn default_experiment_step_is_the_usual_increment() {
+    for (scene, stop, step) in [
+        ("scenes/verification/sliding_block.toml", "4.0", "0.01"),
+        ("scenes/verification/cattaneo_mindlin.toml", "2.0", "0.125"),
+        ("scenes/verification/cgs4_inclined.toml", "1.415", "0.0002"),
+        ("scenes/hertz_plane_strain.toml", "1.0", "0.25"),
+    ] {
+        let xml = model_description(&contact2d::scene::load(&repo().join(scene)).unwrap());
+        let experiment =
+            format!(r#"<DefaultExperiment startTime="0.0" stopTime="{stop}" stepSize="{step}"/>"#);
+        assert!(
+            xml.contains(&experiment),
+            "{scene}: {:?}",
+            xml.lines().find(|l| l.contains("DefaultExperiment"))
+        );
+    }
+}
+
 /// A name of FMI 2.0's structured naming convention as the descriptions
 /// use it: identifiers (a letter or '_', then letters, digits or '_')
 /// joined by '.', each optionally indexed by `[n]`, n >= 1.
