@@ -841,6 +841,41 @@ fn absurd_solver_settings_are_refused_with_their_range() {
     assert!(inst.real("contact.Fn") > 0.0);
 }
 
+/// fmi2GetReal of an Integer variable (cofmpy reads every output as Real;
+/// issue 35, item 10) is refused with a message naming the variable, its
+/// value reference and its type, also within a list of Real ones, and the
+/// values of the call are left as they were after the refused one.
+#[test]
+fn get_real_of_an_integer_variable_names_it_and_its_type() {
+    let u = hertz();
+    let inst = Inst::new(&u, "types");
+    inst.init();
+    step_hertz(&inst, 0, 1);
+    for name in [
+        "contact.n_stick",
+        "contact.state[1]",
+        "solver.max_iterations",
+    ] {
+        let vr = [inst.vr("contact.Fn"), inst.vr(name)];
+        let mut out = [f64::NAN; 2];
+        let status = unsafe {
+            (lib().fmi2GetReal.as_ref().unwrap())(inst.c, vr.as_ptr(), 2, out.as_mut_ptr())
+        };
+        assert_eq!(status, ERROR, "{name}");
+        assert_eq!(
+            inst.last_message(),
+            format!(
+                "fmi2GetReal: variable '{name}' (valueReference {}) is Integer, not Real",
+                vr[1]
+            )
+        );
+        assert!(out[1].is_nan(), "{name}: {out:?}");
+    }
+    // fmi2GetInteger reads them: Hertz after its first step has nodes in
+    // (frictionless, sliding) contact.
+    assert!(inst.int("contact.n_stick") + inst.int("contact.n_slip") > 0);
+}
+
 #[test]
 fn null_and_zero_length_arguments() {
     let u = hertz();
