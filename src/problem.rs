@@ -4,6 +4,7 @@
 //! except where results are reported by name.
 
 use crate::mesh::{Edge, Mesh};
+use std::ops::RangeInclusive;
 
 /// Analysis kind (the paper's planar and axisymmetric cases). In the
 /// axisymmetric case x is the radius and y the axis of revolution; forces and
@@ -287,6 +288,78 @@ pub struct SolverSettings {
     pub max_bisections: usize,
 }
 
+impl SolverSettings {
+    /// The force and displacement tolerances are ratios of norms summed
+    /// over the unknowns. Below 1e-14 (about 50 units of f64's round-off,
+    /// 2.2e-16) they ask for less than the round-off of those norms, which
+    /// Newton cannot reach (an increment then fails after every bisection);
+    /// above 0.1 an iterate 10% out of balance passes as converged.
+    pub const RELATIVE_TOLERANCE: RangeInclusive<f64> = 1e-14..=1e-1;
+    /// The energy tolerance is the product of a force and a displacement
+    /// ratio (docs/contact.md section 8): the squares of their bounds.
+    pub const ENERGY_TOLERANCE: RangeInclusive<f64> = 1e-28..=1e-2;
+    /// Newton converging quadratically needs fewer than 10 iterations; a
+    /// linear rate as slow as 0.97 per iteration (the paper's fixed-point
+    /// friction is far faster) gains the 13 orders from the first residual
+    /// to round-off within 1000 (0.97^1000 = 6e-14). More only turns an
+    /// increment that does not converge into one that runs for hours.
+    pub const MAX_ITERATIONS: RangeInclusive<usize> = 1..=1000;
+    /// 52 halvings take an increment down to the resolution of f64 relative
+    /// to it; 12 more leave room for sub-increments that fail later. Each
+    /// bisection costs a failed Newton solve, so a larger budget only
+    /// multiplies the time a failing step takes.
+    pub const MAX_BISECTIONS: RangeInclusive<usize> = 0..=64;
+
+    /// Each setting within its range; the error names the scene key, the
+    /// value and the range.
+    pub fn check(&self) -> Result<(), String> {
+        let reals = [
+            (
+                "force_tolerance",
+                self.force_tolerance,
+                Self::RELATIVE_TOLERANCE,
+            ),
+            (
+                "displacement_tolerance",
+                self.displacement_tolerance,
+                Self::RELATIVE_TOLERANCE,
+            ),
+            (
+                "energy_tolerance",
+                self.energy_tolerance,
+                Self::ENERGY_TOLERANCE,
+            ),
+        ];
+        for (key, value, range) in reals {
+            check_range(value, &range).map_err(|msg| format!("solver.{key} = {value:?}: {msg}"))?;
+        }
+        let counts = [
+            ("max_iterations", self.max_iterations, Self::MAX_ITERATIONS),
+            ("max_bisections", self.max_bisections, Self::MAX_BISECTIONS),
+        ];
+        for (key, value, range) in counts {
+            check_range(value, &range).map_err(|msg| format!("solver.{key} = {value}: {msg}"))?;
+        }
+        Ok(())
+    }
+}
+
+/// `value` within `range`, or why not (NaN is in no range).
+pub fn check_range<T: PartialOrd + std::fmt::Debug>(
+    value: T,
+    range: &RangeInclusive<T>,
+) -> Result<(), String> {
+    if range.contains(&value) {
+        Ok(())
+    } else {
+        Err(format!(
+            "must lie in [{:?}, {:?}]",
+            range.start(),
+            range.end()
+        ))
+    }
+}
+
 impl Default for SolverSettings {
     fn default() -> Self {
         SolverSettings {
@@ -549,16 +622,6 @@ impl Problem {
                 ));
             }
         }
-        let s = &self.solver;
-        if !(s.force_tolerance > 0.0 && s.force_tolerance < 1.0) {
-            return Err(format!(
-                "solver.tolerance = {:?}: must lie in (0, 1)",
-                s.force_tolerance
-            ));
-        }
-        if s.max_iterations == 0 {
-            return Err("solver.max_iterations = 0: at least one iteration is needed".into());
-        }
-        Ok(())
+        self.solver.check()
     }
 }

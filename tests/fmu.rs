@@ -731,6 +731,151 @@ fn bad_inputs_and_parameters_are_rejected_by_name() {
     );
 }
 
+/// An input that makes an output non-finite (issue 35, item 4): the rubber
+/// sheet's wall moved to y = DBL_MAX converged with 41 gaps of +inf and
+/// fmi2OK. The step is discarded with a message naming the input, the
+/// state and outputs stay at the last converged step, and a sensible input
+/// steps on from there. A non-finite value is refused when it is set.
+#[test]
+fn an_input_that_makes_an_output_non_finite_discards_the_step() {
+    let u = unpack(&repo().join("scenes/rubber_sheet.toml"), "rubber");
+    let inst = Inst::new(&u, "rubber");
+    inst.init();
+    let before = inst.outputs();
+    assert!(before.iter().all(|(_, v)| v.is_finite()));
+    for bad in [f64::INFINITY, f64::NAN] {
+        assert_eq!(inst.set_real("wall.uy", bad), ERROR);
+        assert!(
+            inst.last_message().contains("wall.uy"),
+            "{}",
+            inst.last_message()
+        );
+    }
+    assert_eq!(inst.set_real("wall.uy", f64::MAX), OK);
+    assert_eq!(inst.step(0.0, 0.5), DISCARD, "{:?}", inst.messages());
+    let msg = inst.last_message();
+    assert!(
+        msg.contains("not finite") && msg.contains("wall.uy = 1.7976931348623157e308"),
+        "{msg}"
+    );
+    let mut t = f64::NAN;
+    unsafe {
+        (lib().fmi2GetRealStatus.as_ref().unwrap())(
+            inst.c,
+            fmi2StatusKind_fmi2LastSuccessfulTime,
+            &mut t,
+        )
+    };
+    assert_eq!(t, 0.0);
+    assert_eq!(
+        inst.outputs(),
+        before,
+        "outputs stay at the last converged step"
+    );
+    assert_eq!(inst.set_real("wall.uy", 0.0), OK);
+    assert_eq!(inst.set_real("push.ux", -50.0 * 0.5 / 16.0), OK);
+    assert_eq!(inst.step(0.0, 0.5), OK, "{:?}", inst.messages());
+    assert!(inst.outputs().iter().all(|(_, v)| v.is_finite()));
+    assert!(inst.real("channel.Fn") > 0.0);
+}
+
+/// Absurd solver settings (issue 35, item 5): `solver.tolerance = 5e-324`
+/// was taken and the step then Discarded after 14 s. Values outside the
+/// ranges (`contact2d::problem::SolverSettings`) are refused by the setter,
+/// at initialization and between steps, with the value and the range; the
+/// ends of each range are accepted.
+#[test]
+fn absurd_solver_settings_are_refused_with_their_range() {
+    let u = hertz();
+    let l = lib();
+    let inst = Inst::new(&u, "settings");
+    let tolerance = "must lie in [1e-14, 0.1]";
+    let refuse_real = |value: f64| {
+        assert_eq!(inst.set_real("solver.tolerance", value), ERROR, "{value:?}");
+        let msg = inst.last_message();
+        assert!(
+            msg.contains(&format!("solver.tolerance = {value:?} rejected"))
+                && msg.contains(tolerance),
+            "{msg}"
+        );
+    };
+    let refuse_int = |name: &str, value: i32, range: &str| {
+        assert_eq!(inst.set_int(name, value), ERROR, "{name} = {value}");
+        let msg = inst.last_message();
+        assert!(
+            msg.contains(&format!("{name} = {value} rejected: must lie in {range}")),
+            "{msg}"
+        );
+    };
+    let refuse_all = || {
+        for value in [5e-324, 0.0, -1e-8, 1e-15, 0.5, 1e300] {
+            refuse_real(value);
+        }
+        assert_eq!(inst.set_real("solver.tolerance", f64::NAN), ERROR);
+        for value in [0, -1, 1001, i32::MAX] {
+            refuse_int("solver.max_iterations", value, "[1, 1000]");
+        }
+        for value in [-1, 65, i32::MAX] {
+            refuse_int("solver.max_substeps", value, "[0, 64]");
+        }
+    };
+    refuse_all();
+    unsafe {
+        assert_eq!(
+            (l.fmi2EnterInitializationMode.as_ref().unwrap())(inst.c),
+            OK
+        );
+    }
+    for value in [1e-14, 0.1] {
+        assert_eq!(inst.set_real("solver.tolerance", value), OK, "{value}");
+    }
+    assert_eq!(inst.set_int("solver.max_iterations", 1000), OK);
+    assert_eq!(inst.set_int("solver.max_substeps", 64), OK);
+    assert_eq!(inst.set_real("solver.tolerance", 1e-8), OK);
+    unsafe {
+        assert_eq!((l.fmi2ExitInitializationMode.as_ref().unwrap())(inst.c), OK);
+    }
+    // Tunable between steps: the same ranges, the settings kept.
+    refuse_all();
+    step_hertz(&inst, 0, 1);
+    assert!(inst.real("contact.Fn") > 0.0);
+}
+
+/// fmi2GetReal of an Integer variable (cofmpy reads every output as Real;
+/// issue 35, item 10) is refused with a message naming the variable, its
+/// value reference and its type, also within a list of Real ones, and the
+/// values of the call are left as they were after the refused one.
+#[test]
+fn get_real_of_an_integer_variable_names_it_and_its_type() {
+    let u = hertz();
+    let inst = Inst::new(&u, "types");
+    inst.init();
+    step_hertz(&inst, 0, 1);
+    for name in [
+        "contact.n_stick",
+        "contact.state[1]",
+        "solver.max_iterations",
+    ] {
+        let vr = [inst.vr("contact.Fn"), inst.vr(name)];
+        let mut out = [f64::NAN; 2];
+        let status = unsafe {
+            (lib().fmi2GetReal.as_ref().unwrap())(inst.c, vr.as_ptr(), 2, out.as_mut_ptr())
+        };
+        assert_eq!(status, ERROR, "{name}");
+        assert_eq!(
+            inst.last_message(),
+            format!(
+                "fmi2GetReal: variable '{name}' (valueReference {}) is Integer, not Real",
+                vr[1]
+            )
+        );
+        assert!(out[1].is_nan(), "{name}: {out:?}");
+    }
+    // fmi2GetInteger reads them: Hertz after its first step has nodes in
+    // (frictionless, sliding) contact.
+    assert!(inst.int("contact.n_stick") + inst.int("contact.n_slip") > 0);
+}
+
 #[test]
 fn null_and_zero_length_arguments() {
     let u = hertz();
@@ -886,6 +1031,55 @@ fn instances_on_two_threads() {
     }
 }
 
+/// Two threads on one instance (issue 35, item 1): while one thread steps
+/// Hertz, another reads outputs of the same instance; each read waits its
+/// turn and returns fmi2OK with finite values (it was refused at once, with
+/// no log line, while a step held the instance).
+#[test]
+fn a_second_thread_on_one_instance_waits_its_turn() {
+    let u = hertz();
+    let inst = Inst::new(&u, "shared");
+    inst.init();
+    let vrs = [
+        inst.vr("contact.Fn"),
+        inst.vr("press.Ry"),
+        inst.vr("contact.gap[1]"),
+    ];
+    let addr = inst.c as usize;
+    let stepping = std::sync::atomic::AtomicBool::new(true);
+    let reads: Vec<(fmi2Status, [f64; 3])> = std::thread::scope(|s| {
+        let reader = s.spawn(|| {
+            let c = addr as fmi2Component;
+            let mut reads = Vec::new();
+            while stepping.load(std::sync::atomic::Ordering::SeqCst) {
+                let mut v = [f64::NAN; 3];
+                let status = unsafe {
+                    (lib().fmi2GetReal.as_ref().unwrap())(c, vrs.as_ptr(), 3, v.as_mut_ptr())
+                };
+                reads.push((status, v));
+            }
+            reads
+        });
+        // A failed step must still stop the reader (or the scope waits).
+        let stepped =
+            std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| step_hertz(&inst, 0, 4)));
+        stepping.store(false, std::sync::atomic::Ordering::SeqCst);
+        let reads = reader.join().unwrap();
+        if let Err(p) = stepped {
+            std::panic::resume_unwind(p);
+        }
+        reads
+    });
+    assert!(!reads.is_empty());
+    let refused = reads.iter().filter(|r| r.0 != OK).count();
+    assert_eq!(refused, 0, "{refused} of {} reads refused", reads.len());
+    assert!(
+        reads.iter().all(|r| r.1.iter().all(|v| v.is_finite())),
+        "a read gave a value that is not finite"
+    );
+    assert!(inst.messages().is_empty(), "{:?}", inst.messages());
+}
+
 /// Newton and contact lines reach the logger only when their category is on.
 #[test]
 fn log_categories() {
@@ -940,6 +1134,30 @@ fn committed_model_descriptions_are_current() {
         stale.is_empty(),
         "out of date (regenerate with CONTACT2D_BLESS=1 cargo test --release --test fmu committed): {stale:?}"
     );
+}
+
+/// `<DefaultExperiment stepSize>` is the increment a scene takes most often
+/// (issue 35, item 10), not its first: the sliding block's first increment
+/// is 0.5, then it steps by 0.02 and 0.01 (0.01 twenty times); the
+/// Cattaneo-Mindlin scene's 0.25 four times, then 0.125 eight times; the
+/// inclined block's 0.0002 twenty-five times; Hertz's dt = 0.25 throughout.
+#[test]
+fn default_experiment_step_is_the_usual_increment() {
+    for (scene, stop, step) in [
+        ("scenes/verification/sliding_block.toml", "4.0", "0.01"),
+        ("scenes/verification/cattaneo_mindlin.toml", "2.0", "0.125"),
+        ("scenes/verification/cgs4_inclined.toml", "1.415", "0.0002"),
+        ("scenes/hertz_plane_strain.toml", "1.0", "0.25"),
+    ] {
+        let xml = model_description(&contact2d::scene::load(&repo().join(scene)).unwrap());
+        let experiment =
+            format!(r#"<DefaultExperiment startTime="0.0" stopTime="{stop}" stepSize="{step}"/>"#);
+        assert!(
+            xml.contains(&experiment),
+            "{scene}: {:?}",
+            xml.lines().find(|l| l.contains("DefaultExperiment"))
+        );
+    }
 }
 
 /// A name of FMI 2.0's structured naming convention as the descriptions
@@ -1884,6 +2102,54 @@ fn time_edges_have_defined_answers() {
     assert_eq!(inst.step(start + 1.0, 0.1), ERROR);
     assert!(
         inst.last_message().contains("but the FMU is at t"),
+        "{}",
+        inst.last_message()
+    );
+}
+
+/// The clock after a step to the largest f64 (issue 35, item 6):
+/// `doStep(0, DBL_MAX)` is a step (held inputs, no iteration), and after it
+/// the clock check still refuses a master at another time (the spacing of
+/// f64 at DBL_MAX was taken as infinite, so any time passed); a step past
+/// the largest f64 and one without a finite size are errors that say so.
+#[test]
+fn the_clock_stays_checked_after_a_step_to_the_largest_time() {
+    let u = hertz();
+    let inst = Inst::new(&u, "dbl_max");
+    inst.init();
+    assert_eq!(inst.step(0.0, f64::MAX), OK, "{:?}", inst.messages());
+    for t in [0.0, 5.0, 1e300, 0.5 * f64::MAX] {
+        assert_eq!(inst.step(t, 1.0), ERROR, "a master at t = {t:e}");
+        assert!(
+            inst.last_message()
+                .contains("but the FMU is at t = 1.7976931348623157e308"),
+            "{}",
+            inst.last_message()
+        );
+    }
+    assert_eq!(inst.step(f64::MAX, f64::MAX), ERROR);
+    assert!(
+        inst.last_message().contains("overflows"),
+        "{}",
+        inst.last_message()
+    );
+    for (t, h) in [
+        (f64::MAX, f64::INFINITY),
+        (f64::MAX, f64::NAN),
+        (f64::INFINITY, 1.0),
+    ] {
+        assert_eq!(inst.step(t, h), ERROR, "t = {t}, h = {h}");
+        assert!(
+            inst.last_message().contains("must be finite"),
+            "{}",
+            inst.last_message()
+        );
+    }
+    // A new input needs time to advance, which it cannot past DBL_MAX.
+    assert_eq!(inst.set_real("press.uy", -0.01), OK);
+    assert_eq!(inst.step(f64::MAX, 1.0), ERROR);
+    assert!(
+        inst.last_message().contains("rounds to t"),
         "{}",
         inst.last_message()
     );

@@ -898,6 +898,97 @@ fn times_out_of_order() {
     );
 }
 
+/// Newton settings outside their ranges (issue 35, item 5; the ranges and
+/// their reasons are `contact2d::problem::SolverSettings`'s): refused with
+/// the key, the value and the range; the ends of each range are accepted.
+#[test]
+fn solver_settings_outside_their_ranges() {
+    let cases = [
+        (
+            "force_tolerance = 5e-324",
+            54,
+            "force_tolerance",
+            "[1e-14, 0.1]",
+        ),
+        (
+            "force_tolerance = 0.5",
+            54,
+            "force_tolerance",
+            "[1e-14, 0.1]",
+        ),
+        (
+            "displacement_tolerance = 1e-15",
+            54,
+            "displacement_tolerance",
+            "[1e-14, 0.1]",
+        ),
+        (
+            "energy_tolerance = 1e-30",
+            54,
+            "energy_tolerance",
+            "[1e-28, 0.01]",
+        ),
+        (
+            "energy_tolerance = 0.1",
+            54,
+            "energy_tolerance",
+            "[1e-28, 0.01]",
+        ),
+    ];
+    for (line, at, key, range) in cases {
+        let e = bad("force_tolerance = 1e-8", line);
+        let value = line.split(" = ").nth(1).unwrap();
+        assert_error(
+            &e,
+            SceneErrorKind::InvalidValue,
+            &format!("scenes/t.toml:{at}: solver.{key} = {value}: {key} must lie in {range}"),
+        );
+    }
+    for (line, key, range) in [
+        ("max_iterations = 1000000", "max_iterations", "[1, 1000]"),
+        (
+            "max_iterations = 20\nmax_bisections = 65",
+            "max_bisections",
+            "[0, 64]",
+        ),
+    ] {
+        let e = bad("max_iterations = 20", line);
+        let (at, value) = match line.split_once('\n') {
+            Some((_, second)) => (56, second.split(" = ").nth(1).unwrap()),
+            None => (55, line.split(" = ").nth(1).unwrap()),
+        };
+        assert_error(
+            &e,
+            SceneErrorKind::InvalidValue,
+            &format!("scenes/t.toml:{at}: solver.{key} = {value}: {key} must lie in {range}"),
+        );
+    }
+    let edges = BASE
+        .replacen(
+            "force_tolerance = 1e-8",
+            "force_tolerance = 1e-14\ndisplacement_tolerance = 0.1\nenergy_tolerance = 1e-28",
+            1,
+        )
+        .replacen(
+            "max_iterations = 20",
+            "max_iterations = 1000\nmax_bisections = 64",
+            1,
+        );
+    let p = scene::parse(&edges, Path::new(FILE)).unwrap();
+    assert_eq!(
+        (
+            p.solver.force_tolerance,
+            p.solver.displacement_tolerance,
+            p.solver.energy_tolerance
+        ),
+        (1e-14, 0.1, 1e-28)
+    );
+    assert_eq!(
+        (p.solver.max_iterations, p.solver.max_bisections),
+        (1000, 64)
+    );
+}
+
 #[test]
 fn steps_and_solver_out_of_range() {
     let e = bad("dt = 0.5", "dt = 0.0");
@@ -922,19 +1013,19 @@ fn steps_and_solver_out_of_range() {
     assert_error(
         &e,
         SceneErrorKind::InvalidValue,
-        "scenes/t.toml:54: solver.force_tolerance = 0.0: force_tolerance must be positive",
+        "scenes/t.toml:54: solver.force_tolerance = 0.0: force_tolerance must lie in [1e-14, 0.1]",
     );
     let e = bad("force_tolerance = 1e-8", "energy_tolerance = -1e-16");
     assert_error(
         &e,
         SceneErrorKind::InvalidValue,
-        "scenes/t.toml:54: solver.energy_tolerance = -1e-16: energy_tolerance must be positive",
+        "scenes/t.toml:54: solver.energy_tolerance = -1e-16: energy_tolerance must lie in [1e-28, 0.01]",
     );
     let e = bad("max_iterations = 20", "max_iterations = 0");
     assert_error(
         &e,
         SceneErrorKind::InvalidValue,
-        "scenes/t.toml:55: solver.max_iterations = 0: at least one iteration is needed",
+        "scenes/t.toml:55: solver.max_iterations = 0: max_iterations must lie in [1, 1000]",
     );
 }
 

@@ -136,8 +136,23 @@ fn main() -> ExitCode {
     }
 }
 
+/// The FMU's file name: `NAME` as given when it ends in `.fmu` (any case),
+/// else `NAME.fmu` (a master looks for the extension; `h.v2` becomes
+/// `h.v2.fmu`).
+fn with_fmu_extension(output: &Path) -> PathBuf {
+    match output.extension() {
+        Some(e) if e.eq_ignore_ascii_case("fmu") => output.to_path_buf(),
+        _ => {
+            let mut name = output.as_os_str().to_owned();
+            name.push(".fmu");
+            PathBuf::from(name)
+        }
+    }
+}
+
 fn export(scene: &Path, output: &Path, fmi: &str, library: Option<PathBuf>) -> ExitCode {
     use contact2d::fmi::export::FmiVersion;
+    let output = &with_fmu_extension(output);
     let version = if fmi == "3" {
         FmiVersion::Fmi3
     } else {
@@ -344,9 +359,11 @@ fn run(scene: &Path, o: &RunOptions) -> ExitCode {
     out.line(
         Verbosity::Normal,
         &format!(
-            "{n_nodes} nodes, {n_elements} elements, {} unknowns, {} increments",
+            "{}, {}, {} unknowns, {}",
+            count(n_nodes, "node"),
+            count(n_elements, "element"),
             solver.dofs(),
-            times.len()
+            count(times.len(), "increment")
         ),
     );
 
@@ -666,10 +683,19 @@ fn describe_header(o: &mut String, scene: &Path, p: &Problem) {
     }
     let _ = writeln!(
         o,
-        "mesh: {} nodes, {} elements",
-        p.mesh.nodes.len(),
-        p.mesh.elements.len()
+        "mesh: {}, {}",
+        count(p.mesh.nodes.len(), "node"),
+        count(p.mesh.elements.len(), "element")
     );
+}
+
+/// `n` things, the noun in the plural unless there is one.
+fn count(n: usize, thing: &str) -> String {
+    if n == 1 {
+        format!("1 {thing}")
+    } else {
+        format!("{n} {thing}s")
+    }
 }
 
 /// The materials and their laws.
@@ -704,11 +730,11 @@ fn describe_bodies(o: &mut String, p: &Problem) {
         let material = p.materials.get(b.material).map_or("?", |m| m.name.as_str());
         let _ = writeln!(
             o,
-            "  {}: {} elements ({}), {} nodes, material {material}",
+            "  {}: {} ({}), {}, material {material}",
             b.name,
-            elements.len(),
+            count(elements.len(), "element"),
             kinds.join(", "),
-            b.nodes.len()
+            count(b.nodes.len(), "node")
         );
         // Set name -> (nodes, edges, elements) of this body.
         let prefix = format!("{}.", b.name);
@@ -726,8 +752,8 @@ fn describe_bodies(o: &mut String, p: &Problem) {
             .map(|(name, counts)| {
                 let parts: Vec<String> = counts
                     .iter()
-                    .zip(["nodes", "edges", "elements"])
-                    .filter_map(|(n, what)| n.map(|n| format!("{n} {what}")))
+                    .zip(["node", "edge", "element"])
+                    .filter_map(|(n, what)| n.map(|n| count(n, what)))
                     .collect();
                 format!("{name} ({})", parts.join(", "))
             })
@@ -742,7 +768,7 @@ fn describe_drivers(o: &mut String, p: &Problem) {
     if !p.functions.is_empty() {
         let _ = writeln!(o, "functions:");
         for f in &p.functions {
-            let _ = writeln!(o, "  {}: {} points", f.name, f.points.len());
+            let _ = writeln!(o, "  {}: {}", f.name, count(f.points.len(), "point"));
         }
     }
 
@@ -758,9 +784,9 @@ fn describe_drivers(o: &mut String, p: &Problem) {
         };
         let _ = writeln!(
             o,
-            "  {}: {} nodes, {}, {}",
+            "  {}: {}, {}, {}",
             d.name,
-            d.nodes.len(),
+            count(d.nodes.len(), "node"),
             comp(0),
             comp(1)
         );
@@ -785,10 +811,10 @@ fn describe_rigids(o: &mut String, p: &Problem) {
             .map(|(c, _)| *c)
             .collect();
         let mut line = format!(
-            "  {}: {} points, {} segments, reference ({x}, {y}); driven: {}",
+            "  {}: {}, {}, reference ({x}, {y}); driven: {}",
             r.name,
-            r.points.len(),
-            r.points.len().saturating_sub(1),
+            count(r.points.len(), "point"),
+            count(r.points.len().saturating_sub(1), "segment"),
             if driven.is_empty() {
                 "none".to_string()
             } else {
@@ -812,13 +838,17 @@ fn describe_contacts(o: &mut String, p: &Problem) {
     for c in &p.contacts {
         let target = match &c.target {
             Target::Body { body, segments } => {
-                format!("body {} ({} segments)", body_name(*body), segments.len())
+                format!(
+                    "body {} ({})",
+                    body_name(*body),
+                    count(segments.len(), "segment")
+                )
             }
             Target::Rigid(r) => match p.rigids.get(*r) {
                 Some(r) => format!(
-                    "rigid {} ({} segments)",
+                    "rigid {} ({})",
                     r.name,
-                    r.points.len().saturating_sub(1)
+                    count(r.points.len().saturating_sub(1), "segment")
                 ),
                 None => "rigid ?".into(),
             },
@@ -833,11 +863,11 @@ fn describe_contacts(o: &mut String, p: &Problem) {
         };
         let _ = writeln!(
             o,
-            "  {}: contactor {} ({} nodes, {}) against {target}, mu_s = {}, mu_d = {}, \
+            "  {}: contactor {} ({}, {}) against {target}, mu_s = {}, mu_d = {}, \
              rule: {rule}, recovery: {recovery}",
             c.name,
             body_name(c.body),
-            c.contactor.len(),
+            count(c.contactor.len(), "node"),
             if c.closed { "closed" } else { "open" },
             c.mu_s,
             c.mu_d
@@ -857,19 +887,19 @@ fn describe_loads(o: &mut String, p: &Problem) {
     for l in &p.pressures {
         let _ = writeln!(
             o,
-            "  pressure {} on {} edges ({})",
+            "  pressure {} on {} ({})",
             scaled(&l.value, p),
-            l.edges.len(),
+            count(l.edges.len(), "edge"),
             if l.follower { "follower" } else { "dead" }
         );
     }
     for l in &p.forces {
         let _ = writeln!(
             o,
-            "  force fx = {}, fy = {} at each of {} nodes",
+            "  force fx = {}, fy = {} at each of {}",
             scaled(&l.fx, p),
             scaled(&l.fy, p),
-            l.nodes.len()
+            count(l.nodes.len(), "node")
         );
     }
     for l in &p.body_forces {
@@ -898,8 +928,8 @@ fn describe_steps(o: &mut String, p: &Problem) {
         (Some(first), Some(last)) => {
             let _ = writeln!(
                 o,
-                "steps: {} increments, t = {first} .. {last}",
-                p.times.len()
+                "steps: {}, t = {first} .. {last}",
+                count(p.times.len(), "increment")
             );
         }
         _ => {

@@ -14,16 +14,32 @@ use std::collections::HashMap;
 use std::ffi::{CStr, CString};
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::path::PathBuf;
-use std::sync::{Mutex, TryLockError};
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::{Mutex, MutexGuard};
 
 /// What `fmi2Component` (and `fmi3Instance`) points to.
 pub(super) struct Component {
     pub(super) instance: Mutex<Instance>,
+    /// The thread inside a call on the instance (`thread_token`), 0 when
+    /// none: a call from that thread's logger must not wait for itself.
+    pub(super) owner: AtomicUsize,
     /// Strings handed out by fmi2GetString live until the next call.
     pub(super) strings: Mutex<Vec<CString>>,
     /// The FMI 3.0 variables (arrays of FMI 2.0 ones) of an instance made
     /// by fmi3InstantiateCoSimulation; None for FMI 2.0.
     pub(super) fmi3: Option<Variables3>,
+}
+
+impl Component {
+    /// A new instance's component, to be handed out as its C handle.
+    pub(super) fn boxed(instance: Instance, fmi3: Option<Variables3>) -> *mut Component {
+        Box::into_raw(Box::new(Component {
+            instance: Mutex::new(instance),
+            owner: AtomicUsize::new(0),
+            strings: Mutex::new(Vec::new()),
+            fmi3,
+        }))
+    }
 }
 
 pub(super) fn status(s: Status) -> fmi2Status {
@@ -43,6 +59,10 @@ pub(super) fn panic_text(p: &(dyn std::any::Any + Send)) -> String {
 }
 
 /// Runs `f` on the instance behind `c`: a NULL component is refused, a
+/// call from another thread waits until the call in progress ends (each
+/// instance has one lock), a call back into the instance from inside the
+/// logger of a call on the same thread is refused (waiting would deadlock;
+/// it is not logged, as a logged refusal would call that logger again), a
 /// panic is caught and marks the instance failed.
 pub(super) fn with(
     c: fmi2Component,
@@ -54,16 +74,17 @@ pub(super) fn with(
     }
     let outcome = catch_unwind(AssertUnwindSafe(|| {
         let comp = unsafe { &*(c as *const Component) };
-        // Held already: a call from inside the master's logger while this
-        // instance is logging (or a second thread on one instance, which
-        // FMI forbids). Waiting would deadlock: refuse the call.
-        let mut guard = match comp.instance.try_lock() {
+        let me = thread_token();
+        if comp.owner.load(Ordering::SeqCst) == me {
+            return fmi2Status_fmi2Error;
+        }
+        let mut guard = match comp.instance.lock() {
             Ok(guard) => guard,
-            Err(TryLockError::Poisoned(poisoned)) => poisoned.into_inner(),
-            Err(TryLockError::WouldBlock) => return fmi2Status_fmi2Error,
+            Err(poisoned) => return recover(comp, poisoned.into_inner(), call),
         };
+        comp.owner.store(me, Ordering::SeqCst);
         let result = catch_unwind(AssertUnwindSafe(|| f(&mut guard, comp)));
-        match result {
+        let status = match result {
             Ok(s) => status(s),
             Err(p) => {
                 guard.fail(&format!(
@@ -72,9 +93,32 @@ pub(super) fn with(
                 ));
                 fmi2Status_fmi2Error
             }
-        }
+        };
+        comp.owner.store(0, Ordering::SeqCst);
+        status
     }));
     outcome.unwrap_or(fmi2Status_fmi2Error)
+}
+
+/// A lock left poisoned by a panic that escaped a call while it held the
+/// instance: the instance is marked failed with a logged error (as after
+/// a caught panic), the lock cleared, and this call refused.
+fn recover(comp: &Component, mut guard: MutexGuard<Instance>, call: &str) -> fmi2Status {
+    comp.owner.store(0, Ordering::SeqCst);
+    guard.fail(&format!(
+        "{call}: refused: an earlier call on this instance ended in an internal error; the instance is failed (reset it or restore a saved state)"
+    ));
+    drop(guard);
+    comp.instance.clear_poison();
+    fmi2Status_fmi2Error
+}
+
+/// A number that tells the live threads apart (the address of a
+/// thread-local), never 0: `Component::owner`'s value when no call holds
+/// the instance.
+pub(super) fn thread_token() -> usize {
+    thread_local!(static TOKEN: u8 = const { 0 });
+    TOKEN.with(|t| t as *const u8 as usize)
 }
 
 /// A slice from a C array; NULL with n > 0 is an error, n = 0 is empty.
@@ -245,3 +289,54 @@ macro_rules! value {
 
 value!(f64, Type::Real, get_real, set_real, |t| t);
 value!(i32, Type::Integer, get_integer, set_integer, |_| 0);
+
+#[cfg(test)]
+mod tests {
+    use super::super::description::guid;
+    use super::super::instance::Mode;
+    use super::*;
+    use std::sync::Arc;
+
+    /// A lock poisoned by a panic that escaped a call (none is known to:
+    /// `with` catches them, so the poison is made here) gives a logged
+    /// error and a failed instance, never a panic; the calls after it are
+    /// answered as after a caught panic.
+    #[test]
+    fn a_poisoned_lock_is_a_logged_error() {
+        let scene =
+            std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/hertz_plane_strain.toml");
+        let id = guid(&crate::scene::load(&scene).unwrap());
+        let seen = Arc::new(Mutex::new(Vec::new()));
+        let sink = Arc::clone(&seen);
+        let log: super::super::instance::LogFn =
+            Box::new(move |s, _, msg| sink.lock().unwrap().push((s, msg.to_string())));
+        let inst = Instance::new("poisoned", &scene, &id, false, log).unwrap();
+        let c = Component::boxed(inst, None);
+        let comp = unsafe { &*c };
+        let poisoner = std::thread::scope(|s| {
+            s.spawn(|| {
+                let _guard = comp.instance.lock().unwrap();
+                panic!("a panic while holding the instance");
+            })
+            .join()
+        });
+        assert!(poisoner.is_err() && comp.instance.is_poisoned());
+        let handle = c as fmi2Component;
+        let called = with(handle, "fmi2GetReal", |_, _| Status::Ok);
+        assert_eq!(called, fmi2Status_fmi2Error);
+        {
+            let seen = seen.lock().unwrap();
+            assert_eq!(seen.len(), 1, "{seen:?}");
+            assert_eq!(seen[0].0, Status::Error);
+            assert!(seen[0].1.starts_with("fmi2GetReal: refused"), "{seen:?}");
+        }
+        let mode = std::cell::Cell::new(None);
+        let called = with(handle, "fmi2GetReal", |inst, _| {
+            mode.set(Some(inst.mode()));
+            Status::Ok
+        });
+        assert_eq!(called, fmi2Status_fmi2OK);
+        assert_eq!(mode.get(), Some(Mode::Error));
+        drop(unsafe { Box::from_raw(c) });
+    }
+}

@@ -216,7 +216,7 @@ pub(super) fn unit_definitions(x: &mut String, vars: &[Variable], problem: &Prob
 }
 
 /// `<LogCategories>` and `<DefaultExperiment>` (the scene's own end time
-/// and first increment); the same elements in FMI 2.0 and 3.0.
+/// and usual increment); the same elements in FMI 2.0 and 3.0.
 pub(super) fn categories_and_experiment(x: &mut String, problem: &Problem) {
     let _ = writeln!(x, "  <LogCategories>");
     for (name, what) in LOG_CATEGORIES {
@@ -228,13 +228,33 @@ pub(super) fn categories_and_experiment(x: &mut String, problem: &Problem) {
     }
     let _ = writeln!(x, "  </LogCategories>");
     let t_end = problem.times.last().copied().unwrap_or(1.0);
-    let dt = problem.times.first().copied().unwrap_or(t_end);
+    let dt = usual_increment(&problem.times).unwrap_or(t_end);
     let _ = writeln!(
         x,
         r#"  <DefaultExperiment startTime="0.0" stopTime="{}" stepSize="{}"/>"#,
         real(t_end),
         real(dt)
     );
+}
+
+/// The increment a load history (increment end times from t = 0) takes
+/// most often; on a tie, the one it takes first. Each increment is rounded
+/// to 12 significant digits: the times are decimals, and their differences
+/// carry the round-off of the operands (1.02 - 1.0 = 0.020000000000000018),
+/// which must neither split equal increments nor reach the description.
+fn usual_increment(times: &[f64]) -> Option<f64> {
+    let mut counts: Vec<(f64, usize)> = Vec::new();
+    let mut before = 0.0;
+    for &t in times {
+        let dt: f64 = format!("{:.11e}", t - before).parse().ok()?;
+        before = t;
+        match counts.iter_mut().find(|(d, _)| *d == dt) {
+            Some((_, n)) => *n += 1,
+            None => counts.push((dt, 1)),
+        }
+    }
+    // max_by_key keeps the last of equal counts: search from the end.
+    counts.iter().rev().max_by_key(|(_, n)| *n).map(|&(d, _)| d)
 }
 
 /// A variable's `causality` and `variability` attributes (the same in FMI

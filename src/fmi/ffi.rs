@@ -8,13 +8,14 @@
 
 use super::boundary::{
     Component, Value, null, panic_text, resource_path, slice, slice_mut, status as fmi_status,
-    string, unsupported, with,
+    string, thread_token, unsupported, with,
 };
 use super::instance::{Instance, LogFn, Snapshot, Status};
 use fmi_sys::fmi2::*;
 use std::ffi::{CString, c_char};
 use std::panic::{AssertUnwindSafe, catch_unwind};
-use std::sync::{Mutex, TryLockError};
+use std::sync::TryLockError;
+use std::sync::atomic::Ordering;
 
 /// The master's logger; the environment pointer is the master's and stays
 /// valid for the instance's life (FMI 2.0, 2.1.5).
@@ -138,11 +139,7 @@ pub extern "C" fn fmi2Instantiate(
         let instance_logger = Logger::new(functions, &name);
         let log: LogFn = Box::new(move |s, cat, msg| instance_logger.call(s, cat, msg));
         match Instance::new(&name, &scene, &guid, loggingOn != 0, log) {
-            Ok(instance) => Box::into_raw(Box::new(Component {
-                instance: Mutex::new(instance),
-                strings: Mutex::new(Vec::new()),
-                fmi3: None,
-            })) as fmi2Component,
+            Ok(instance) => Component::boxed(instance, None) as fmi2Component,
             Err(msg) => fail(msg),
         }
     }));
@@ -177,11 +174,14 @@ pub extern "C" fn fmi2FreeInstance(c: fmi2Component) {
         return;
     }
     let _ = catch_unwind(AssertUnwindSafe(|| {
-        // In use (freed from inside the logger during a call on it): freeing
-        // it under that call would leave the call on freed memory; it is
-        // kept instead.
+        // In use (freed from inside the logger during a call on it, or,
+        // against FMI, from another thread during a call): freeing it under
+        // that call would leave the call on freed memory; it is kept
+        // instead.
         let comp = unsafe { &*(c as *const Component) };
-        if matches!(comp.instance.try_lock(), Err(TryLockError::WouldBlock)) {
+        if comp.owner.load(Ordering::SeqCst) == thread_token()
+            || matches!(comp.instance.try_lock(), Err(TryLockError::WouldBlock))
+        {
             return;
         }
         drop(unsafe { Box::from_raw(c as *mut Component) });
@@ -718,6 +718,7 @@ pub extern "C" fn fmi2GetStringStatus(
 mod tests {
     use super::*;
     use std::ffi::{CStr, c_void};
+    use std::sync::Mutex;
 
     type Seen = Mutex<Vec<(fmi2Status, String)>>;
 

@@ -22,7 +22,6 @@ use super::variables::Type;
 use fmi_sys::fmi3::*;
 use std::ffi::{CString, c_char};
 use std::panic::{AssertUnwindSafe, catch_unwind};
-use std::sync::Mutex;
 
 /// The FMI 2.0 call names in the instance's messages, as an FMI 3.0 master
 /// knows them.
@@ -147,11 +146,7 @@ pub extern "C" fn fmi3InstantiateCoSimulation(
         match Instance::new(&name, &scene, &token, loggingOn, log) {
             Ok(instance) => {
                 let vars = Variables3::of(&instance);
-                Box::into_raw(Box::new(Component {
-                    instance: Mutex::new(instance),
-                    strings: Mutex::new(Vec::new()),
-                    fmi3: Some(vars),
-                })) as fmi3Instance
+                Component::boxed(instance, Some(vars)) as fmi3Instance
             }
             Err(msg) => fail(msg),
         }

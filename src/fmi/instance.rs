@@ -9,7 +9,9 @@ use super::variables::{
 };
 use crate::contact::outputs::rest_step;
 use crate::newton::{Input, Response, SolveError, Solver};
-use crate::problem::{Problem, check_coefficient, check_modulus, check_poisson};
+use crate::problem::{
+    Problem, SolverSettings, check_coefficient, check_modulus, check_poisson, check_range,
+};
 use crate::results::{LogCategory, StepResult};
 use crate::state::State;
 use serde::{Deserialize, Serialize};
@@ -519,9 +521,7 @@ impl Instance {
                 check_poisson(self.base.analysis, value)
             }
             Binding::Friction { .. } => check_coefficient(value),
-            Binding::Tolerance if !(value > 0.0 && value < 1.0) => {
-                Err("the relative tolerance must lie in (0, 1)".into())
-            }
+            Binding::Tolerance => check_range(value, &SolverSettings::RELATIVE_TOLERANCE),
             _ => Ok(()),
         }
     }
@@ -536,12 +536,14 @@ impl Instance {
             if let Err(s) = self.settable("fmi2SetInteger", i) {
                 return s;
             }
-            let bad = match self.vars[i].binding {
-                Binding::MaxIterations => (value < 1).then_some("at least 1 iteration is needed"),
-                Binding::MaxSubsteps => (value < 0).then_some("must not be negative"),
+            let range = match self.vars[i].binding {
+                Binding::MaxIterations => Some(SolverSettings::MAX_ITERATIONS),
+                Binding::MaxSubsteps => Some(SolverSettings::MAX_BISECTIONS),
                 _ => None,
             };
-            if let Some(msg) = bad {
+            // A negative count is outside every range (usize::MAX).
+            let count = usize::try_from(value).unwrap_or(usize::MAX);
+            if let Some(Err(msg)) = range.map(|r| check_range(count, &r)) {
                 let name = self.vars[i].name.clone();
                 return self.error(format!("fmi2SetInteger: {name} = {value} rejected: {msg}"));
             }
@@ -741,98 +743,173 @@ impl Instance {
     /// values as the prescribed values at t + h, or, for an input given a
     /// derivative, its value plus h times the derivative (then the input
     /// holds that value). A step that does not converge within
-    /// `solver.max_substeps` bisections returns Discard and leaves the state
-    /// (and the inputs and their derivatives) at t.
+    /// `solver.max_substeps` bisections, or whose inputs make an output
+    /// non-finite, returns Discard and leaves the state (and the inputs and
+    /// their derivatives) at t.
     pub fn do_step(&mut self, t: f64, h: f64) -> Status {
         if let Err(s) = self.require("fmi2DoStep", &[Mode::StepComplete]) {
             return s;
         }
         let now = self.last_successful_time();
-        if !(t.is_finite() && h.is_finite() && h > 0.0) {
-            return self.error(format!(
-                "fmi2DoStep: currentCommunicationPoint = {t}, communicationStepSize = {h}: both must be finite and the step size positive"
-            ));
-        }
-        // The master's clock and the FMU's agree to a few units in the last
-        // place (a master may sum its steps or multiply them out; the FMU's
-        // clock follows the master's): not to a fraction of t, which at
-        // t = 1e9 let a clock off by a whole second through, nor of h.
-        let ulp = |x: f64| f64::from_bits(x.abs().to_bits() + 1) - x.abs();
-        if (t - now).abs() > 16.0 * ulp(now.abs().max(t.abs())) {
-            return self.error(format!(
-                "fmi2DoStep: currentCommunicationPoint = {t:?}, but the FMU is at t = {now:?} (restore a saved state to go back)"
-            ));
-        }
-        let end = t + h;
-        if !end.is_finite() {
-            return self.error(format!(
-                "fmi2DoStep: currentCommunicationPoint + communicationStepSize = {t:?} + {h:?} overflows"
-            ));
-        }
-        if end <= now {
-            // h is below the resolution of t: time cannot advance. With the
-            // inputs as they are, there is nothing to do; a change of the
-            // inputs needs a step that time can resolve.
-            let changed = self.vars.iter().enumerate().any(|(i, v)| {
-                v.causality == Causality::Input
-                    && (self.derivatives[i] != 0.0
-                        || self.reals[i].to_bits() != self.stepped[i].to_bits())
-            });
-            if !changed {
-                // A held step: no iteration, no slip.
-                self.last.iterations = 0;
-                self.last.substeps = 0;
-                for (_, pair) in &mut self.last.pairs {
-                    pair.nodes.slip.fill(0.0);
-                }
-                return Status::Ok;
-            }
-            return self.error(format!(
-                "fmi2DoStep: t + h = {t:?} + {h:?} rounds to t (the resolution of t is {:?}): time cannot advance, and the inputs changed; take a larger step",
-                ulp(t)
-            ));
-        }
+        let end = match self.step_end(t, h, now) {
+            Ok(end) => end,
+            Err(answer) => return answer,
+        };
+        let targets = match self.input_targets(h, now, end) {
+            Ok(targets) => targets,
+            Err(answer) => return answer,
+        };
         let Some(solver) = self.solver.as_mut() else {
             return self.error("fmi2DoStep: no solver (internal)");
         };
-        let target = |i: usize| self.reals[i] + h * self.derivatives[i];
-        for (i, v) in self.vars.iter().enumerate() {
-            match v.binding {
+        let before = solver.state().clone();
+        for (binding, value) in targets {
+            match binding {
                 Binding::DriverInput { driver, component } => {
-                    solver.set_input(driver, component, Some(target(i)))
+                    solver.set_input(driver, component, Some(value))
                 }
                 Binding::RigidInput { rigid, component } => {
-                    solver.set_rigid_input(rigid, component, Some(target(i)))
+                    solver.set_rigid_input(rigid, component, Some(value))
                 }
                 Binding::PressureInput { pressure } => {
-                    solver.set_pressure_input(pressure, Some(target(i)))
+                    solver.set_pressure_input(pressure, Some(value))
                 }
                 _ => {}
             }
         }
         let (log, on, cats) = (&mut self.log, self.logging_on, &self.categories);
         // To the master's t + h: the FMU's clock follows the master's.
-        let result = solver.advance(end, &mut |cat, msg| emit(log, on, cats, cat, msg));
-        match result {
-            Ok(step) => {
-                self.last = step;
-                self.steps += 1;
-                for i in 0..self.vars.len() {
-                    self.reals[i] += h * self.derivatives[i];
-                }
-                self.derivatives.fill(0.0);
-                self.stepped.clone_from(&self.reals);
-                self.write_vtk()
-            }
-            Err(SolveError::NotConverged { time, reason }) => {
-                let msg = format!(
-                    "fmi2DoStep: step to t = {time} discarded, the state stays at t = {now}: {reason}"
-                );
-                self.log(LogCategory::Error, &msg);
-                Status::Discard
-            }
+        match solver.advance(end, &mut |cat, msg| emit(log, on, cats, cat, msg)) {
+            Ok(step) => self.commit(step, before, h, now),
+            Err(SolveError::NotConverged { time, reason }) => self.discard(&format!(
+                "step to t = {time:?} discarded, the state stays at t = {now:?}: {reason}"
+            )),
             Err(e) => self.error(format!("fmi2DoStep: {e}")),
         }
+    }
+
+    /// The end of a step from `t` by `h` with the FMU at `now`, or the
+    /// call's answer without a solve (a held step is Ok; a step that cannot
+    /// be taken is a logged error).
+    fn step_end(&mut self, t: f64, h: f64, now: f64) -> Result<f64, Status> {
+        if !(t.is_finite() && h.is_finite() && h > 0.0) {
+            return Err(self.error(format!(
+                "fmi2DoStep: currentCommunicationPoint = {t:?}, communicationStepSize = {h:?}: both must be finite and the step size positive"
+            )));
+        }
+        // The master's clock and the FMU's agree to a few units in the last
+        // place (a master may sum its steps or multiply them out; the FMU's
+        // clock follows the master's): not to a fraction of t, which at
+        // t = 1e9 let a clock off by a whole second through, nor of h.
+        if (t - now).abs() > 16.0 * ulp(now.abs().max(t.abs())) {
+            return Err(self.error(format!(
+                "fmi2DoStep: currentCommunicationPoint = {t:?}, but the FMU is at t = {now:?} (restore a saved state to go back)"
+            )));
+        }
+        let end = t + h;
+        if !end.is_finite() {
+            return Err(self.error(format!(
+                "fmi2DoStep: currentCommunicationPoint + communicationStepSize = {t:?} + {h:?} overflows"
+            )));
+        }
+        if end > now {
+            return Ok(end);
+        }
+        // h is below the resolution of t: time cannot advance. With the
+        // inputs as they are, there is nothing to do; a change of the
+        // inputs needs a step that time can resolve.
+        if self.changed_inputs().is_empty() {
+            // A held step: no iteration, no slip.
+            self.last.iterations = 0;
+            self.last.substeps = 0;
+            for (_, pair) in &mut self.last.pairs {
+                pair.nodes.slip.fill(0.0);
+            }
+            return Err(Status::Ok);
+        }
+        Err(self.error(format!(
+            "fmi2DoStep: t + h = {t:?} + {h:?} rounds to t (the resolution of t is {:?}): time cannot advance, and the inputs changed; take a larger step",
+            ulp(t)
+        )))
+    }
+
+    /// The inputs changed since the last step (a new value or a
+    /// derivative), by variable index.
+    fn changed_inputs(&self) -> Vec<usize> {
+        (0..self.vars.len())
+            .filter(|&i| {
+                self.vars[i].causality == Causality::Input
+                    && (self.derivatives[i] != 0.0
+                        || self.reals[i].to_bits() != self.stepped[i].to_bits())
+            })
+            .collect()
+    }
+
+    /// The value each input reaches at the end of a step of size `h`; a
+    /// derivative that takes one beyond the range of f64 discards the step.
+    fn input_targets(&mut self, h: f64, now: f64, end: f64) -> Result<Vec<(Binding, f64)>, Status> {
+        let mut targets = Vec::new();
+        for (i, v) in self.vars.iter().enumerate() {
+            if v.causality != Causality::Input {
+                continue;
+            }
+            let value = self.reals[i] + h * self.derivatives[i];
+            if !value.is_finite() {
+                let msg = format!(
+                    "step to t = {end:?} discarded, the state stays at t = {now:?}: input {} = {:?} with derivative {:?} reaches {value:?} at the step's end, not a finite number",
+                    v.name, self.reals[i], self.derivatives[i]
+                );
+                return Err(self.discard(&msg));
+            }
+            targets.push((v.binding.clone(), value));
+        }
+        Ok(targets)
+    }
+
+    /// A converged step: its outputs become the instance's when every one
+    /// is finite; otherwise the state goes back to `before` and the step is
+    /// discarded, naming the inputs that changed.
+    fn commit(&mut self, step: StepResult, before: State, h: f64, now: f64) -> Status {
+        let bad = self.vars.iter().find_map(|v| {
+            let x = (v.causality == Causality::Output).then(|| output(&v.binding, &step))??;
+            (!x.is_finite()).then(|| format!("{} = {x:?}", v.name))
+        });
+        if let Some(bad) = bad {
+            if let Some(solver) = self.solver.as_mut() {
+                solver.restore(before);
+            }
+            let inputs: Vec<String> = (self.changed_inputs().into_iter())
+                .map(|i| {
+                    let (v, d) = (self.reals[i], self.derivatives[i]);
+                    match d {
+                        0.0 => format!("{} = {v:?}", self.vars[i].name),
+                        _ => format!("{} = {v:?} + h * {d:?}", self.vars[i].name),
+                    }
+                })
+                .collect();
+            let inputs = match inputs.is_empty() {
+                true => "no input changed".to_string(),
+                false => format!("the inputs set: {}", inputs.join(", ")),
+            };
+            return self.discard(&format!(
+                "step to t = {:?} discarded, the state stays at t = {now:?}: output {bad} is not finite; {inputs}",
+                step.time
+            ));
+        }
+        self.last = step;
+        self.steps += 1;
+        for i in 0..self.vars.len() {
+            self.reals[i] += h * self.derivatives[i];
+        }
+        self.derivatives.fill(0.0);
+        self.stepped.clone_from(&self.reals);
+        self.write_vtk()
+    }
+
+    /// Logs why a step was discarded; the state stays where it was.
+    fn discard(&mut self, why: &str) -> Status {
+        self.log(LogCategory::Error, &format!("fmi2DoStep: {why}"));
+        Status::Discard
     }
 
     /// The VTK series into `output_dir`, when it is set: per step the solid,
@@ -986,6 +1063,17 @@ impl Instance {
     pub fn fail(&mut self, msg: &str) {
         self.mode = Mode::Error;
         self.log(LogCategory::Error, msg);
+    }
+}
+
+/// The spacing of f64 at |x| (toward zero at the largest finite value):
+/// finite for every finite x, so the clock check holds at any time.
+fn ulp(x: f64) -> f64 {
+    let a = x.abs();
+    if a == f64::MAX {
+        a - a.next_down()
+    } else {
+        a.next_up() - a
     }
 }
 

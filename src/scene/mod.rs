@@ -291,6 +291,25 @@ impl<'a> Resolver<'a> {
         }
     }
 
+    /// A `[solver]` setting within its range (`SolverSettings`).
+    fn in_range<T: PartialOrd + std::fmt::Debug + Copy>(
+        &self,
+        value: &Spanned<T>,
+        name: &str,
+        range: &std::ops::RangeInclusive<T>,
+    ) -> Result<T, SceneError> {
+        let v = *value.get_ref();
+        crate::problem::check_range(v, range)
+            .map(|()| v)
+            .map_err(|msg| {
+                self.invalid(
+                    value.span(),
+                    format!("solver.{name}"),
+                    format!("{name} {msg}"),
+                )
+            })
+    }
+
     /// A new name for a `what`: not empty, unique among `seen`, and free of
     /// '.' where `no_dots` gives the reason (names joined with others by '.').
     /// A name in the FMU's variable names (`fmi`: materials, drivers, rigid
@@ -1053,21 +1072,20 @@ impl<'a> Resolver<'a> {
         ];
         for (value, name, target) in tolerances {
             if let Some(v) = value {
-                *target = self.positive(v, format!("solver.{name}"), name)?;
+                let range = match name {
+                    "energy_tolerance" => SolverSettings::ENERGY_TOLERANCE,
+                    _ => SolverSettings::RELATIVE_TOLERANCE,
+                };
+                *target = self.in_range(v, name, &range)?;
             }
         }
         if let Some(n) = &s.max_iterations {
-            if *n.get_ref() == 0 {
-                return Err(self.invalid(
-                    n.span(),
-                    "solver.max_iterations",
-                    "at least one iteration is needed",
-                ));
-            }
-            settings.max_iterations = *n.get_ref();
+            settings.max_iterations =
+                self.in_range(n, "max_iterations", &SolverSettings::MAX_ITERATIONS)?;
         }
-        if let Some(n) = s.max_bisections {
-            settings.max_bisections = n;
+        if let Some(n) = &s.max_bisections {
+            settings.max_bisections =
+                self.in_range(n, "max_bisections", &SolverSettings::MAX_BISECTIONS)?;
         }
         Ok(settings)
     }

@@ -379,7 +379,7 @@ pub(super) struct Solver {
     pub displacement_tolerance: Option<Spanned<f64>>,
     pub energy_tolerance: Option<Spanned<f64>>,
     pub max_iterations: Option<Spanned<usize>>,
-    pub max_bisections: Option<usize>,
+    pub max_bisections: Option<Spanned<usize>>,
     pub max_elements: Option<Spanned<usize>>,
 }
 

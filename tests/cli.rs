@@ -1,0 +1,81 @@
+//! The command line's small promises (issue 35, item 10): `check` counts
+//! one of a thing in the singular, and `export -o NAME` writes `NAME.fmu`.
+
+use std::path::PathBuf;
+use std::process::Command;
+
+fn repo() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+fn contact2d(args: &[&str]) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_contact2d"))
+        .args(args)
+        .current_dir(repo())
+        .output()
+        .unwrap()
+}
+
+/// Hertz has a one-node set and a one-segment rigid target: `check` says
+/// "1 node" and "1 segment", never "1 nodes" or "1 segments", and keeps the
+/// plural for the others.
+#[test]
+fn check_counts_one_in_the_singular() {
+    let out = contact2d(&["check", "scenes/hertz_plane_strain.toml"]);
+    assert!(out.status.success());
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains("contact_point (1 node)"), "{text}");
+    assert!(text.contains("2 points, 1 segment,"), "{text}");
+    assert!(text.contains("against rigid flat (1 segment)"), "{text}");
+    assert!(text.contains("arc (121 nodes, 60 edges)"), "{text}");
+    for word in [
+        "nodes",
+        "edges",
+        "elements",
+        "points",
+        "segments",
+        "increments",
+    ] {
+        let one = format!(" 1 {word}");
+        let starts = format!("(1 {word}");
+        assert!(
+            !text.contains(&one) && !text.contains(&starts),
+            "'1 {word}' in:\n{text}"
+        );
+    }
+}
+
+/// `export -o NAME` without the `.fmu` extension writes `NAME.fmu` (and
+/// says so); a name with it is kept as it is.
+#[test]
+fn export_appends_the_fmu_extension() {
+    let dir = std::env::temp_dir().join(format!("contact2d-cli-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    for (given, written) in [
+        ("hertz", "hertz.fmu"),
+        ("h.FMU", "h.FMU"),
+        ("h.v2", "h.v2.fmu"),
+    ] {
+        let out = contact2d(&[
+            "export",
+            "scenes/hertz_plane_strain.toml",
+            "-o",
+            dir.join(given).to_str().unwrap(),
+        ]);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        assert!(
+            dir.join(written).is_file(),
+            "{given}: {written} not written"
+        );
+        if given != written {
+            assert!(!dir.join(given).exists(), "{given} written as given");
+        }
+        let said = String::from_utf8_lossy(&out.stdout);
+        assert!(said.contains(written), "{said}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
