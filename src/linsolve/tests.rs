@@ -1042,27 +1042,39 @@ fn floating_body_unsymmetric_on_the_trailing_block() {
     assert_eq!((aug.ldlt, aug.lu, aug.trailing_solves), (3, 0, 3));
 }
 
+/// The shortest of `reps` runs of `f`, in seconds.
+fn best(reps: usize, f: &mut dyn FnMut()) -> f64 {
+    (0..reps)
+        .map(|_| {
+            let t = Instant::now();
+            f();
+            t.elapsed().as_secs_f64()
+        })
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// A tangent over its pattern, the entries beside it and the order.
+type System = (Pattern, Vec<f64>, Vec<(usize, usize, f64)>, usize);
+
+/// The timing tests' system: a fixed `side` x `side` Q4 tangent bordered
+/// by 100 contact rows, and its order.
+fn timing_system(side: usize, rng: &mut Rng) -> System {
+    let (p, k) = q4(side, side, true);
+    let rows = contact_rows(side, side, 100, rng);
+    let n = p.n + rows.len();
+    let extra = border(p.n, &rows);
+    (p, k, extra, n)
+}
+
 /// Numeric LDLT against numeric LU (symbolic analyses cached) on Q4-like
 /// matrices of about 1e4 and 1e5 unknowns with 100 contact rows:
 /// `cargo test --release --lib linsolve::tests::timing -- --ignored --nocapture`.
 #[test]
 #[ignore]
 fn timing_ldlt_against_lu() {
-    let best = |reps: usize, f: &mut dyn FnMut()| {
-        (0..reps)
-            .map(|_| {
-                let t = Instant::now();
-                f();
-                t.elapsed().as_secs_f64()
-            })
-            .fold(f64::INFINITY, f64::min)
-    };
     for (side, reps) in [(71, 5), (224, 3)] {
         let mut rng = Rng(17);
-        let (p, k) = q4(side, side, true);
-        let rows = contact_rows(side, side, 100, &mut rng);
-        let n = p.n + rows.len();
-        let extra = border(p.n, &rows);
+        let (p, k, extra, n) = timing_system(side, &mut rng);
         let b = rhs(n, &mut rng);
 
         let t = Instant::now();
@@ -1144,7 +1156,7 @@ fn timing_ldlt_against_lu() {
              {:.4} s, cached solve {:.4} s | LLT of K: symbolic {:.4} s, numeric {:.4} s | \
              max |x_ldlt - x_lu| = {:.1e} of max |x| {:.1e}",
             p.n,
-            rows.len(),
+            n - p.n,
             ldlt.values.len(),
             if supernodal {
                 "supernodal"
@@ -1176,21 +1188,9 @@ fn timing_ldlt_against_lu() {
 #[ignore]
 fn timing_pattern_refill_against_argsort() {
     use faer::sparse::{Pair, SparseColMat};
-    let best = |reps: usize, f: &mut dyn FnMut()| {
-        (0..reps)
-            .map(|_| {
-                let t = Instant::now();
-                f();
-                t.elapsed().as_secs_f64()
-            })
-            .fold(f64::INFINITY, f64::min)
-    };
     for (side, reps) in [(71, 20), (224, 5)] {
         let mut rng = Rng(17);
-        let (p, k) = q4(side, side, true);
-        let rows = contact_rows(side, side, 100, &mut rng);
-        let n = p.n + rows.len();
-        let extra = border(p.n, &rows);
+        let (p, k, extra, n) = timing_system(side, &mut rng);
         let (_, aug) = solve(&p, &k, &extra, &rhs(n, &mut rng), false);
         let mat = aug.analysis.as_ref().unwrap().mat.clone();
         let (mut values, mut terms) = (Vec::new(), Vec::new());
