@@ -255,6 +255,20 @@ pub enum Decisions {
     Paper,
 }
 
+/// How a pair's contact conditions are written.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum ContactFormulation {
+    /// The paper's: each contactor node held on the target segment it
+    /// meets (`contact::node_to_segment`), its states decided by
+    /// `decisions`.
+    #[default]
+    NodeToSegment,
+    /// Weighted gaps integrated over the contactor against the target's
+    /// interpolation, the multipliers its nodal tractions
+    /// (`contact::mortar`): frictionless, against a body.
+    Mortar,
+}
+
 /// A contactor surface against a target (Section 2 of the paper).
 #[derive(Clone, Debug, PartialEq)]
 pub struct ContactPair {
@@ -273,6 +287,7 @@ pub struct ContactPair {
     pub rule: FrictionRule,
     pub recovery: Recovery,
     pub decisions: Decisions,
+    pub formulation: ContactFormulation,
 }
 
 /// Newton control. The force tolerance is relative to the problem's force

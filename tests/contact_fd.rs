@@ -167,6 +167,7 @@ fn patch(kind: ElementKind, rigid: bool) -> Patch {
         rule: FrictionRule::MuDAfterSlip,
         recovery: Recovery::Consistent,
         decisions: contact2d::problem::Decisions::Paper,
+        formulation: Default::default(),
     });
     Patch {
         problem,

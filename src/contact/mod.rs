@@ -12,6 +12,7 @@
 
 pub mod checks;
 mod memory;
+mod mortar;
 mod node_to_segment;
 pub mod outputs;
 mod report;
@@ -30,7 +31,7 @@ pub use system::{
     ContactSystem, Entries, Flips, Row, Start, Switched, state_key, touches_prescribed,
 };
 
-use crate::problem::{ContactPair, Decisions, Problem};
+use crate::problem::{ContactFormulation, ContactPair, Decisions, Problem};
 use crate::results::PairResult;
 use system::{Forced, Iterate, Kept};
 
@@ -114,9 +115,10 @@ pub(crate) trait Formulation: Sync {
 
 /// The formulation a pair uses: the registration of every formulation.
 fn formulation(pair: &ContactPair) -> &'static dyn Formulation {
-    match pair.decisions {
-        Decisions::Nodal => &node_to_segment::Nodal,
-        Decisions::Paper => &node_to_segment::Paper,
+    match (pair.formulation, pair.decisions) {
+        (ContactFormulation::Mortar, _) => &mortar::Mortar,
+        (ContactFormulation::NodeToSegment, Decisions::Nodal) => &node_to_segment::Nodal,
+        (ContactFormulation::NodeToSegment, Decisions::Paper) => &node_to_segment::Paper,
     }
 }
 

@@ -30,28 +30,30 @@ pub struct Row {
     pub column: Entries,
 }
 
-/// A row's entries (dof, coefficient), held in place: a contact row acts
-/// on its node and at most a target segment's two nodes. The contact
-/// system is rebuilt at every inner solve, and two allocations per row
-/// were a tenth of that.
-#[derive(Clone, Copy, Debug, Default)]
+/// A row's entries (dof, coefficient): held in place for a node-to-segment
+/// row, which acts on its node and at most a target segment's two nodes
+/// (the contact system is rebuilt at every inner solve, and two
+/// allocations per row were a tenth of that); a longer row (a mortar
+/// row's weighted gap spans neighbouring nodes on both surfaces) is held
+/// on the heap.
+#[derive(Clone, Debug, Default)]
 pub struct Entries {
     pub(crate) len: usize,
     pub(crate) at: [(usize, f64); Entries::MAX],
+    long: Vec<(usize, f64)>,
 }
 
 impl Entries {
     pub const MAX: usize = 6;
 
-    /// The entries of `list` (at most `MAX`).
+    /// The entries of `list`.
     pub fn from_slice(list: &[(usize, f64)]) -> Self {
-        assert!(
-            list.len() <= Self::MAX,
-            "a contact row of {} entries",
-            list.len()
-        );
         let mut e = Entries::default();
-        e.at[..list.len()].copy_from_slice(list);
+        if list.len() > Self::MAX {
+            e.long = list.to_vec();
+        } else {
+            e.at[..list.len()].copy_from_slice(list);
+        }
         e.len = list.len();
         e
     }
@@ -60,7 +62,11 @@ impl Entries {
 impl std::ops::Deref for Entries {
     type Target = [(usize, f64)];
     fn deref(&self) -> &[(usize, f64)] {
-        &self.at[..self.len]
+        if self.len > Self::MAX {
+            &self.long
+        } else {
+            &self.at[..self.len]
+        }
     }
 }
 

@@ -101,7 +101,10 @@ pub(super) fn real(v: f64) -> String {
 /// contact pairs all decide nodally (the paper's decisions make the
 /// friction a fixed point of recovered resultants, without a derivative).
 pub fn provides_directional_derivative(problem: &Problem) -> bool {
-    (problem.contacts.iter()).all(|c| c.decisions == crate::problem::Decisions::Nodal)
+    (problem.contacts.iter()).all(|c| {
+        c.decisions == crate::problem::Decisions::Nodal
+            && c.formulation == crate::problem::ContactFormulation::NodeToSegment
+    })
 }
 
 /// The whole `modelDescription.xml`.

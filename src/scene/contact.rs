@@ -4,11 +4,12 @@
 //! the target body on the left of A -> B. Mesh edges already run with their
 //! body on the left, so both come from edge sets as they are.
 
-use super::raw::{self, DecisionsName, Pair, RecoveryName, RuleName, ValueSpec};
+use super::raw::{self, DecisionsName, FormulationName, Pair, RecoveryName, RuleName, ValueSpec};
 use super::{Resolver, SceneError, SceneErrorKind};
 use crate::mesh::Edge;
 use crate::problem::{
-    ContactPair, Decisions, Driver, FrictionRule, Recovery, Rigid, Scaled, Target,
+    ContactFormulation, ContactPair, Decisions, Driver, FrictionRule, Recovery, Rigid, Scaled,
+    Target,
 };
 use std::collections::HashMap;
 use toml::Spanned;
@@ -224,6 +225,7 @@ impl Resolver<'_> {
                     v
                 }
             };
+            let formulation = self.formulation(c, &target, [mu_s, mu_d], &key("formulation"))?;
             pairs.push(ContactPair {
                 name: c.name.get_ref().clone(),
                 body,
@@ -244,9 +246,44 @@ impl Resolver<'_> {
                     None | Some(DecisionsName::Nodal) => Decisions::Nodal,
                     Some(DecisionsName::Paper) => Decisions::Paper,
                 },
+                formulation,
             });
         }
         Ok(pairs)
+    }
+
+    /// A pair's formulation: node-to-segment unless `formulation = "mortar"`,
+    /// which needs a body as target, no friction, and no `decisions` (those
+    /// are node-to-segment's).
+    fn formulation(
+        &self,
+        c: &raw::Contact,
+        target: &Target,
+        [mu_s, mu_d]: [f64; 2],
+        key: &str,
+    ) -> Result<ContactFormulation, SceneError> {
+        let Some(f) = &c.formulation else {
+            return Ok(ContactFormulation::NodeToSegment);
+        };
+        if *f.get_ref() == FormulationName::NodeToSegment {
+            return Ok(ContactFormulation::NodeToSegment);
+        }
+        let refuse = |why: &str| Err(self.invalid(f.span(), key, why.to_string()));
+        if matches!(target, Target::Rigid(_)) {
+            return refuse("mortar contact needs a body's edge set as target, not a rigid");
+        }
+        if mu_s != 0.0 || mu_d != 0.0 {
+            return refuse(&format!(
+                "mortar contact is frictionless: mu_s = {mu_s:?} and mu_d = {mu_d:?} must be 0 \
+                 (friction needs formulation = \"node_to_segment\")"
+            ));
+        }
+        if c.decisions.is_some() {
+            return refuse(
+                "`decisions` chooses node-to-segment's state decisions; a mortar pair has none",
+            );
+        }
+        Ok(ContactFormulation::Mortar)
     }
 
     /// The index of the body a set reference `<body>.<set>` names.

@@ -277,6 +277,14 @@ pub(super) struct Contact {
     pub rule: Option<RuleName>,
     pub recovery: Option<RecoveryName>,
     pub decisions: Option<DecisionsName>,
+    pub formulation: Option<Spanned<FormulationName>>,
+}
+
+#[derive(Deserialize, Clone, Copy, PartialEq)]
+#[serde(rename_all = "snake_case")]
+pub(super) enum FormulationName {
+    NodeToSegment,
+    Mortar,
 }
 
 #[derive(Deserialize, Clone, Copy)]

@@ -355,6 +355,7 @@ pub fn bottom_on_flat(p: &mut Problem, level: f64) -> Vec<usize> {
         rule: FrictionRule::MuDAfterSlip,
         recovery: Recovery::Consistent,
         decisions: Default::default(),
+        formulation: Default::default(),
     });
     bottom
 }

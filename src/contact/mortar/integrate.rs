@@ -1,0 +1,425 @@
+//! The mortar integrals of a pair at an iterate: per contactor node j its
+//! weighted gap `g_j = int Phi_j g_n ds` over the contactor, with `Phi_j`
+//! the dual basis of the contactor's side interpolation and `g_n` the gap
+//! along the interpolated nodal normal, with the gradient (the constraint
+//! row) and Hessian (the contact tangent) of each.
+//!
+//! Segmentation (Popp, Gee & Wall 2009 in 2D): each contactor side is cut
+//! where the target side's end nodes project onto it along the contactor's
+//! normal field; Gauss points on each cut piece project onto the target
+//! side along the same field. Every step is written in `Dual` numbers over
+//! the unknowns it depends on (the side's nodes and its neighbours', whose
+//! positions set the nodal normals, and the target side's nodes), so the
+//! cut points, projections and normals are linearised exactly.
+
+use super::dual::{Dual, V2};
+use super::surface::{Surface, node_xi, shape};
+use crate::contact::traction::Geometry;
+
+/// Points and weights of 5-point Gauss integration on [-1, 1]: exact to
+/// degree 9, above the dual basis times the quadratic interpolation times
+/// the radius on a straight 8-node side.
+const GAUSS: [(f64, f64); 5] = [
+    (-0.906_179_845_938_664, 0.236_926_885_056_189_1),
+    (-0.538_469_310_105_683, 0.478_628_670_499_366_5),
+    (0.0, 0.568_888_888_888_888_9),
+    (0.538_469_310_105_683, 0.478_628_670_499_366_5),
+    (0.906_179_845_938_664, 0.236_926_885_056_189_1),
+];
+
+/// The pair's surfaces and positions at the iterate.
+pub(super) struct Setting<'a> {
+    pub contactor: &'a Surface,
+    pub target: &'a Surface,
+    /// Current positions of the contactor's and the target's surface nodes.
+    pub x: &'a [[f64; 2]],
+    pub y: &'a [[f64; 2]],
+    /// Reference positions of the contactor's nodes.
+    pub x_ref: &'a [[f64; 2]],
+    /// The integrals' measure: the reference length (small strain: the
+    /// multipliers are tractions per reference area, as the element
+    /// stresses are) or the current one (total Lagrangian: Cauchy
+    /// tractions).
+    pub reference_measure: bool,
+    pub geometry: Geometry,
+    /// How far into the target a contactor point may be and still meet it
+    /// (not the far side of a thin target).
+    pub reach: f64,
+}
+
+/// One contactor side against one target side: its unknowns' mesh dofs
+/// and, per contactor node of the side, that side pair's part of its
+/// weighted gap with gradient and Hessian over those unknowns.
+pub(super) struct Part {
+    pub dofs: Vec<usize>,
+    /// (contactor surface node, value, gradient, Hessian row by row).
+    pub gaps: Vec<(usize, f64, Vec<f64>, Vec<f64>)>,
+}
+
+/// Every side pair's part of the weighted gaps (`Part`), and per contactor
+/// node the integral of its shape function (its share of the contactor's
+/// area, in the same measure).
+pub(super) fn integrate(s: &Setting) -> (Vec<Part>, Vec<f64>) {
+    let quadratic = s.contactor.quadratic() || s.target.quadratic();
+    let mut parts = Vec::new();
+    for e in 0..s.contactor.sides.len() {
+        for m in 0..s.target.sides.len() {
+            if !near(s, e, m) {
+                continue;
+            }
+            let part = if quadratic {
+                side_pair::<20>(s, e, m)
+            } else {
+                side_pair::<12>(s, e, m)
+            };
+            parts.extend(part);
+        }
+    }
+    (parts, areas(s))
+}
+
+/// Whether sides e and m lie within `reach` of each other (their bounding
+/// boxes grown by it overlap).
+fn near(s: &Setting, e: usize, m: usize) -> bool {
+    let bbox = |pts: &mut dyn Iterator<Item = [f64; 2]>| {
+        pts.fold([f64::MAX, f64::MAX, f64::MIN, f64::MIN], |b, p| {
+            [
+                b[0].min(p[0]),
+                b[1].min(p[1]),
+                b[2].max(p[0]),
+                b[3].max(p[1]),
+            ]
+        })
+    };
+    let a = bbox(&mut s.contactor.sides[e].iter().map(|&k| s.x[k]));
+    let b = bbox(&mut s.target.sides[m].iter().map(|&k| s.y[k]));
+    let r = s.reach;
+    a[0] - r <= b[2] && b[0] - r <= a[2] && a[1] - r <= b[3] && b[1] - r <= a[3]
+}
+
+/// Per contactor node, the integral of its shape functions over its
+/// sides, in the pair's measure.
+fn areas(s: &Setting) -> Vec<f64> {
+    let mut area = vec![0.0; s.contactor.nodes.len()];
+    for side in &s.contactor.sides {
+        let xs: Vec<V2<0>> = (side.iter())
+            .map(|&k| {
+                V2::c(if s.reference_measure {
+                    s.x_ref[k]
+                } else {
+                    s.x[k]
+                })
+            })
+            .collect();
+        for &(z, w) in &GAUSS {
+            let (n, dn) = shape(side.len(), Dual::<0>::c(z));
+            let ds = measure(s.geometry, &xs, &n, &dn).v * w;
+            for (l, &k) in side.iter().enumerate() {
+                area[k] += n[l].v * ds;
+            }
+        }
+    }
+    area
+}
+
+/// `sum w_i v_i`.
+fn sum<const N: usize>(w: &[Dual<N>], v: &[V2<N>]) -> V2<N> {
+    (w.iter().zip(v)).fold(V2::zero(), |acc, (w, v)| acc + v.scale(*w))
+}
+
+/// The integrand's measure at a side point: length per parameter times
+/// the thickness, or times 2 pi r about the axis.
+fn measure<const N: usize>(
+    geometry: Geometry,
+    xs: &[V2<N>],
+    n: &[Dual<N>],
+    dn: &[Dual<N>],
+) -> Dual<N> {
+    let length = sum(dn, xs).norm();
+    match geometry {
+        Geometry::Planar { thickness } => length * thickness,
+        Geometry::Axisymmetric => length * sum(n, xs).0 * (2.0 * std::f64::consts::PI),
+    }
+}
+
+/// The values of `v` with their derivatives dropped, for the plain
+/// iterations of a projection.
+fn plain<const N: usize>(v: &[V2<N>]) -> Vec<V2<0>> {
+    v.iter().map(|p| V2::c(p.value())).collect()
+}
+
+/// The root of `f` (value and derivative) near `start`: iterated in plain
+/// numbers (`f0`) to round-off, then two Newton steps in dual numbers,
+/// which make its first and second derivatives exact (the first step's
+/// are exact to first order, the second's to second). None if the plain
+/// iteration does not converge.
+fn root<const N: usize>(
+    f: impl Fn(Dual<N>) -> (Dual<N>, Dual<N>),
+    f0: impl Fn(Dual<0>) -> (Dual<0>, Dual<0>),
+    start: f64,
+) -> Option<Dual<N>> {
+    let mut xi = start;
+    let mut converged = false;
+    for _ in 0..30 {
+        let (v, d) = f0(Dual::c(xi));
+        let step = v.v / d.v;
+        if !step.is_finite() {
+            return None;
+        }
+        xi -= step;
+        if xi.abs() > 1e3 {
+            return None;
+        }
+        // Parameters are of order 1: 1e-12 is round-off's reach after
+        // the cancellation in the residual.
+        if step.abs() <= 1e-12 * (1.0 + xi.abs()) {
+            converged = true;
+            break;
+        }
+    }
+    if !converged {
+        return None;
+    }
+    let mut x = Dual::c(xi);
+    for _ in 0..2 {
+        let (v, d) = f(x);
+        x = x - v / d;
+    }
+    Some(x)
+}
+
+/// The contactor side at `xi`: its point, tangent, and the normal field
+/// interpolated from its nodal normals `ns` with its derivative.
+fn contactor_at<const N: usize>(
+    xs: &[V2<N>],
+    ns: &[V2<N>],
+    xi: Dual<N>,
+) -> (V2<N>, V2<N>, V2<N>, V2<N>) {
+    let (n, dn) = shape(xs.len(), xi);
+    (sum(&n, xs), sum(&dn, xs), sum(&n, ns), sum(&dn, ns))
+}
+
+/// Where point `y` lies on the contactor side along its normal field:
+/// `(y - x(xi)) x n(xi)` and its derivative in xi.
+fn onto_contactor<const N: usize>(
+    xs: &[V2<N>],
+    ns: &[V2<N>],
+    y: V2<N>,
+    xi: Dual<N>,
+) -> (Dual<N>, Dual<N>) {
+    let (x, t, n, dn) = contactor_at(xs, ns, xi);
+    let d = y - x;
+    (d.cross(&n), d.cross(&dn) - t.cross(&n))
+}
+
+/// Where the line through `p` along `n` meets the target side at eta:
+/// `(y(eta) - p) x n` and its derivative in eta.
+fn onto_target<const N: usize>(
+    ys: &[V2<N>],
+    p: V2<N>,
+    n: V2<N>,
+    eta: Dual<N>,
+) -> (Dual<N>, Dual<N>) {
+    let (w, dw) = shape(ys.len(), eta);
+    ((sum(&w, ys) - p).cross(&n), sum(&dw, ys).cross(&n))
+}
+
+/// The outward unit normals at side e's nodes: the average of the unit
+/// tangents of the sides at each node, turned outward. `at(k)` is surface
+/// node k's position.
+fn nodal_normals<const N: usize>(
+    surface: &Surface,
+    e: usize,
+    at: &dyn Fn(usize) -> V2<N>,
+) -> Vec<V2<N>> {
+    (surface.sides[e].iter())
+        .map(|&k| {
+            let mut t = V2::zero();
+            for &(side, l) in &surface.on[k] {
+                let nodes = &surface.sides[side];
+                let (_, dn) = shape(nodes.len(), Dual::<N>::c(node_xi(nodes.len(), l)));
+                let xs: Vec<V2<N>> = nodes.iter().map(|&q| at(q)).collect();
+                t = t + sum(&dn, &xs).unit();
+            }
+            t.unit().right()
+        })
+        .collect()
+}
+
+/// The dual basis of side e (`Phi_j = sum_k A_jk N_k`, biorthogonal to its
+/// shape functions in the pair's measure: `int Phi_j N_k = delta_jk int
+/// N_k`): `A = D M^-1`.
+fn dual_basis<const N: usize>(geometry: Geometry, xs: &[V2<N>]) -> Vec<Vec<Dual<N>>> {
+    let n = xs.len();
+    let mut m = vec![vec![Dual::<N>::c(0.0); n]; n];
+    let mut d = vec![Dual::<N>::c(0.0); n];
+    for &(z, w) in &GAUSS {
+        let (sh, dsh) = shape(n, Dual::<N>::c(z));
+        let ds = measure(geometry, xs, &sh, &dsh) * w;
+        for j in 0..n {
+            d[j] = d[j] + sh[j] * ds;
+            for k in 0..n {
+                m[j][k] = m[j][k] + sh[j] * sh[k] * ds;
+            }
+        }
+    }
+    let inv = inverse(&m);
+    (0..n)
+        .map(|j| (0..n).map(|k| d[j] * inv[j][k]).collect())
+        .collect()
+}
+
+/// The inverse of a 2x2 or 3x3 matrix (cofactors over the determinant).
+fn inverse<const N: usize>(m: &[Vec<Dual<N>>]) -> Vec<Vec<Dual<N>>> {
+    if m.len() == 2 {
+        let det = (m[0][0] * m[1][1] - m[0][1] * m[1][0]).recip();
+        return vec![
+            vec![m[1][1] * det, -m[0][1] * det],
+            vec![-m[1][0] * det, m[0][0] * det],
+        ];
+    }
+    let c = |i: usize, j: usize| {
+        let (r, s) = ((i + 1) % 3, (i + 2) % 3);
+        let (p, q) = ((j + 1) % 3, (j + 2) % 3);
+        m[r][p] * m[s][q] - m[r][q] * m[s][p]
+    };
+    let det = (m[0][0] * c(0, 0) + m[0][1] * c(0, 1) + m[0][2] * c(0, 2)).recip();
+    (0..3)
+        .map(|i| (0..3).map(|j| c(j, i) * det).collect())
+        .collect()
+}
+
+/// The part of side pair (e, m) in the contactor nodes' weighted gaps, in
+/// `N` unknowns (None: the sides do not face each other within reach).
+fn side_pair<const N: usize>(s: &Setting, e: usize, m: usize) -> Option<Part> {
+    let support = s.contactor.normal_support(e);
+    let target = &s.target.sides[m];
+    assert!(
+        2 * (support.len() + target.len()) <= N,
+        "mortar side pair of {} + {} nodes over {N} unknowns",
+        support.len(),
+        target.len()
+    );
+    let var = |p: [f64; 2], i: usize| V2(Dual::<N>::var(p[0], 2 * i), Dual::var(p[1], 2 * i + 1));
+    let at = |k: usize| {
+        let i = support
+            .iter()
+            .position(|&q| q == k)
+            .expect("in the support");
+        var(s.x[k], i)
+    };
+    let side = &s.contactor.sides[e];
+    let xs: Vec<V2<N>> = side.iter().map(|&k| at(k)).collect();
+    let ns = nodal_normals(s.contactor, e, &at);
+    let ys: Vec<V2<N>> = (target.iter().enumerate())
+        .map(|(i, &k)| var(s.y[k], support.len() + i))
+        .collect();
+    let (xs0, ns0, ys0) = (plain(&xs), plain(&ns), plain(&ys));
+
+    // The cut: the target's end nodes along the contactor's normal field.
+    let ends = [ys[0], ys[ys.len() - 1]].map(|y| {
+        let y0 = V2::c(y.value());
+        let start = chord_xi(&xs0, y0);
+        root(
+            |xi| onto_contactor(&xs, &ns, y, xi),
+            |xi| onto_contactor(&xs0, &ns0, y0, xi),
+            start,
+        )
+    });
+    let [Some(a), Some(b)] = ends else {
+        return None;
+    };
+    let (lo, hi) = if a.v <= b.v { (a, b) } else { (b, a) };
+    let lo = if lo.v > -1.0 { lo } else { Dual::c(-1.0) };
+    let hi = if hi.v < 1.0 { hi } else { Dual::c(1.0) };
+    if hi.v - lo.v <= 1e-12 {
+        return None;
+    }
+    let (mid, half) = ((lo + hi) * 0.5, (hi - lo) * 0.5);
+
+    // The sides face each other within reach at the cut's middle.
+    {
+        let (p, _, n, _) = contactor_at(&xs0, &ns0, Dual::c(mid.v));
+        let n = n.unit();
+        let eta = root(
+            |eta| onto_target(&ys0, p, n, eta),
+            |eta| onto_target(&ys0, p, n, eta),
+            0.0,
+        )?;
+        let (w, dw) = shape(ys0.len(), eta);
+        let gap = (sum(&w, &ys0) - p).dot(&n).v;
+        let facing = sum(&dw, &ys0).right().dot(&n).v < 0.0;
+        if !facing || gap < -s.reach || eta.v.abs() > 1.0 + 1e-6 {
+            return None;
+        }
+    }
+
+    let reference: Vec<V2<N>> = side.iter().map(|&k| V2::c(s.x_ref[k])).collect();
+    let measured = if s.reference_measure { &reference } else { &xs };
+    let a_dual = dual_basis(s.geometry, measured);
+    let mut gaps = vec![Dual::<N>::c(0.0); side.len()];
+    for &(z, w) in &GAUSS {
+        let xi = mid + half * z;
+        let (p, _, n, _) = contactor_at(&xs, &ns, xi);
+        let n = n.unit();
+        let (p0, n0) = (V2::c(p.value()), V2::c(n.value()));
+        let eta = root(
+            |eta| onto_target(&ys, p, n, eta),
+            |eta| onto_target(&ys0, p0, n0, eta),
+            0.0,
+        )?;
+        let (wt, _) = shape(ys.len(), eta);
+        let g = (sum(&wt, &ys) - p).dot(&n);
+        let (sh, dsh) = shape(side.len(), xi);
+        let ds = measure(s.geometry, measured, &sh, &dsh) * half * w;
+        let gds = g * ds;
+        for (j, gap) in gaps.iter_mut().enumerate() {
+            let phi = (0..side.len()).fold(Dual::c(0.0), |acc, k| acc + a_dual[j][k] * sh[k]);
+            *gap = *gap + phi * gds;
+        }
+    }
+
+    let count = 2 * (support.len() + target.len());
+    let mut dofs = Vec::with_capacity(count);
+    for &k in &support {
+        dofs.extend([2 * s.contactor.nodes[k], 2 * s.contactor.nodes[k] + 1]);
+    }
+    for &k in target {
+        dofs.extend([2 * s.target.nodes[k], 2 * s.target.nodes[k] + 1]);
+    }
+    let gaps = (side.iter().zip(gaps))
+        .map(|(&k, g)| {
+            let hessian = (0..count).flat_map(|i| g.h[i][..count].to_vec()).collect();
+            (k, g.v, g.g[..count].to_vec(), hessian)
+        })
+        .collect();
+    Some(Part { dofs, gaps })
+}
+
+/// Where `y` projects on the chord of the contactor side, in its parameter:
+/// the start of the projection along the normal field.
+fn chord_xi(xs: &[V2<0>], y: V2<0>) -> f64 {
+    let (a, b) = (xs[0].value(), xs[xs.len() - 1].value());
+    let d = [b[0] - a[0], b[1] - a[1]];
+    let t =
+        ((y.value()[0] - a[0]) * d[0] + (y.value()[1] - a[1]) * d[1]) / (d[0] * d[0] + d[1] * d[1]);
+    2.0 * t - 1.0
+}
+
+#[cfg(test)]
+mod tests;
+
+/// The value at side e's node `l` of the field `sum_k c_k Phi_k` over the
+/// side's dual basis (`c`: per contactor node): the traction a node of no
+/// weight reports (an 8-node side's corner on the axis, where `int N_k 2
+/// pi r` vanishes and with it its basis function).
+pub(super) fn field_at_node(s: &Setting, e: usize, l: usize, c: &[f64]) -> f64 {
+    let side = &s.contactor.sides[e];
+    let at = if s.reference_measure { s.x_ref } else { s.x };
+    let xs: Vec<V2<0>> = side.iter().map(|&k| V2::c(at[k])).collect();
+    let a = dual_basis(s.geometry, &xs);
+    let (n, _) = shape(side.len(), Dual::<0>::c(node_xi(side.len(), l)));
+    (0..side.len())
+        .map(|j| c[side[j]] * (0..side.len()).map(|k| a[j][k].v * n[k].v).sum::<f64>())
+        .sum()
+}

@@ -1,0 +1,168 @@
+use super::*;
+
+/// A straight chain of `n` sides of `order` + 1 nodes from x = a to x = b
+/// at height `y`, its parameter running left to right when `forward`.
+fn chain(
+    n: usize,
+    order: usize,
+    [a, b]: [f64; 2],
+    y: f64,
+    forward: bool,
+) -> (Surface, Vec<[f64; 2]>) {
+    let count = n * order + 1;
+    let mut x: Vec<[f64; 2]> = (0..count)
+        .map(|i| [a + (b - a) * i as f64 / (count - 1) as f64, y])
+        .collect();
+    if !forward {
+        x.reverse();
+    }
+    let sides = (0..n)
+        .map(|s| (0..=order).map(|l| s * order + l).collect())
+        .collect();
+    (Surface::from_sides((0..count).collect(), sides), x)
+}
+
+fn setting<'a>(
+    c: &'a Surface,
+    t: &'a Surface,
+    x: &'a [[f64; 2]],
+    y: &'a [[f64; 2]],
+    geometry: Geometry,
+) -> Setting<'a> {
+    Setting {
+        contactor: c,
+        target: t,
+        x,
+        y,
+        x_ref: x,
+        reference_measure: false,
+        geometry,
+        reach: 1.0,
+    }
+}
+
+/// Per contactor node, its weighted gap summed over the parts.
+fn summed(parts: &[Part], m: usize) -> Vec<f64> {
+    let mut g = vec![0.0; m];
+    for p in parts {
+        for (k, v, _, _) in &p.gaps {
+            g[*k] += v;
+        }
+    }
+    g
+}
+
+/// A uniform gap d between a contactor and a target that covers it, their
+/// meshes not matching: each node's weighted gap is d times its area (the
+/// dual basis integrates constants as the shape functions do), for linear
+/// and quadratic sides, planar and axisymmetric.
+#[test]
+fn a_uniform_gap_weighs_as_the_area() {
+    let d = 0.03;
+    for (order_c, order_t) in [(1, 1), (2, 2), (1, 2), (2, 1)] {
+        for geometry in [Geometry::Planar { thickness: 2.0 }, Geometry::Axisymmetric] {
+            // Contactor above (its body on the left walking left to right:
+            // the body lies above), target below (walking right to left).
+            let (c, x) = chain(7, order_c, [1.0, 3.0], d, true);
+            let (t, y) = chain(5, order_t, [0.5, 3.5], 0.0, false);
+            let s = setting(&c, &t, &x, &y, geometry);
+            let (parts, area) = integrate(&s);
+            let g = summed(&parts, x.len());
+            for k in 0..x.len() {
+                assert!(
+                    (g[k] - d * area[k]).abs() < 1e-13 * area[k],
+                    "{order_c}/{order_t} {geometry:?} node {k}: {} against {}",
+                    g[k],
+                    d * area[k]
+                );
+            }
+        }
+    }
+}
+
+/// The gradients and Hessians of the weighted gaps against central
+/// differences of the values, on curved, non-matching sides.
+#[test]
+fn derivatives_match_differences() {
+    for order in [1, 2] {
+        let (c, mut x) = chain(3, order, [0.0, 1.0], 0.0, true);
+        let (t, mut y) = chain(2, order, [-0.2, 1.3], 0.0, false);
+        // Curve both: the contactor bulges down into the target, whose
+        // surface sags.
+        for p in x.iter_mut() {
+            p[1] = 0.05 - 0.2 * (p[0] - 0.5) * (p[0] - 0.5) + 0.01 * p[0];
+        }
+        for p in y.iter_mut() {
+            p[1] = 0.04 * (p[0] - 0.6) * (p[0] - 0.6);
+        }
+        let geometry = Geometry::Axisymmetric;
+        let shift = |x: &mut [[f64; 2]], y: &mut [[f64; 2]], dof: usize, h: f64| {
+            let n = dof / 2;
+            if n < 1000 {
+                x[n][dof % 2] += h;
+            } else {
+                y[n - 1000][dof % 2] += h;
+            }
+        };
+        // Mesh dofs: contactor nodes as they are, target nodes from 1000.
+        let mut cs = c.clone();
+        cs.nodes = (0..x.len()).collect();
+        let mut ts = t.clone();
+        ts.nodes = (1000..1000 + y.len()).collect();
+        let total = |x: &[[f64; 2]], y: &[[f64; 2]]| {
+            let s = setting(&cs, &ts, x, y, geometry);
+            let (parts, _) = integrate(&s);
+            summed(&parts, x.len())
+        };
+        let s = setting(&cs, &ts, &x, &y, geometry);
+        let (parts, _) = integrate(&s);
+        assert!(!parts.is_empty());
+        let h = 1e-6;
+        // The node totals' gradients: summed over parts per dof.
+        let m = x.len();
+        let mut grad = vec![std::collections::BTreeMap::<usize, f64>::new(); m];
+        let mut hess = vec![std::collections::BTreeMap::<(usize, usize), f64>::new(); m];
+        for part in &parts {
+            let count = part.dofs.len();
+            for (k, _, g, hh) in &part.gaps {
+                for a in 0..count {
+                    *grad[*k].entry(part.dofs[a]).or_default() += g[a];
+                    for b in 0..count {
+                        *hess[*k].entry((part.dofs[a], part.dofs[b])).or_default() +=
+                            hh[a * count + b];
+                    }
+                }
+            }
+        }
+        for k in 0..m {
+            for (&dof, &g) in &grad[k] {
+                let (mut xp, mut yp, mut xm, mut ym) = (x.clone(), y.clone(), x.clone(), y.clone());
+                shift(&mut xp, &mut yp, dof, h);
+                shift(&mut xm, &mut ym, dof, -h);
+                let fd = (total(&xp, &yp)[k] - total(&xm, &ym)[k]) / (2.0 * h);
+                assert!(
+                    (g - fd).abs() < 1e-7,
+                    "order {order} node {k} dof {dof}: {g} against {fd}"
+                );
+            }
+        }
+        // The Hessians of a node inside and of the last (every third
+        // entry: each takes four integrations).
+        for k in [m / 2, m - 1] {
+            for (&(a, b), &v) in hess[k].iter().filter(|(ab, _)| ab.0 <= ab.1).step_by(3) {
+                let eval = |ha: f64, hb: f64| {
+                    let (mut xx, mut yy) = (x.clone(), y.clone());
+                    shift(&mut xx, &mut yy, a, ha);
+                    shift(&mut xx, &mut yy, b, hb);
+                    total(&xx, &yy)[k]
+                };
+                let e = 1e-4;
+                let fd = (eval(e, e) - eval(e, -e) - eval(-e, e) + eval(-e, -e)) / (4.0 * e * e);
+                assert!(
+                    (v - fd).abs() < 1e-5 * (1.0 + v.abs()),
+                    "order {order} node {k} dofs {a},{b}: {v} against {fd}"
+                );
+            }
+        }
+    }
+}

@@ -1,0 +1,156 @@
+//! The two surfaces of a mortar pair as chains of sides: the contactor
+//! (the mortar, or slave, side: the multipliers live on its nodes) and the
+//! target body's surface. A side is a 4-node element's edge (2 nodes,
+//! linear) or an 8-node element's (corner, mid-side, corner: quadratic).
+
+use crate::mesh::ElementKind;
+use crate::problem::{ContactPair, Problem, Target};
+
+/// A surface: its mesh nodes and its sides over them.
+#[derive(Clone, Debug)]
+pub(super) struct Surface {
+    /// Mesh node of each surface node.
+    pub nodes: Vec<usize>,
+    /// Per side, its surface nodes in order (the body on the left).
+    pub sides: Vec<Vec<usize>>,
+    /// Per surface node, the sides it lies on and its place in each.
+    pub on: Vec<Vec<(usize, usize)>>,
+}
+
+impl Surface {
+    pub fn from_sides(nodes: Vec<usize>, sides: Vec<Vec<usize>>) -> Self {
+        let mut on = vec![Vec::new(); nodes.len()];
+        for (s, side) in sides.iter().enumerate() {
+            for (l, &k) in side.iter().enumerate() {
+                on[k].push((s, l));
+            }
+        }
+        Surface { nodes, sides, on }
+    }
+
+    /// Whether its sides are quadratic.
+    pub fn quadratic(&self) -> bool {
+        self.sides.first().is_some_and(|s| s.len() == 3)
+    }
+
+    /// The contactor of `pair`: its chain, in sides of 2 nodes, or of 3 on
+    /// a body of 8-node elements.
+    pub fn contactor(problem: &Problem, pair: &ContactPair) -> Result<Self, String> {
+        let m = pair.contactor.len();
+        let quadratic = body_kind(problem, pair.body) == Some(ElementKind::Q8);
+        let step = if quadratic { 2 } else { 1 };
+        let count = if pair.closed { m } else { m.saturating_sub(1) };
+        if count == 0 || count % step != 0 {
+            return Err(format!(
+                "pair '{}': a mortar contactor needs whole sides: {m} nodes{} do not make \
+                 sides of {} nodes",
+                pair.name,
+                if pair.closed { " in a loop" } else { "" },
+                step + 1
+            ));
+        }
+        let sides = (0..count / step)
+            .map(|s| (0..=step).map(|l| (s * step + l) % m).collect())
+            .collect();
+        Ok(Surface::from_sides(pair.contactor.clone(), sides))
+    }
+
+    /// The target body's surface of `pair` (None against a rigid target):
+    /// its segments joined in sides, two by two on a body of 8-node
+    /// elements (corner to mid-side, mid-side to corner).
+    pub fn target(problem: &Problem, pair: &ContactPair) -> Result<Option<Self>, String> {
+        let Target::Body { body, segments } = &pair.target else {
+            return Ok(None);
+        };
+        let quadratic = body_kind(problem, *body) == Some(ElementKind::Q8);
+        let chains: Vec<Vec<usize>> = if quadratic {
+            if segments.len() % 2 != 0 {
+                return Err(format!(
+                    "pair '{}': the target's {} segments do not make 8-node sides",
+                    pair.name,
+                    segments.len()
+                ));
+            }
+            (segments.chunks(2))
+                .map(|s| {
+                    if s[0][1] != s[1][0] {
+                        Err(format!(
+                            "pair '{}': target segments {:?} and {:?} do not make an 8-node side",
+                            pair.name, s[0], s[1]
+                        ))
+                    } else {
+                        Ok(vec![s[0][0], s[0][1], s[1][1]])
+                    }
+                })
+                .collect::<Result<_, _>>()?
+        } else {
+            segments.iter().map(|s| s.to_vec()).collect()
+        };
+        let mut nodes: Vec<usize> = chains.iter().flatten().copied().collect();
+        nodes.sort_unstable();
+        nodes.dedup();
+        let sides = (chains.iter())
+            .map(|c| c.iter().map(|n| nodes.binary_search(n).unwrap()).collect())
+            .collect();
+        Ok(Some(Surface::from_sides(nodes, sides)))
+    }
+
+    /// The surface nodes whose positions the outward normals at side `s`'s
+    /// nodes depend on: its own, then those of its neighbouring sides.
+    pub fn normal_support(&self, s: usize) -> Vec<usize> {
+        let mut list = self.sides[s].clone();
+        for &k in &self.sides[s] {
+            for &(t, _) in &self.on[k] {
+                for &q in &self.sides[t] {
+                    if !list.contains(&q) {
+                        list.push(q);
+                    }
+                }
+            }
+        }
+        list
+    }
+}
+
+/// The element kind of a body (None: no elements).
+fn body_kind(problem: &Problem, body: usize) -> Option<ElementKind> {
+    let e = problem.bodies[body].elements.clone().next()?;
+    Some(problem.mesh.elements[e].kind)
+}
+
+/// Shape functions of a side of `n` nodes (2 or 3) at `xi` in [-1, 1] and
+/// their derivatives, generic over the number type.
+pub(super) fn shape<T>(n: usize, xi: T) -> (Vec<T>, Vec<T>)
+where
+    T: Copy
+        + std::ops::Add<Output = T>
+        + std::ops::Sub<Output = T>
+        + std::ops::Mul<Output = T>
+        + std::ops::Add<f64, Output = T>
+        + std::ops::Mul<f64, Output = T>,
+{
+    if n == 2 {
+        (
+            vec![xi * -0.5 + 0.5, xi * 0.5 + 0.5],
+            vec![xi * 0.0 + -0.5, xi * 0.0 + 0.5],
+        )
+    } else {
+        (
+            vec![
+                (xi * xi - xi) * 0.5,
+                xi * xi * -1.0 + 1.0,
+                (xi * xi + xi) * 0.5,
+            ],
+            vec![xi + -0.5, xi * -2.0, xi + 0.5],
+        )
+    }
+}
+
+/// Where a side's node `l` of `n` lies in its parameter.
+pub(super) fn node_xi(n: usize, l: usize) -> f64 {
+    if n == 2 {
+        [-1.0, 1.0][l]
+    } else {
+        [-1.0, 0.0, 1.0][l]
+    }
+}

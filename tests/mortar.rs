@@ -1,0 +1,226 @@
+//! Mortar contact between two bodies whose meshes do not match, against
+//! closed forms: the contact patch test (a uniform pressure through a flat
+//! interface is carried exactly, node by node).
+
+use contact2d::newton::Solver;
+use contact2d::results::{LogCategory, NodeState, PairResult};
+
+/// One patch test: two stacked 2 x 1 blocks, the upper one's bottom the
+/// mortar contactor against the lower one's top, the lower block's bottom
+/// held vertically, the upper one's top pushed down by `press`.
+#[derive(Clone, Copy, Debug)]
+struct Patch {
+    element: &'static str,
+    /// Elements along the interface: upper (contactor), lower (target).
+    divisions: [usize; 2],
+    /// [E, nu] of the upper and lower blocks.
+    materials: [[f64; 2]; 2],
+    analysis: &'static str,
+    kinematics: &'static str,
+    /// Both blocks' sides held laterally (uniaxial strain); otherwise only
+    /// their left sides, and they expand sideways.
+    rollers: bool,
+    press: f64,
+}
+
+impl Patch {
+    fn scene(&self) -> String {
+        let [[e1, nu1], [e2, nu2]] = self.materials;
+        let [nu, nl] = self.divisions;
+        let (element, analysis, kinematics, press) =
+            (self.element, self.analysis, self.kinematics, self.press);
+        let right = if self.rollers {
+            "[[driver]]\nname = \"lower_right\"\nset = \"lower.right\"\nux = 0.0\n\
+             [[driver]]\nname = \"upper_right\"\nset = \"upper.right\"\nux = 0.0\n"
+        } else {
+            ""
+        };
+        format!(
+            r#"title = "patch"
+[analysis]
+kind = "{analysis}"
+kinematics = "{kinematics}"
+[[material]]
+name = "upper"
+model = "linear_elastic"
+E = {e1:?}
+nu = {nu1:?}
+[[material]]
+name = "lower"
+model = "linear_elastic"
+E = {e2:?}
+nu = {nu2:?}
+[[body]]
+name = "lower"
+material = "lower"
+element = "{element}"
+mesh = {{ generator = "rectangle", origin = [0.0, -1.0], size = [2.0, 1.0], divisions = [{nl}, 3] }}
+[[body]]
+name = "upper"
+material = "upper"
+element = "{element}"
+mesh = {{ generator = "rectangle", origin = [0.0, 0.0], size = [2.0, 1.0], divisions = [{nu}, 3] }}
+[[function]]
+name = "press"
+points = [[0.0, 0.0], [1.0, 1.0]]
+[[driver]]
+name = "base"
+set = "lower.bottom"
+uy = 0.0
+[[driver]]
+name = "lower_left"
+set = "lower.left"
+ux = 0.0
+[[driver]]
+name = "upper_left"
+set = "upper.left"
+ux = 0.0
+{right}[[driver]]
+name = "top"
+set = "upper.top"
+uy = {{ function = "press", scale = {:?} }}
+[[contact]]
+name = "interface"
+contactor = "upper.bottom"
+target = "lower.top"
+formulation = "mortar"
+[steps]
+dt = 0.5
+t_end = 1.0
+"#,
+            -press
+        )
+    }
+
+    /// The pair's results and the top driver's vertical reaction after
+    /// the last increment, with the Newton iterations of each increment.
+    fn solve(&self) -> (PairResult, f64, Vec<usize>) {
+        let text = self.scene();
+        let problem = contact2d::scene::parse(&text, std::path::Path::new("patch.toml"))
+            .unwrap_or_else(|e| panic!("{self:?}: {e}"));
+        let times = problem.times.clone();
+        let mut solver = Solver::new(problem).unwrap();
+        let mut iterations = Vec::new();
+        let mut last = None;
+        for t in times {
+            let mut quiet = |_: LogCategory, _: &str| {};
+            let step = solver
+                .advance(t, &mut quiet)
+                .unwrap_or_else(|e| panic!("{self:?} at t = {t}: {e}"));
+            iterations.push(step.iterations);
+            last = Some(step);
+        }
+        let step = last.unwrap();
+        let top = step.drivers.iter().find(|d| d.0 == "top").unwrap().1.ry;
+        (step.pairs[0].1.clone(), top, iterations)
+    }
+}
+
+/// Uniaxial strain modulus E (1 - nu) / ((1 + nu)(1 - 2 nu)).
+fn constrained_modulus([e, nu]: [f64; 2]) -> f64 {
+    e * (1.0 - nu) / ((1.0 + nu) * (1.0 - 2.0 * nu))
+}
+
+/// Every node of the interface in contact with the traction `p`: within
+/// 1e-9 relative. The exact solution lies in both meshes' interpolation
+/// (a homogeneous strain), and mortar contact reproduces a uniform
+/// traction exactly, so only the round-off of the solve remains (1e-13
+/// measured); 1e-9 leaves room for the conditioning of finer meshes.
+fn assert_uniform(case: &Patch, pair: &PairResult, p: f64) {
+    let nodes = &pair.nodes;
+    for (k, (&tn, &state)) in nodes.tn.iter().zip(&nodes.state).enumerate() {
+        assert_ne!(state, NodeState::Open, "{case:?}: node {k} open");
+        assert!(
+            (tn - p).abs() <= 1e-9 * p,
+            "{case:?}: node {k} at x = {}: t_n = {tn} against {p} ({:+.2e})",
+            nodes.x[k],
+            tn / p - 1.0
+        );
+    }
+}
+
+/// The contact patch test under small strain, laterally held blocks
+/// (uniaxial strain, p = press / sum(h / M)): 4- and 8-node elements,
+/// coarse over fine and fine over coarse, equal and unequal moduli, plane
+/// strain and axisymmetric (the r-weighted integrals).
+#[test]
+fn patch_test_uniform_pressure_to_round_off() {
+    for element in ["q4", "q8"] {
+        for divisions in [[7, 5], [3, 8]] {
+            for materials in [
+                [[1000.0, 0.3], [1000.0, 0.3]],
+                [[3000.0, 0.2], [1000.0, 0.35]],
+            ] {
+                for analysis in ["plane_strain", "axisymmetric"] {
+                    let case = Patch {
+                        element,
+                        divisions,
+                        materials,
+                        analysis,
+                        kinematics: "small_strain",
+                        rollers: true,
+                        press: 0.01,
+                    };
+                    let (pair, _, iterations) = case.solve();
+                    let compliance: f64 = materials
+                        .iter()
+                        .map(|&m| 1.0 / constrained_modulus(m))
+                        .sum();
+                    assert_uniform(&case, &pair, case.press / compliance);
+                    // A linear problem once the contact is closed: Newton
+                    // needs the closing solve and one to confirm.
+                    assert!(
+                        iterations.iter().all(|&i| i <= 2),
+                        "{case:?}: {iterations:?}"
+                    );
+                }
+            }
+        }
+    }
+}
+
+/// Blocks free to expand sideways, of one material, so that the interface
+/// stretches alike on both sides: the plane strain p = press / sum(h (1 -
+/// nu^2) / E), both meshes non-matching and sliding along each other.
+#[test]
+fn patch_test_with_lateral_expansion() {
+    for element in ["q4", "q8"] {
+        for divisions in [[7, 5], [3, 8]] {
+            let m = [1000.0, 0.3];
+            let case = Patch {
+                element,
+                divisions,
+                materials: [m, m],
+                analysis: "plane_strain",
+                kinematics: "small_strain",
+                rollers: false,
+                press: 0.01,
+            };
+            let (pair, _, _) = case.solve();
+            let p = case.press / (2.0 * (1.0 - m[1] * m[1]) / m[0]);
+            assert_uniform(&case, &pair, p);
+        }
+    }
+}
+
+/// Total Lagrangian kinematics, a 5 % compression: the Cauchy traction
+/// is the top's reaction over the interface's current width (2: the
+/// sides are held), the same at every node.
+#[test]
+fn patch_test_total_lagrangian() {
+    for element in ["q4", "q8"] {
+        for divisions in [[7, 5], [3, 8]] {
+            let case = Patch {
+                element,
+                divisions,
+                materials: [[3000.0, 0.2], [1000.0, 0.35]],
+                analysis: "plane_strain",
+                kinematics: "total_lagrangian",
+                rollers: true,
+                press: 0.1,
+            };
+            let (pair, top, _) = case.solve();
+            assert_uniform(&case, &pair, -top / 2.0);
+        }
+    }
+}
