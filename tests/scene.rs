@@ -3,7 +3,8 @@
 
 use contact2d::mesh::{Edge, ElementKind, Mesh, generators};
 use contact2d::problem::{
-    AnalysisKind, FrictionRule, Kinematics, MaterialSpec, Recovery, Scaled, Target,
+    AnalysisKind, ContactFormulation, FrictionRule, Kinematics, MaterialSpec, Recovery, Scaled,
+    Target,
 };
 use contact2d::scene::{self, SceneError, SceneErrorKind};
 use std::path::Path;
@@ -1750,8 +1751,22 @@ fn friction_coefficients_and_words() {
         &e,
         SceneErrorKind::UnknownKey,
         "scenes/t.toml:57: contact[0].friction = 0.3: unknown key; \
-         allowed keys: name, contactor, target, mu_s, mu_d, rule, recovery, decisions",
+         allowed keys: name, contactor, target, mu_s, mu_d, rule, recovery, decisions, formulation",
     );
+    let e = pair_with("formulation = \"mortar\"\n").unwrap_err();
+    assert_error(
+        &e,
+        SceneErrorKind::InvalidValue,
+        r#"scenes/t.toml:57: contact[0].formulation = "mortar": mortar contact needs a body's edge set as target, not a rigid"#,
+    );
+    let e = pair_with("formulation = \"segment\"\n").unwrap_err();
+    assert_error(
+        &e,
+        SceneErrorKind::InvalidValue,
+        r#"scenes/t.toml:57: contact[0].formulation = "segment": must be one of: node_to_segment, mortar"#,
+    );
+    let p = pair_with("formulation = \"node_to_segment\"\n").unwrap();
+    assert_eq!(p.contacts[0].formulation, ContactFormulation::NodeToSegment);
     let e = with("[[contact]]\nname = \"c\"\ncontactor = \"wheel.arc\"\n").unwrap_err();
     assert_error(
         &e,

@@ -102,6 +102,10 @@ pub(crate) trait Formulation: Sync {
         cache: &mut SearchCache,
     ) -> Result<Option<Vec<(usize, Forced)>>, String>;
 
+    /// Whether `linearise` answers (the FMU then provides directional
+    /// derivatives).
+    fn sensitivities(&self) -> bool;
+
     /// The exact linearisation of the pair's contact conditions at a
     /// converged state (`sensitivity::linearise`), into `out`.
     fn linearise(
@@ -120,6 +124,15 @@ fn formulation(pair: &ContactPair) -> &'static dyn Formulation {
         (ContactFormulation::NodeToSegment, Decisions::Nodal) => &node_to_segment::Nodal,
         (ContactFormulation::NodeToSegment, Decisions::Paper) => &node_to_segment::Paper,
     }
+}
+
+/// Whether a converged state has sensitivities (the FMU's directional
+/// derivatives): every pair's formulation linearises.
+pub fn sensitivities(problem: &Problem) -> bool {
+    problem
+        .contacts
+        .iter()
+        .all(|p| formulation(p).sensitivities())
 }
 
 /// Whether the inner solves apply: every pair's formulation has them.

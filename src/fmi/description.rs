@@ -97,14 +97,12 @@ pub(super) fn real(v: f64) -> String {
     format!("{:?}", v + 0.0)
 }
 
-/// Whether fmi2GetDirectionalDerivative answers for this scene: its
-/// contact pairs all decide nodally (the paper's decisions make the
+/// Whether fmi2GetDirectionalDerivative answers for this scene: every
+/// contact pair's formulation linearises its converged state (node-to-
+/// segment with the nodal decisions; the paper's decisions make the
 /// friction a fixed point of recovered resultants, without a derivative).
 pub fn provides_directional_derivative(problem: &Problem) -> bool {
-    (problem.contacts.iter()).all(|c| {
-        c.decisions == crate::problem::Decisions::Nodal
-            && c.formulation == crate::problem::ContactFormulation::NodeToSegment
-    })
+    crate::contact::sensitivities(problem)
 }
 
 /// The whole `modelDescription.xml`.

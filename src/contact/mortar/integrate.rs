@@ -289,39 +289,24 @@ fn inverse<const N: usize>(m: &[Vec<Dual<N>>]) -> Vec<Vec<Dual<N>>> {
         .collect()
 }
 
-/// The part of side pair (e, m) in the contactor nodes' weighted gaps, in
-/// `N` unknowns (None: the sides do not face each other within reach).
-fn side_pair<const N: usize>(s: &Setting, e: usize, m: usize) -> Option<Part> {
-    let support = s.contactor.normal_support(e);
-    let target = &s.target.sides[m];
-    assert!(
-        2 * (support.len() + target.len()) <= N,
-        "mortar side pair of {} + {} nodes over {N} unknowns",
-        support.len(),
-        target.len()
-    );
-    let var = |p: [f64; 2], i: usize| V2(Dual::<N>::var(p[0], 2 * i), Dual::var(p[1], 2 * i + 1));
-    let at = |k: usize| {
-        let i = support
-            .iter()
-            .position(|&q| q == k)
-            .expect("in the support");
-        var(s.x[k], i)
-    };
-    let side = &s.contactor.sides[e];
-    let xs: Vec<V2<N>> = side.iter().map(|&k| at(k)).collect();
-    let ns = nodal_normals(s.contactor, e, &at);
-    let ys: Vec<V2<N>> = (target.iter().enumerate())
-        .map(|(i, &k)| var(s.y[k], support.len() + i))
-        .collect();
-    let (xs0, ns0, ys0) = (plain(&xs), plain(&ns), plain(&ys));
-
-    // The cut: the target's end nodes along the contactor's normal field.
+/// Where side pair (e, m) overlaps in the contactor side's parameter, in
+/// `N` unknowns over `xs`, `ns` (the contactor side's positions and
+/// nodal normals) and `ys` (the target side's positions): the target's end
+/// nodes projected onto the contactor side along its normal field, clipped
+/// to the side. None: no overlap, or the sides do not face each other
+/// within `reach` (checked at the overlap's middle).
+fn overlap<const N: usize>(
+    xs: &[V2<N>],
+    ns: &[V2<N>],
+    ys: &[V2<N>],
+    reach: f64,
+) -> Option<(Dual<N>, Dual<N>)> {
+    let (xs0, ns0, ys0) = (plain(xs), plain(ns), plain(ys));
     let ends = [ys[0], ys[ys.len() - 1]].map(|y| {
         let y0 = V2::c(y.value());
         let start = chord_xi(&xs0, y0);
         root(
-            |xi| onto_contactor(&xs, &ns, y, xi),
+            |xi| onto_contactor(xs, ns, y, xi),
             |xi| onto_contactor(&xs0, &ns0, y0, xi),
             start,
         )
@@ -335,24 +320,57 @@ fn side_pair<const N: usize>(s: &Setting, e: usize, m: usize) -> Option<Part> {
     if hi.v - lo.v <= 1e-12 {
         return None;
     }
-    let (mid, half) = ((lo + hi) * 0.5, (hi - lo) * 0.5);
+    let (p, _, n, _) = contactor_at(&xs0, &ns0, Dual::c(0.5 * (lo.v + hi.v)));
+    let n = n.unit();
+    let eta = root(
+        |eta| onto_target(&ys0, p, n, eta),
+        |eta| onto_target(&ys0, p, n, eta),
+        0.0,
+    )?;
+    let (w, dw) = shape(ys0.len(), eta);
+    let gap = (sum(&w, &ys0) - p).dot(&n).v;
+    let facing = sum(&dw, &ys0).right().dot(&n).v < 0.0;
+    (facing && gap >= -reach && eta.v.abs() <= 1.0 + 1e-6).then_some((lo, hi))
+}
 
-    // The sides face each other within reach at the cut's middle.
+/// The part of side pair (e, m) in the contactor nodes' weighted gaps, in
+/// `N` unknowns (None: the sides do not overlap, or do not face each other
+/// within reach). The overlap is found in plain numbers first, so that a
+/// side pair that does not meet costs no derivatives.
+fn side_pair<const N: usize>(s: &Setting, e: usize, m: usize) -> Option<Part> {
+    let support = s.contactor.normal_support(e);
+    let target = &s.target.sides[m];
+    assert!(
+        2 * (support.len() + target.len()) <= N,
+        "mortar side pair of {} + {} nodes over {N} unknowns",
+        support.len(),
+        target.len()
+    );
+    let side = &s.contactor.sides[e];
+    let reach = s.reach;
     {
-        let (p, _, n, _) = contactor_at(&xs0, &ns0, Dual::c(mid.v));
-        let n = n.unit();
-        let eta = root(
-            |eta| onto_target(&ys0, p, n, eta),
-            |eta| onto_target(&ys0, p, n, eta),
-            0.0,
-        )?;
-        let (w, dw) = shape(ys0.len(), eta);
-        let gap = (sum(&w, &ys0) - p).dot(&n).v;
-        let facing = sum(&dw, &ys0).right().dot(&n).v < 0.0;
-        if !facing || gap < -s.reach || eta.v.abs() > 1.0 + 1e-6 {
-            return None;
-        }
+        let at = |k: usize| V2::<0>::c(s.x[k]);
+        let xs: Vec<V2<0>> = side.iter().map(|&k| at(k)).collect();
+        let ns = nodal_normals(s.contactor, e, &at);
+        let ys: Vec<V2<0>> = target.iter().map(|&k| V2::c(s.y[k])).collect();
+        overlap(&xs, &ns, &ys, reach)?;
     }
+    let var = |p: [f64; 2], i: usize| V2(Dual::<N>::var(p[0], 2 * i), Dual::var(p[1], 2 * i + 1));
+    let at = |k: usize| {
+        let i = support
+            .iter()
+            .position(|&q| q == k)
+            .expect("in the support");
+        var(s.x[k], i)
+    };
+    let xs: Vec<V2<N>> = side.iter().map(|&k| at(k)).collect();
+    let ns = nodal_normals(s.contactor, e, &at);
+    let ys: Vec<V2<N>> = (target.iter().enumerate())
+        .map(|(i, &k)| var(s.y[k], support.len() + i))
+        .collect();
+    let (ys0,) = (plain(&ys),);
+    let (lo, hi) = overlap(&xs, &ns, &ys, reach)?;
+    let (mid, half) = ((lo + hi) * 0.5, (hi - lo) * 0.5);
 
     let reference: Vec<V2<N>> = side.iter().map(|&k| V2::c(s.x_ref[k])).collect();
     let measured = if s.reference_measure { &reference } else { &xs };

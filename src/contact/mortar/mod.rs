@@ -165,6 +165,10 @@ impl Formulation for Mortar {
         Ok(None)
     }
 
+    fn sensitivities(&self) -> bool {
+        false
+    }
+
     fn linearise(
         &self,
         _at: &At,

@@ -145,6 +145,10 @@ impl Formulation for Nodal {
         predict_pair(at, pair, mem, kept, cache).map(Some)
     }
 
+    fn sensitivities(&self) -> bool {
+        true
+    }
+
     fn linearise(
         &self,
         at: &At,

@@ -55,6 +55,10 @@ impl Formulation for Paper {
         Ok(None)
     }
 
+    fn sensitivities(&self) -> bool {
+        false
+    }
+
     fn linearise(
         &self,
         _at: &At,
