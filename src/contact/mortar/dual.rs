@@ -4,6 +4,9 @@
 //! constraint rows) and Hessians (the contact part of the tangent) are
 //! exact to round-off, whatever the segmentation, projections and normals
 //! they pass through.
+//!
+//! A Hessian is symmetric: only its upper triangle (`h[i][j]`, `j >= i`)
+//! is computed and read (`hessian`); the lower one stays zero.
 
 use std::ops::{Add, Div, Mul, Neg, Sub};
 
@@ -37,7 +40,7 @@ impl<const N: usize> Dual<N> {
         let mut out = Self::c(f);
         for i in 0..N {
             out.g[i] = df * self.g[i];
-            for j in 0..N {
+            for j in i..N {
                 out.h[i][j] = df * self.h[i][j] + d2f * self.g[i] * self.g[j];
             }
         }
@@ -54,13 +57,18 @@ impl<const N: usize> Dual<N> {
         self.chain(r, -r * r, 2.0 * r * r * r)
     }
 
+    /// Entry (i, j) of the Hessian.
+    pub fn hessian(&self, i: usize, j: usize) -> f64 {
+        self.h[i.min(j)][i.max(j)]
+    }
+
     /// `self * k` for a plain number `k`.
     pub fn scale(&self, k: f64) -> Self {
         let mut out = *self;
         out.v *= k;
         for i in 0..N {
             out.g[i] *= k;
-            for j in 0..N {
+            for j in i..N {
                 out.h[i][j] *= k;
             }
         }
@@ -74,7 +82,7 @@ impl<const N: usize> Add for Dual<N> {
         self.v += b.v;
         for i in 0..N {
             self.g[i] += b.g[i];
-            for j in 0..N {
+            for j in i..N {
                 self.h[i][j] += b.h[i][j];
             }
         }
@@ -102,7 +110,7 @@ impl<const N: usize> Mul for Dual<N> {
         let mut out = Self::c(self.v * b.v);
         for i in 0..N {
             out.g[i] = self.v * b.g[i] + b.v * self.g[i];
-            for j in 0..N {
+            for j in i..N {
                 out.h[i][j] = self.v * b.h[i][j]
                     + b.v * self.h[i][j]
                     + self.g[i] * b.g[j]
@@ -215,8 +223,8 @@ mod tests {
             + plain(x0 - e, y0 - e))
             / (4.0 * e * e);
         let fxx = (plain(x0 + e, y0) - 2.0 * plain(x0, y0) + plain(x0 - e, y0)) / (e * e);
-        assert!((d.h[0][1] - fxy).abs() < 1e-6 * fxy.abs().max(1.0));
-        assert!((d.h[1][0] - fxy).abs() < 1e-6 * fxy.abs().max(1.0));
-        assert!((d.h[0][0] - fxx).abs() < 1e-6 * fxx.abs().max(1.0));
+        assert!((d.hessian(0, 1) - fxy).abs() < 1e-6 * fxy.abs().max(1.0));
+        assert!((d.hessian(1, 0) - fxy).abs() < 1e-6 * fxy.abs().max(1.0));
+        assert!((d.hessian(0, 0) - fxx).abs() < 1e-6 * fxx.abs().max(1.0));
     }
 }

@@ -16,15 +16,15 @@ use super::dual::{Dual, V2};
 use super::surface::{Surface, node_xi, shape};
 use crate::contact::traction::Geometry;
 
-/// Points and weights of 5-point Gauss integration on [-1, 1]: exact to
-/// degree 9, above the dual basis times the quadratic interpolation times
-/// the radius on a straight 8-node side.
-const GAUSS: [(f64, f64); 5] = [
-    (-0.906_179_845_938_664, 0.236_926_885_056_189_1),
-    (-0.538_469_310_105_683, 0.478_628_670_499_366_5),
-    (0.0, 0.568_888_888_888_888_9),
-    (0.538_469_310_105_683, 0.478_628_670_499_366_5),
-    (0.906_179_845_938_664, 0.236_926_885_056_189_1),
+/// Points and weights of 3-point Gauss integration on [-1, 1]: exact to
+/// degree 5. On a straight side (an 8-node one with its mid-side node in
+/// the middle) the position is linear in the parameter, so the integrands
+/// are of degree 4 at most (a shape function times a dual basis function,
+/// both quadratic, times the radius), and the gap on a piece is linear.
+const GAUSS: [(f64, f64); 3] = [
+    (-0.774_596_669_241_483_4, 5.0 / 9.0),
+    (0.0, 8.0 / 9.0),
+    (0.774_596_669_241_483_4, 5.0 / 9.0),
 ];
 
 /// The pair's surfaces and positions at the iterate.
@@ -54,6 +54,10 @@ pub(super) struct Part {
     pub dofs: Vec<usize>,
     /// (contactor surface node, value, gradient, Hessian row by row).
     pub gaps: Vec<(usize, f64, Vec<f64>, Vec<f64>)>,
+    /// Per node of `gaps`, the gap weighted by its hat function instead
+    /// (`hat`: positive, so this is negative only where the target is
+    /// entered near the node): value and gradient.
+    pub hat_weighted: Vec<(f64, Vec<f64>)>,
 }
 
 /// Every side pair's part of the weighted gaps (`Part`), and per contactor
@@ -376,6 +380,7 @@ fn side_pair<const N: usize>(s: &Setting, e: usize, m: usize) -> Option<Part> {
     let measured = if s.reference_measure { &reference } else { &xs };
     let a_dual = dual_basis(s.geometry, measured);
     let mut gaps = vec![Dual::<N>::c(0.0); side.len()];
+    let mut hat_weighted = vec![Dual::<N>::c(0.0); side.len()];
     for &(z, w) in &GAUSS {
         let xi = mid + half * z;
         let (p, _, n, _) = contactor_at(&xs, &ns, xi);
@@ -394,6 +399,7 @@ fn side_pair<const N: usize>(s: &Setting, e: usize, m: usize) -> Option<Part> {
         for (j, gap) in gaps.iter_mut().enumerate() {
             let phi = (0..side.len()).fold(Dual::c(0.0), |acc, k| acc + a_dual[j][k] * sh[k]);
             *gap = *gap + phi * gds;
+            hat_weighted[j] = hat_weighted[j] + hat(side.len(), j, xi) * gds;
         }
     }
 
@@ -405,13 +411,40 @@ fn side_pair<const N: usize>(s: &Setting, e: usize, m: usize) -> Option<Part> {
     for &k in target {
         dofs.extend([2 * s.target.nodes[k], 2 * s.target.nodes[k] + 1]);
     }
+    let hat_weighted = (hat_weighted.iter())
+        .map(|g| (g.v, g.g[..count].to_vec()))
+        .collect();
     let gaps = (side.iter().zip(gaps))
         .map(|(&k, g)| {
-            let hessian = (0..count).flat_map(|i| g.h[i][..count].to_vec()).collect();
+            let g = &g;
+            let hessian = (0..count)
+                .flat_map(|i| (0..count).map(move |j| g.hessian(i, j)))
+                .collect();
             (k, g.v, g.g[..count].to_vec(), hessian)
         })
         .collect();
-    Some(Part { dofs, gaps })
+    Some(Part {
+        dofs,
+        gaps,
+        hat_weighted,
+    })
+}
+
+/// The hat function of node `j` of a side of `n` nodes at `xi`: the
+/// linear shape function on a 2-node side; on a 3-node side the linear
+/// hats over its two halves (corner, mid-side, corner), which unlike the
+/// quadratic shape functions are nowhere negative.
+fn hat<const N: usize>(n: usize, j: usize, xi: Dual<N>) -> Dual<N> {
+    let zero = Dual::c(0.0);
+    match (n, j) {
+        (2, 0) => xi * -0.5 + 0.5,
+        (2, _) => xi * 0.5 + 0.5,
+        (_, 0) if xi.v < 0.0 => -xi,
+        (_, 2) if xi.v > 0.0 => xi,
+        (_, 1) if xi.v < 0.0 => xi + 1.0,
+        (_, 1) => -xi + 1.0,
+        _ => zero,
+    }
 }
 
 /// Where `y` projects on the chord of the contactor side, in its parameter:
