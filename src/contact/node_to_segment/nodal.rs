@@ -723,12 +723,17 @@ fn holds(segments: &[TargetSegment], (j, beta): (usize, f64), f: Vector2<f64>, m
     if within(i) {
         return true;
     }
-    // f = -(a n_j + b n_i), a, b >= 0: between the normals.
-    let (nj, ni) = (segments[j].seg.normal(), segments[i].seg.normal());
+    let (a, b) = normals_weights(segments[j].seg.normal(), segments[i].seg.normal(), f);
+    a >= 0.0 && b >= 0.0
+}
+
+/// `(a, b)` with `f = -(a n_j + b n_i)`: both at least 0 when the force lies
+/// in the cone of the two normals (the target pushes the node out).
+fn normals_weights(nj: Vector2<f64>, ni: Vector2<f64>, f: Vector2<f64>) -> (f64, f64) {
     let det = nj.x * ni.y - nj.y * ni.x;
     let a = -(f.x * ni.y - f.y * ni.x) / det;
     let b = -(nj.x * f.y - nj.y * f.x) / det;
-    a >= 0.0 && b >= 0.0
+    (a, b)
 }
 
 /// A node that slid in the previous increment, under the experiment's rule
@@ -884,11 +889,7 @@ fn corner(
     if !(beyond(search::BETA_TOLERANCE) || (returned && beyond(tol))) {
         return None;
     }
-    let (nj, ni) = (segments[j].seg.normal(), segments[i].seg.normal());
-    // f = -(a n_j + b n_i): the target pushes the node out.
-    let det = nj.x * ni.y - nj.y * ni.x;
-    let a = -(f.x * ni.y - f.y * ni.x) / det;
-    let b = -(nj.x * f.y - nj.y * f.x) / det;
+    let (a, b) = normals_weights(segments[j].seg.normal(), segments[i].seg.normal(), f);
     let slide = |k: usize, end: f64| {
         let cp = segments[k].seg.contact_at(x, end);
         let n = segments[k].seg.normal();
