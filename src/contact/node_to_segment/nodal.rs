@@ -632,18 +632,16 @@ fn frictional_decision(
         (None, NodeState::Open) => {
             (slip.abs() > mu_stick * touch.cp.normal_overlap()).then(|| slip.signum())
         }
-        // Its rows hold a sticking node at the anchor, unless a driver moves
-        // it along the target: then it slides. Only a driven node (a
-        // prescribed dof) that has moved in the increment: a free node off
-        // its anchor is off by its rows' linearisation (a rigid target
-        // turned by the predictor leaves each node 2e-8 of the incline's
-        // block off it), which the next rows take back, and a node not yet
-        // moved (the predictor's decisions, at the start positions with the
-        // targets at their new poses) is off by the target's motion.
+        // Its rows hold a sticking node at the anchor, unless a driver holds
+        // it off the anchor along the target (moves it, or holds it while
+        // the target moves): then it slides. Only a driven node (a
+        // prescribed dof): a free node off its anchor is off by its rows'
+        // linearisation (a rigid target turned by the predictor leaves each
+        // node of the incline's block 2e-8 off it) or, in the predictor's
+        // decisions (the start positions, the targets at their new poses),
+        // by the target's motion, which its rows carry it along with.
         (None, NodeState::Stick)
-            if view.driven[k]
-                && view.x[k] != view.x0[k]
-                && slip.abs() > slip_tolerance.max(1e-9 * reach) =>
+            if view.driven[k] && slip.abs() > slip_tolerance.max(1e-9 * reach) =>
         {
             Some(slip.signum())
         }
