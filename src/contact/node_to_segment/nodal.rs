@@ -10,6 +10,7 @@
 
 use super::rows::add_rows;
 use super::{Nodal, TENSION_TOLERANCE, linearise};
+use crate::assembly::PRESCRIBED;
 use crate::contact::Formulation;
 use crate::contact::Prediction;
 use crate::contact::memory::{NodeMemory, PairMemory};
@@ -177,6 +178,10 @@ struct PairIterate<'a> {
     target_motion: f64,
     /// Each node's out-of-balance force.
     force: Vec<Vector2<f64>>,
+    /// Each node has a prescribed dof (a driver moves it).
+    driven: Vec<bool>,
+    /// Each node has every dof prescribed (its drivers place it).
+    placed: Vec<bool>,
     /// In contact after the previous iteration.
     active: Vec<bool>,
     /// A node's force pulls when its normal part is above this.
@@ -228,6 +233,13 @@ impl<'a> PairIterate<'a> {
         // contact; at a prescribed dof it is the driver's reaction (a
         // symmetry plane).
         let force = at.contactor_forces(pair);
+        let prescribed = |d: usize| at.eq[d] == PRESCRIBED;
+        let driven = (pair.contactor.iter())
+            .map(|&n| prescribed(2 * n) || prescribed(2 * n + 1))
+            .collect();
+        let placed = (pair.contactor.iter())
+            .map(|&n| prescribed(2 * n) && prescribed(2 * n + 1))
+            .collect();
         let active: Vec<bool> = match active {
             Some(a) => a.to_vec(),
             None => (mem.nodes.iter())
@@ -247,6 +259,8 @@ impl<'a> PairIterate<'a> {
             h,
             target_motion,
             force,
+            driven,
+            placed,
             active,
             tension: TENSION_TOLERANCE * force_scale,
             frictionless: pair.mu_s == 0.0 && pair.mu_d == 0.0,
@@ -503,6 +517,15 @@ fn decide(view: &PairIterate, k: usize, old: &NodeMemory, forced: Option<Forced>
         if overlap < 0.0 || (overlap == 0.0 && !view.touching) {
             return Decision::open(0.0);
         }
+    } else if view.placed[k] && view.segments[j].nodes.is_none() {
+        // Placed in full by its drivers against a rigid target, the node
+        // has no row that can move it and no contact force (its drivers
+        // take the reaction): it touches while it overlaps (a pulled end
+        // that starts 1e-6 inside the drum by round-off, then is drawn
+        // off it along the tangent).
+        if overlap < 0.0 {
+            return Decision::open(0.0);
+        }
     } else if p_n < -tension
         && (old.state != NodeState::Stick || view.frictionless || q.abs() <= tension)
     {
@@ -601,7 +624,11 @@ fn frictional_decision(
         (Some(Forced::Close { overlap, .. }), _) => {
             (slip.abs() > mu_stick * overlap).then(|| slip.signum())
         }
-        (None, NodeState::Slip) if old.nodal.slip_sign != 0.0 => {
+        // Under the experiment's rule a node that slid in the previous
+        // increment meets this one as a sticking node (below): mu_s holds
+        // it again unless its force exceeds that, whereas sliding on it
+        // keeps only mu_d and its neighbours take the rest.
+        (None, NodeState::Slip) if old.nodal.slip_sign != 0.0 && !restarts_sticking(pair, old) => {
             (old.nodal.slip_sign * slip >= -slip_tolerance).then_some(old.nodal.slip_sign)
         }
         // A node that touches again after sliding free in this increment, or
@@ -609,12 +636,20 @@ fn frictional_decision(
         (None, NodeState::Open) => {
             (slip.abs() > mu_stick * touch.cp.normal_overlap()).then(|| slip.signum())
         }
-        // Its rows hold a sticking node at the anchor exactly, unless a
-        // driver moves it along the target: then it slides.
-        (None, NodeState::Stick) if slip.abs() > slip_tolerance.max(1e-9 * reach) => {
+        // Its rows hold a sticking node at the anchor, unless a driver holds
+        // it off the anchor along the target (moves it, or holds it while
+        // the target moves): then it slides. Only a driven node (a
+        // prescribed dof): a free node off its anchor is off by its rows'
+        // linearisation (a rigid target turned by the predictor leaves each
+        // node of the incline's block 2e-8 off it) or, in the predictor's
+        // decisions (the start positions, the targets at their new poses),
+        // by the target's motion, which its rows carry it along with.
+        (None, NodeState::Stick)
+            if view.driven[k] && slip.abs() > slip_tolerance.max(1e-9 * reach) =>
+        {
             Some(slip.signum())
         }
-        _ => (q.abs() > mu_stick * p_n.max(0.0)).then(|| -q.signum()),
+        _ => (!holds(segments, (j, touch.cp.beta()), touch.f, mu_stick)).then(|| -q.signum()),
     };
     let slide = |s: f64| Decision {
         state: NodeState::Slip,
@@ -649,17 +684,67 @@ fn frictional_decision(
     slide(s)
 }
 
-/// The coefficient that holds a sticking node: mu_d once it has slid in
-/// this increment (or ever, under the usual rule), mu_s before.
+/// The coefficient that holds a sticking node: under the usual rule mu_s
+/// until it first slides and mu_d from then on; under the experiment's,
+/// mu_s throughout.
 fn sticking_mu(pair: &ContactPair, node: &NodeMemory) -> f64 {
-    if node.nodal.slid {
-        pair.mu_d
-    } else {
-        match pair.rule {
-            FrictionRule::MuDAfterSlip if node.nodal.ever_slid => pair.mu_d,
-            _ => pair.mu_s,
-        }
+    match pair.rule {
+        FrictionRule::MuDAfterSlip if node.nodal.ever_slid => pair.mu_d,
+        _ => pair.mu_s,
     }
+}
+
+/// Whether a node held at the target point (segment `j`, `beta`) can carry
+/// the force `f` with friction `mu`: `|q| <= mu p_n` on its segment, or, at a
+/// reflex vertex of the target (the point at a segment's end, as where the
+/// buried pipe's nodes meet the hole's), on any normal between the two
+/// segments' there, since a held node's normal is not unique at a vertex:
+/// within either segment's friction cone or between their normals. Held in
+/// one segment's frame alone, a node on a vertex that its force pushes
+/// across slid and slid back over the vertex at every inner solve (the
+/// pipe's first increment, 25 iterations at |r|/F = 4.8e-4).
+fn holds(segments: &[TargetSegment], (j, beta): (usize, f64), f: Vector2<f64>, mu: f64) -> bool {
+    let within = |i: usize| {
+        let seg = &segments[i].seg;
+        let p_n = -seg.normal().dot(&f);
+        seg.tangent().dot(&f).abs() <= mu * p_n.max(0.0)
+    };
+    if within(j) {
+        return true;
+    }
+    let end = if beta >= 1.0 - search::BETA_TOLERANCE {
+        1.0
+    } else if beta <= search::BETA_TOLERANCE {
+        0.0
+    } else {
+        return false;
+    };
+    let Some((i, _)) = search::reflex(segments, j, end) else {
+        return false;
+    };
+    if within(i) {
+        return true;
+    }
+    let (a, b) = normals_weights(segments[j].seg.normal(), segments[i].seg.normal(), f);
+    a >= 0.0 && b >= 0.0
+}
+
+/// `(a, b)` with `f = -(a n_j + b n_i)`: both at least 0 when the force lies
+/// in the cone of the two normals (the target pushes the node out).
+fn normals_weights(nj: Vector2<f64>, ni: Vector2<f64>, f: Vector2<f64>) -> (f64, f64) {
+    let det = nj.x * ni.y - nj.y * ni.x;
+    let a = -(f.x * ni.y - f.y * ni.x) / det;
+    let b = -(nj.x * f.y - nj.y * f.x) / det;
+    (a, b)
+}
+
+/// A node that slid in the previous increment, under the experiment's rule
+/// (mu_s kept throughout): at the first decision of an increment its stick
+/// or slip is decided on its force against mu_s, as a sticking node's.
+/// Under the usual rule it slides on while its slip runs its way (it would
+/// stick with mu_d, the friction it slides with).
+fn restarts_sticking(pair: &ContactPair, node: &NodeMemory) -> bool {
+    pair.rule == FrictionRule::AlwaysMuS && !node.nodal.slid
 }
 
 /// The linearised problem's own decisions for one pair, after a solve with
@@ -741,7 +826,7 @@ fn predict_pair(
             // FMU: nodes sliding at their capacity with no slip, stuck by
             // a reversal their linearisation predicts): 3 to 6 iterations
             // and 10 to 71 solves per step, now 3 and 10 to 24.
-            NodeState::Stick if q.abs() > sticking_mu(pair, node) * p_n => {
+            NodeState::Stick if !holds(&segments, (*j, cp.beta()), f, sticking_mu(pair, node)) => {
                 out.push((k, Forced::Slip(-q.signum())));
             }
             NodeState::Slip if d.slip_sign != 0.0 => {
@@ -806,11 +891,7 @@ fn corner(
     if !(beyond(search::BETA_TOLERANCE) || (returned && beyond(tol))) {
         return None;
     }
-    let (nj, ni) = (segments[j].seg.normal(), segments[i].seg.normal());
-    // f = -(a n_j + b n_i): the target pushes the node out.
-    let det = nj.x * ni.y - nj.y * ni.x;
-    let a = -(f.x * ni.y - f.y * ni.x) / det;
-    let b = -(nj.x * f.y - nj.y * f.x) / det;
+    let (a, b) = normals_weights(segments[j].seg.normal(), segments[i].seg.normal(), f);
     let slide = |k: usize, end: f64| {
         let cp = segments[k].seg.contact_at(x, end);
         let n = segments[k].seg.normal();
