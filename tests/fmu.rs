@@ -1238,13 +1238,17 @@ fn model_structure_and_names() {
 }
 
 /// `contact2d export` writes the committed description, the library and
-/// the scene.
+/// the scene. (It names the native library: the default, the portable
+/// one, is tested in tests/python/test_portable_library.py, and building
+/// it here would put a zig build inside `cargo test`.)
 #[test]
 fn export_writes_the_fmu() {
     let out = std::env::temp_dir().join(format!("contact2d-export-{}.fmu", std::process::id()));
     let status = std::process::Command::new(env!("CARGO_BIN_EXE_contact2d"))
         .args(["export", "scenes/hertz_plane_strain.toml", "-o"])
         .arg(&out)
+        .arg("--library")
+        .arg(library_path())
         .current_dir(repo())
         .status()
         .unwrap();
