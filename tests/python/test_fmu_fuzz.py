@@ -137,7 +137,9 @@ class FmiSequences(RuleBasedStateMachine):
 
     @rule(h=steps, late=st.booleans())
     def do_step(self, h, late):
-        self.step(self.t + (1.0 if late else 0.0), h, late)
+        # Late by 1 s, or by t itself where 1 s is below t's resolution
+        # (after a step to t = 1e300, t + 1 is t: not late).
+        self.step(self.t + (max(1.0, abs(self.t)) if late else 0.0), h, late)
 
     @precondition(lambda self: self.mode == "stepping" and self.inputs)
     @rule(name=st.data(), value=st.floats(-0.05, 0.05), h=st.floats(1e-3, 0.5))
