@@ -167,3 +167,73 @@ impl Drop for Worker {
         unsafe { pthread_join(self.thread, std::ptr::null_mut()) };
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::results::LogCategory;
+
+    /// The sliding block's instance with a logger that records each line
+    /// and the thread it was called on.
+    fn instance(lines: &Arc<Mutex<Vec<(String, std::thread::ThreadId)>>>) -> Instance {
+        let scene = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("scenes/verification/sliding_block.toml");
+        let problem = crate::scene::load(&scene).unwrap();
+        let guid = super::super::description::guid(&problem);
+        let lines = Arc::clone(lines);
+        let log: LogFn = Box::new(move |_, _, msg| {
+            let me = std::thread::current().id();
+            lines.lock().unwrap().push((msg.to_string(), me));
+        });
+        Instance::new("worker", &scene, &guid, true, log).unwrap()
+    }
+
+    /// The job runs on another thread; its log lines reach the logger on
+    /// the calling thread, in order; a second job runs on the same thread;
+    /// a panic in a job is raised on the caller, and the instance logs to
+    /// its own logger afterwards.
+    #[test]
+    fn jobs_run_on_the_worker_and_log_on_the_caller() {
+        let lines = Arc::new(Mutex::new(Vec::new()));
+        let mut inst = instance(&lines);
+        lines.lock().unwrap().clear();
+        let worker = Worker::start().expect("a thread");
+        let here = std::thread::current().id();
+        let mut ran_on = Vec::new();
+        for _ in 0..2 {
+            ran_on.push(worker.run(&mut inst, |inst| {
+                for k in 0..3 {
+                    inst.log(LogCategory::Warning, &format!("line {k}"));
+                }
+                std::thread::current().id()
+            }));
+        }
+        assert_ne!(ran_on[0], here);
+        assert_eq!(ran_on[0], ran_on[1], "one thread per worker");
+        let said: Vec<_> = lines.lock().unwrap().drain(..).collect();
+        let texts: Vec<&str> = said.iter().map(|(m, _)| m.as_str()).collect();
+        assert_eq!(texts, ["line 0", "line 1", "line 2"].repeat(2));
+        assert!(
+            said.iter().all(|(_, t)| *t == here),
+            "logged off the caller's thread"
+        );
+
+        let panicked = catch_unwind(AssertUnwindSafe(|| {
+            worker.run(&mut inst, |inst| {
+                inst.log(LogCategory::Warning, "before");
+                panic!("in the job")
+            })
+        }));
+        let payload = panicked.expect_err("the job's panic reaches the caller");
+        assert_eq!(payload.downcast_ref::<&str>(), Some(&"in the job"));
+        inst.log(LogCategory::Warning, "after");
+        let texts: Vec<String> = lines
+            .lock()
+            .unwrap()
+            .iter()
+            .map(|(m, _)| m.clone())
+            .collect();
+        assert_eq!(texts, ["before", "after"]);
+        drop(worker);
+    }
+}
