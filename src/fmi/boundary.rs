@@ -115,7 +115,8 @@ pub(super) fn with_solving(
 ) -> fmi2Status {
     with(c, call, |inst, comp| {
         let mut worker = comp.worker.lock().unwrap_or_else(PoisonError::into_inner);
-        if worker.is_none() {
+        // A forked child inherits the instance but not its thread.
+        if !worker.as_ref().is_some_and(Worker::here) {
             *worker = Worker::start();
         }
         match worker.as_ref() {

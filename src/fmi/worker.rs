@@ -66,6 +66,9 @@ impl Post {
 pub(super) struct Worker {
     thread: usize,
     post: Arc<Post>,
+    /// The process that started the thread: a child forked from it has the
+    /// worker's memory but not its thread.
+    pid: u32,
 }
 
 extern "C" fn serve(post: *mut c_void) -> *mut c_void {
@@ -100,7 +103,17 @@ impl Worker {
             drop(unsafe { Arc::from_raw(arg as *const Post) });
             return None;
         }
-        Some(Worker { thread, post })
+        Some(Worker {
+            thread,
+            post,
+            pid: std::process::id(),
+        })
+    }
+
+    /// Whether the thread runs in this process (not in the parent of a
+    /// forked child that inherited the instance).
+    pub(super) fn here(&self) -> bool {
+        self.pid == std::process::id()
     }
 
     /// Runs `f` on the instance on the worker thread; the log lines it
@@ -159,9 +172,12 @@ impl Worker {
 }
 
 /// The thread ends, and its thread-locals with it, before the instance's
-/// memory goes.
+/// memory goes. (In a forked child there is no thread to end.)
 impl Drop for Worker {
     fn drop(&mut self) {
+        if !self.here() {
+            return;
+        }
         self.post.open().quit = true;
         self.post.to_worker.notify_one();
         unsafe { pthread_join(self.thread, std::ptr::null_mut()) };
