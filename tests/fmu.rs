@@ -1272,7 +1272,8 @@ fn export_writes_the_fmu() {
     assert_eq!(xml, committed);
     let _ = std::fs::remove_file(&out);
 
-    // A scene that does not load is refused with its file:line.
+    // A scene that does not load is refused with its file:line (without
+    // --library: export's default).
     let bad = std::process::Command::new(env!("CARGO_BIN_EXE_contact2d"))
         .args(["export", "tests/data/scenes/syntax.toml", "-o"])
         .arg(&out)
@@ -1280,7 +1281,10 @@ fn export_writes_the_fmu() {
         .output()
         .unwrap();
     assert_eq!(bad.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&bad.stderr).contains("syntax.toml:"));
+    let said = String::from_utf8_lossy(&bad.stderr);
+    assert!(said.contains("syntax.toml:"), "{said}");
+    // Refused before export would build a library for it.
+    assert!(!said.contains("building the portable library"), "{said}");
 }
 
 /// Value references are unique across types; the GUID follows the interface

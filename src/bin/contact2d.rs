@@ -158,6 +158,10 @@ fn export(scene: &Path, output: &Path, fmi: &str, library: Option<PathBuf>) -> E
     } else {
         FmiVersion::Fmi2
     };
+    // A scene that does not read fails before a library is built for it.
+    if let Err(e) = contact2d::scene::load(scene) {
+        return scene_failure(e);
+    }
     let library = match library.map_or_else(shipped_library, Ok) {
         Ok(library) => library,
         Err(msg) => return failure(msg),
