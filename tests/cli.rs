@@ -46,9 +46,14 @@ fn check_counts_one_in_the_singular() {
 }
 
 /// `export -o NAME` without the `.fmu` extension writes `NAME.fmu` (and
-/// says so); a name with it is kept as it is.
+/// says so); a name with it is kept as it is. (With the native library
+/// named: the default, the portable one, may need a zig build first,
+/// tested in tests/python/test_portable_library.py.)
 #[test]
 fn export_appends_the_fmu_extension() {
+    let native =
+        contact2d::fmi::export::find_library(std::path::Path::new(env!("CARGO_BIN_EXE_contact2d")))
+            .expect("libcontact2d.so beside the binary");
     let dir = std::env::temp_dir().join(format!("contact2d-cli-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     for (given, written) in [
@@ -61,6 +66,8 @@ fn export_appends_the_fmu_extension() {
             "scenes/hertz_plane_strain.toml",
             "-o",
             dir.join(given).to_str().unwrap(),
+            "--library",
+            native.to_str().unwrap(),
         ]);
         assert!(
             out.status.success(),

@@ -1238,13 +1238,17 @@ fn model_structure_and_names() {
 }
 
 /// `contact2d export` writes the committed description, the library and
-/// the scene.
+/// the scene. (It names the native library: the default, the portable
+/// one, is tested in tests/python/test_portable_library.py, and building
+/// it here would put a zig build inside `cargo test`.)
 #[test]
 fn export_writes_the_fmu() {
     let out = std::env::temp_dir().join(format!("contact2d-export-{}.fmu", std::process::id()));
     let status = std::process::Command::new(env!("CARGO_BIN_EXE_contact2d"))
         .args(["export", "scenes/hertz_plane_strain.toml", "-o"])
         .arg(&out)
+        .arg("--library")
+        .arg(library_path())
         .current_dir(repo())
         .status()
         .unwrap();
@@ -1268,7 +1272,8 @@ fn export_writes_the_fmu() {
     assert_eq!(xml, committed);
     let _ = std::fs::remove_file(&out);
 
-    // A scene that does not load is refused with its file:line.
+    // A scene that does not load is refused with its file:line (without
+    // --library: export's default).
     let bad = std::process::Command::new(env!("CARGO_BIN_EXE_contact2d"))
         .args(["export", "tests/data/scenes/syntax.toml", "-o"])
         .arg(&out)
@@ -1276,7 +1281,10 @@ fn export_writes_the_fmu() {
         .output()
         .unwrap();
     assert_eq!(bad.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&bad.stderr).contains("syntax.toml:"));
+    let said = String::from_utf8_lossy(&bad.stderr);
+    assert!(said.contains("syntax.toml:"), "{said}");
+    // Refused before export would build a library for it.
+    assert!(!said.contains("building the portable library"), "{said}");
 }
 
 /// Value references are unique across types; the GUID follows the interface

@@ -73,9 +73,9 @@ enum Command {
         #[arg(long, value_name = "VERSION", default_value = "2", value_parser = ["2", "3"])]
         fmi: String,
         /// The shared library to ship (default: the portable build,
-        /// target/x86_64-unknown-linux-gnu/fmu/libcontact2d.so from
-        /// scripts/build_fmu_library.sh, unless libcontact2d.so beside this
-        /// executable is newer).
+        /// target/x86_64-unknown-linux-gnu/fmu/libcontact2d.so, which
+        /// scripts/build_fmu_library.sh builds first when it is missing or
+        /// older than libcontact2d.so beside this executable).
         #[arg(long, value_name = "FILE")]
         library: Option<PathBuf>,
     },
@@ -158,26 +158,13 @@ fn export(scene: &Path, output: &Path, fmi: &str, library: Option<PathBuf>) -> E
     } else {
         FmiVersion::Fmi2
     };
-    let library = match library {
-        Some(named) => named,
-        None => match std::env::current_exe()
-            .ok()
-            .and_then(|exe| contact2d::fmi::export::default_library(&exe))
-        {
-            Some((found, true)) => found,
-            Some((found, false)) => {
-                eprintln!(
-                    "warning: shipping {}, linked against this machine's glibc: the FMU may not load on an older Linux; `bash scripts/build_fmu_library.sh` builds the portable library (glibc 2.17) that export then ships",
-                    found.display()
-                );
-                found
-            }
-            None => {
-                return failure(
-                    "libcontact2d.so not found: build the portable library with `bash scripts/build_fmu_library.sh` (or the native one with `cargo build --release`), or pass --library",
-                );
-            }
-        },
+    // A scene that does not read fails before a library is built for it.
+    if let Err(e) = contact2d::scene::load(scene) {
+        return scene_failure(e);
+    }
+    let library = match library.map_or_else(shipped_library, Ok) {
+        Ok(library) => library,
+        Err(msg) => return failure(msg),
     };
     match contact2d::fmi::export::export_version(scene, output, &library, version) {
         Ok(done) => {
@@ -195,6 +182,54 @@ fn export(scene: &Path, output: &Path, fmi: &str, library: Option<PathBuf>) -> E
         }
         Err(e @ contact2d::fmi::export::ExportError::Scene(_)) => scene_failure(e),
         Err(e) => failure(e),
+    }
+}
+
+/// The library export ships when none is named: the portable one (glibc
+/// 2.17, stripped), built first by `scripts/build_fmu_library.sh` of the
+/// source tree this binary was built from when it is missing or older than
+/// the native library beside this binary (the first export, and the first
+/// after a change of the code). A binary away from its source tree ships
+/// the native library with a warning.
+fn shipped_library() -> Result<PathBuf, String> {
+    use contact2d::fmi::export::default_library;
+    let exe = std::env::current_exe().map_err(|e| format!("this executable's path: {e}"))?;
+    if let Some((portable, true)) = default_library(&exe) {
+        return Ok(portable);
+    }
+    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("scripts/build_fmu_library.sh");
+    let target = exe.parent().and_then(Path::parent);
+    if let (true, Some(target)) = (script.is_file(), target) {
+        eprintln!(
+            "export: building the portable library (glibc 2.17, stripped) with {}: about 5 minutes the first time, 1.5 after a change of the code",
+            script.display()
+        );
+        let built = std::process::Command::new("bash")
+            .arg(&script)
+            .env("CARGO_TARGET_DIR", target)
+            .stdout(std::io::stderr())
+            .status()
+            .map_err(|e| format!("cannot run {}: {e}", script.display()))?;
+        return match default_library(&exe) {
+            Some((portable, true)) if built.success() => Ok(portable),
+            _ => Err(format!(
+                "{} failed ({built}): the portable library was not built; pass --library FILE to ship another",
+                script.display()
+            )),
+        };
+    }
+    match default_library(&exe) {
+        Some((native, _)) => {
+            eprintln!(
+                "warning: shipping {}, linked against this machine's glibc: the FMU may not load on an older Linux; this binary is away from its source tree ({}), whose scripts/build_fmu_library.sh builds the portable library (glibc 2.17) that export then ships",
+                native.display(),
+                env!("CARGO_MANIFEST_DIR")
+            );
+            Ok(native)
+        }
+        None => Err(
+            "libcontact2d.so not found beside this executable: pass --library, or build from the source tree".into(),
+        ),
     }
 }
 

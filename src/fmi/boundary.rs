@@ -8,6 +8,7 @@
 use super::fmi3::{TIME_VR, variables3};
 use super::instance::{Instance, Status};
 use super::variables::Type;
+use super::worker::Worker;
 use crate::results::LogCategory;
 use fmi_sys::fmi2::*;
 use std::collections::HashMap;
@@ -15,7 +16,7 @@ use std::ffi::{CStr, CString};
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicUsize, Ordering};
-use std::sync::{Mutex, MutexGuard};
+use std::sync::{Mutex, MutexGuard, PoisonError};
 
 /// What `fmi2Component` (and `fmi3Instance`) points to.
 pub(super) struct Component {
@@ -28,6 +29,9 @@ pub(super) struct Component {
     /// The FMI 3.0 variables (arrays of FMI 2.0 ones) of an instance made
     /// by fmi3InstantiateCoSimulation; None for FMI 2.0.
     pub(super) fmi3: Option<Variables3>,
+    /// The thread the calls that solve run on (`with_solving`), started at
+    /// the first; it ends when the component is dropped.
+    worker: Mutex<Option<Worker>>,
 }
 
 impl Component {
@@ -38,6 +42,7 @@ impl Component {
             owner: AtomicUsize::new(0),
             strings: Mutex::new(Vec::new()),
             fmi3,
+            worker: Mutex::new(None),
         }))
     }
 }
@@ -98,6 +103,27 @@ pub(super) fn with(
         status
     }));
     outcome.unwrap_or(fmi2Status_fmi2Error)
+}
+
+/// `with` for a call that may solve: `f` runs on the instance's own thread
+/// (`worker`), so that the solver's thread-locals never live on the
+/// master's thread; on the calling thread should that thread not start.
+pub(super) fn with_solving(
+    c: fmi2Component,
+    call: &str,
+    f: impl FnOnce(&mut Instance, &Component) -> Status,
+) -> fmi2Status {
+    with(c, call, |inst, comp| {
+        let mut worker = comp.worker.lock().unwrap_or_else(PoisonError::into_inner);
+        // A forked child inherits the instance but not its thread.
+        if !worker.as_ref().is_some_and(Worker::here) {
+            *worker = Worker::start();
+        }
+        match worker.as_ref() {
+            Some(worker) => worker.run(inst, |inst| f(inst, comp)),
+            None => f(inst, comp),
+        }
+    })
 }
 
 /// A lock left poisoned by a panic that escaped a call while it held the

@@ -8,7 +8,7 @@
 
 use super::boundary::{
     Component, Value, null, panic_text, resource_path, slice, slice_mut, status as fmi_status,
-    string, thread_token, unsupported, with,
+    string, thread_token, unsupported, with, with_solving,
 };
 use super::instance::{Instance, LogFn, Snapshot, Status};
 use fmi_sys::fmi2::*;
@@ -216,7 +216,7 @@ pub extern "C" fn fmi2EnterInitializationMode(c: fmi2Component) -> fmi2Status {
 const _: fmi2ExitInitializationModeTYPE = Some(fmi2ExitInitializationMode);
 #[unsafe(no_mangle)]
 pub extern "C" fn fmi2ExitInitializationMode(c: fmi2Component) -> fmi2Status {
-    with(c, "fmi2ExitInitializationMode", |inst, _| {
+    with_solving(c, "fmi2ExitInitializationMode", |inst, _| {
         inst.exit_initialization()
     })
 }
@@ -554,7 +554,7 @@ pub extern "C" fn fmi2GetDirectionalDerivative(
     dvUnknown: *mut fmi2Real,
 ) -> fmi2Status {
     const CALL: &str = "fmi2GetDirectionalDerivative";
-    with(c, CALL, |inst, _| {
+    with_solving(c, CALL, |inst, _| {
         let arrays = unsafe {
             (
                 slice(vUnknown_ref, nUnknown),
@@ -616,7 +616,7 @@ pub extern "C" fn fmi2DoStep(
     communicationStepSize: fmi2Real,
     _noSetFMUStatePriorToCurrentPoint: fmi2Boolean,
 ) -> fmi2Status {
-    with(c, "fmi2DoStep", |inst, _| {
+    with_solving(c, "fmi2DoStep", |inst, _| {
         inst.do_step(currentCommunicationPoint, communicationStepSize)
     })
 }

@@ -13,7 +13,7 @@
 
 use super::boundary::{
     Component, Value, Variables3, error, null, panic_text, resource_path, slice, slice_mut, string,
-    unsupported, with,
+    unsupported, with, with_solving,
 };
 use super::ffi;
 use super::fmi3::TIME_VR;
@@ -652,7 +652,7 @@ pub extern "C" fn fmi3GetDirectionalDerivative(
     nSensitivity: usize,
 ) -> fmi3Status {
     const CALL: &str = "fmi3GetDirectionalDerivative";
-    with(instance, CALL, |inst, comp| {
+    with_solving(instance, CALL, |inst, comp| {
         let arrays = unsafe {
             (
                 slice(unknowns, nUnknowns),
@@ -700,7 +700,7 @@ pub extern "C" fn fmi3DoStep(
     lastSuccessfulTime: *mut fmi3Float64,
 ) -> fmi3Status {
     const CALL: &str = "fmi3DoStep";
-    with(instance, CALL, |inst, _| {
+    with_solving(instance, CALL, |inst, _| {
         if eventHandlingNeeded.is_null()
             || terminateSimulation.is_null()
             || earlyReturn.is_null()

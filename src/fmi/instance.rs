@@ -187,6 +187,11 @@ impl Instance {
         );
     }
 
+    /// Puts `log` in place of the instance's logger; the one it had.
+    pub fn replace_logger(&mut self, log: LogFn) -> LogFn {
+        std::mem::replace(&mut self.log, log)
+    }
+
     fn error(&mut self, msg: impl AsRef<str>) -> Status {
         self.log(LogCategory::Error, msg.as_ref());
         Status::Error

@@ -11,6 +11,7 @@ mod ffi3;
 pub mod fmi3;
 pub mod instance;
 pub mod variables;
+mod worker;
 
 /// The scene's file name inside the FMU's `resources/`.
 pub const SCENE_FILE: &str = "scene.toml";

@@ -10,7 +10,14 @@ reset, terminate. What must hold after every call:
   a later call could see: a Discarded or refused doStep leaves every output
   and the saved state's bytes as they were;
 - the mode follows the FMI 2.0 state machine: stepping works only after
-  initialisation and before fmi2Terminate; fmi2Reset starts again.
+  initialisation and before fmi2Terminate; fmi2Reset starts again;
+- no silent error: every Discard and Error comes with a log line;
+- every output after an accepted step is finite;
+- a restored state gives the outputs it was saved with, and saves to the
+  same bytes (a rollback mismatch otherwise).
+
+The test prints the tally: calls, steps taken and discarded, errors (each
+logged), rollbacks compared.
 
 Bounded for CI (FUZZ_EXAMPLES, default 25 sequences of up to 25 calls);
 `scripts/fuzz_fmu.sh` runs a long campaign."""
@@ -25,6 +32,8 @@ from hypothesis import HealthCheck, settings
 from hypothesis import strategies as st
 from hypothesis.stateful import RuleBasedStateMachine, initialize, invariant, precondition, rule
 
+from conftest import _MESSAGES, _callbacks
+
 EXAMPLES = int(os.environ.get("FUZZ_EXAMPLES", "25"))
 STEPS = int(os.environ.get("FUZZ_STEPS", "25"))
 
@@ -33,20 +42,30 @@ values = st.one_of(st.sampled_from(ODD), st.floats(-0.2, 0.2), st.floats(allow_n
 steps = st.one_of(st.sampled_from([0.0, -1.0, 1e-300, 1e-9, 1e300, math.nan, math.inf]), st.floats(1e-4, 1.0))
 
 
+TALLY = dict(sequences=0, calls=0, steps=0, discarded=0, errors=0, rollbacks=0)
+
+
 def call(f, *args):
-    """A call's status: 0 when fmpy returns, the status it raised with."""
+    """A call's status: 0 when fmpy returns, the status it raised with.
+    A Discard or an Error must have said why in the log."""
+    said = len(_MESSAGES["fuzz"])
     try:
         f(*args)
-        return 0
+        status = 0
     except FMICallException as e:
-        return e.status
+        status = e.status
+    TALLY["calls"] += 1
+    if status in (2, 3):
+        TALLY["errors" if status == 3 else "discarded"] += 1
+        assert len(_MESSAGES["fuzz"]) > said, f"{f.__name__} returned {status} without a log line"
+    return status
 
 
 class FmiSequences(RuleBasedStateMachine):
     folder = None  # set by the test
 
-    @initialize()
-    def start(self):
+    @initialize(ready=st.integers(0, 3))
+    def start(self, ready):
         md = read_model_description(self.folder + "/modelDescription.xml")
         self.vr = {v.name: v.valueReference for v in md.modelVariables}
         self.inputs = [v.name for v in md.modelVariables if v.causality == "input"]
@@ -58,10 +77,16 @@ class FmiSequences(RuleBasedStateMachine):
             modelIdentifier=md.coSimulation.modelIdentifier,
             instanceName="fuzz",
         )
-        self.fmu.instantiate(loggingOn=False)
+        _MESSAGES["fuzz"] = []
+        self.fmu.instantiate(loggingOn=False, callbacks=_callbacks())
+        TALLY["sequences"] += 1
         self.mode = "instantiated"
         self.t = 0.0
         self.saved = None
+        if ready:
+            # Three sequences in four start initialised, so that most reach
+            # the solver; the others start where FMI does.
+            self.initialise()
 
     def teardown(self):
         if getattr(self, "fmu", None) is not None:
@@ -112,7 +137,20 @@ class FmiSequences(RuleBasedStateMachine):
 
     @rule(h=steps, late=st.booleans())
     def do_step(self, h, late):
-        t = self.t + (1.0 if late else 0.0)
+        # Late by 1 s, or by t itself where 1 s is below t's resolution
+        # (after a step to t = 1e300, t + 1 is t: not late).
+        self.step(self.t + (max(1.0, abs(self.t)) if late else 0.0), h, late)
+
+    @precondition(lambda self: self.mode == "stepping" and self.inputs)
+    @rule(name=st.data(), value=st.floats(-0.05, 0.05), h=st.floats(1e-3, 0.5))
+    def physical_step(self, name, value, h):
+        """An input within the scene's range and a step of a size a master
+        would take: most sequences reach the solver this way."""
+        n = name.draw(st.sampled_from(self.inputs))
+        self.status_ok(call(self.fmu.setReal, [self.vr[n]], [value]))
+        self.step(self.t, h, False)
+
+    def step(self, t, h, late):
         stepping = self.mode == "stepping"
         before = self.snapshot() if stepping else None
         s = call(self.fmu.doStep, t, h)
@@ -122,6 +160,9 @@ class FmiSequences(RuleBasedStateMachine):
             return
         if s == 0:
             assert not late and h > 0 and math.isfinite(h)
+            TALLY["steps"] += 1
+            bad = [x for x in self.snapshot() if not math.isfinite(x)]
+            assert bad == [], f"non-finite outputs after an accepted step: {bad[:5]}"
             if self.t + h > self.t:
                 self.t += h
         else:
@@ -148,6 +189,7 @@ class FmiSequences(RuleBasedStateMachine):
         self.status_ok(s)
         if s == 0:
             self.t = t
+            TALLY["rollbacks"] += 1
             assert self.snapshot() == outputs
             # The state saved again is the same bytes.
             again = self.fmu.getFMUstate()
@@ -177,7 +219,7 @@ class FmiSequences(RuleBasedStateMachine):
         self.status_ok(s)
 
 
-def test_random_fmi_call_sequences(unpacked):
+def test_random_fmi_call_sequences(unpacked, capsys):
     FmiSequences.folder = str(unpacked["sliding_block"])
     run = FmiSequences.TestCase
     run.settings = settings(
@@ -188,3 +230,9 @@ def test_random_fmi_call_sequences(unpacked):
         derandomize=os.environ.get("FUZZ_RANDOM") is None,
     )
     run().runTest()
+    with capsys.disabled():
+        print(
+            f"\nfuzz: {TALLY['sequences']} sequences, {TALLY['calls']} calls: {TALLY['steps']} steps taken "
+            f"(every output finite), {TALLY['discarded']} discarded and {TALLY['errors']} errors (each logged), "
+            f"{TALLY['rollbacks']} rollbacks compared (all equal)"
+        )

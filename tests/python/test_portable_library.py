@@ -5,6 +5,7 @@ The FMU tests of fmpy, libcosim and fmutool load this library: conftest's
 export_fmu checks that every FMU they export ships it."""
 
 import re
+import subprocess
 import zipfile
 from pathlib import Path
 
@@ -77,3 +78,43 @@ def test_the_hertz_fmu_ships_it_and_is_under_2_mb(fmus):
     size = fmu.stat().st_size
     print(f"hertz_plane_strain FMU: {size} bytes (library {PORTABLE_LIBRARY.stat().st_size} bytes)")
     assert size < HERTZ_FMU_LIMIT, f"{fmu}: {size} bytes"
+
+
+def test_an_export_after_a_native_build_ships_the_portable_library(contact2d, tmp_path):
+    """Issue 35, item 7: after `cargo build --release` of a change (the
+    native library newer than the portable one, as the README's first
+    command leaves it), `contact2d export` builds the portable library
+    first (scripts/build_fmu_library.sh; a no-op for cargo here, the code
+    unchanged) and ships it: the capstan FMU of the winding machine is
+    under 2 MB, its library stripped and needing at most glibc 2.17. Before,
+    export shipped the native library (8.8 MB FMU, glibc 2.35) with a
+    warning."""
+    native = REPO / "target" / "release" / "libcontact2d.so"
+    assert native.is_file(), f"{native}: run `cargo build --release --lib`"
+    native.touch()
+    scene = REPO / "examples" / "winding_machine" / "capstan.toml"
+    fmu = tmp_path / "capstan.fmu"
+    done = subprocess.run(
+        [str(contact2d), "export", str(scene), "-o", str(fmu)],
+        capture_output=True,
+        text=True,
+        timeout=1200,
+    )
+    assert done.returncode == 0, done.stdout + done.stderr
+    assert "building the portable library" in done.stderr, done.stderr
+    assert f"(library {PORTABLE_LIBRARY})" in done.stdout, done.stdout + done.stderr
+    assert PORTABLE_LIBRARY.stat().st_mtime >= native.stat().st_mtime
+    shipped = tmp_path / "contact2d.so"
+    with zipfile.ZipFile(fmu) as z:
+        shipped.write_bytes(z.read("binaries/linux64/contact2d.so"))
+    versions = glibc_versions(version_needs(shipped))
+    print(f"capstan FMU: {fmu.stat().st_size} bytes; library needs glibc up to {max(versions)}")
+    assert fmu.stat().st_size < HERTZ_FMU_LIMIT, fmu.stat().st_size
+    assert max(v[:2] for v in versions) <= BASELINE, sorted(versions)
+    with open(shipped, "rb") as f:
+        assert ELFFile(f).get_section_by_name(".symtab") is None, "not stripped"
+    # Up to date now: the next export builds nothing.
+    again = subprocess.run(
+        [str(contact2d), "export", str(scene), "-o", str(fmu)], capture_output=True, text=True, timeout=300
+    )
+    assert again.returncode == 0 and "building" not in again.stderr, again.stderr
