@@ -2,6 +2,7 @@
 //! scenes with text edits (a refined mesh, another coefficient).
 #![allow(dead_code)]
 
+pub mod mortar;
 pub mod stress;
 
 use contact2d::mesh::{Edge, Element, ElementKind, Mesh};
