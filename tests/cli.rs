@@ -86,3 +86,29 @@ fn export_appends_the_fmu_extension() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `check` names a mortar pair's formulation instead of node-to-segment's
+/// friction rule and traction recovery, which it has not.
+#[test]
+fn check_names_a_mortar_pair() {
+    let dir = std::env::temp_dir().join(format!("contact2d-cli-mortar-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene = dir.join("m.toml");
+    let text = std::fs::read_to_string(repo().join("scenes/verification/flexible_target.toml"))
+        .unwrap()
+        .replace("mu_s = 0.0\n", "mu_s = 0.0\nformulation = \"mortar\"\n");
+    std::fs::write(&scene, text).unwrap();
+    let out = contact2d(&["check", scene.to_str().unwrap()]);
+    std::fs::remove_dir_all(&dir).ok();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        text.contains("mu_s = 0, mu_d = 0, formulation: mortar"),
+        "{text}"
+    );
+    assert!(!text.contains("recovery:"), "{text}");
+}

@@ -7,7 +7,8 @@ use clap::{Parser, Subcommand};
 use contact2d::newton::Solver;
 use contact2d::output::{Frame, Summary, VtkSeries};
 use contact2d::problem::{
-    AnalysisKind, FrictionRule, Kinematics, MaterialSpec, Problem, Recovery, Scaled, Target,
+    AnalysisKind, ContactFormulation, FrictionRule, Kinematics, MaterialSpec, Problem, Recovery,
+    Scaled, Target,
 };
 use contact2d::results::{LogCategory, StepResult};
 use indicatif::{ProgressBar, ProgressStyle};
@@ -896,10 +897,15 @@ fn describe_contacts(o: &mut String, p: &Problem) {
             Recovery::Consistent => "consistent",
             Recovery::Lumped => "lumped",
         };
+        // Rule and recovery are node-to-segment's; a mortar pair is
+        // frictionless and its tractions are its multipliers.
+        let how = match c.formulation {
+            ContactFormulation::NodeToSegment => format!("rule: {rule}, recovery: {recovery}"),
+            ContactFormulation::Mortar => "formulation: mortar".to_string(),
+        };
         let _ = writeln!(
             o,
-            "  {}: contactor {} ({}, {}) against {target}, mu_s = {}, mu_d = {}, \
-             rule: {rule}, recovery: {recovery}",
+            "  {}: contactor {} ({}, {}) against {target}, mu_s = {}, mu_d = {}, {how}",
             c.name,
             body_name(c.body),
             count(c.contactor.len(), "node"),
