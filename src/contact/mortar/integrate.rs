@@ -372,7 +372,7 @@ fn side_pair<const N: usize>(s: &Setting, e: usize, m: usize) -> Option<Part> {
     let ys: Vec<V2<N>> = (target.iter().enumerate())
         .map(|(i, &k)| var(s.y[k], support.len() + i))
         .collect();
-    let (ys0,) = (plain(&ys),);
+    let ys0 = plain(&ys);
     let (lo, hi) = overlap(&xs, &ns, &ys, reach)?;
     let (mid, half) = ((lo + hi) * 0.5, (hi - lo) * 0.5);
 
