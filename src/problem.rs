@@ -290,6 +290,18 @@ pub struct ContactPair {
     pub formulation: ContactFormulation,
 }
 
+impl ContactPair {
+    /// The coefficient that holds a sticking node (`ever_slid`: it has
+    /// slid before): under the usual rule mu_s until it first slides and
+    /// mu_d from then on; under the experiment's, mu_s throughout.
+    pub fn sticking_mu(&self, ever_slid: bool) -> f64 {
+        match self.rule {
+            FrictionRule::MuDAfterSlip if ever_slid => self.mu_d,
+            _ => self.mu_s,
+        }
+    }
+}
+
 /// Newton control. The force tolerance is relative to the problem's force
 /// scale (element forces, reactions, contact forces), the displacement and
 /// energy tolerances to the first correction of the increment

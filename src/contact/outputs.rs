@@ -146,28 +146,43 @@ fn nearest_gap(segments: &TargetSet, x: Vector2<f64>) -> f64 {
 /// box about x that doubles until the nearest found lies inside it (every
 /// segment outside is farther), then over all segments.
 pub(super) fn nearest(segments: &TargetSet, x: Vector2<f64>) -> Option<(f64, Vector2<f64>)> {
+    nearest_point(segments, x).map(|n| (n.gap, n.normal))
+}
+
+/// The target's point nearest to a point: the signed distance (as
+/// [`nearest_gap`]), the segment's normal (into the target), the segment
+/// and the point's parameter on it.
+pub(super) struct Nearest {
+    pub gap: f64,
+    pub normal: Vector2<f64>,
+    pub segment: usize,
+    pub beta: f64,
+}
+
+/// [`nearest`], with the segment and the parameter of the point on it.
+pub(super) fn nearest_point(segments: &TargetSet, x: Vector2<f64>) -> Option<Nearest> {
     let mut r = segments.first().map_or(0.0, |s| s.seg.length());
     for _ in 0..64 {
         if !(r.is_finite() && r > 0.0) {
             break;
         }
         let (lo, hi) = ([x.x - r, x.y - r], [x.x + r, x.y + r]);
-        match nearest_of(segments.visit(lo, hi).map(|(_, s)| s), x) {
-            Some(found) if found.0.abs() <= r => return Some(found),
+        match nearest_of(segments.visit(lo, hi), x) {
+            Some(found) if found.gap.abs() <= r => return Some(found),
             _ => r *= 2.0,
         }
     }
-    nearest_of(segments.iter(), x)
+    nearest_of(segments.iter().enumerate(), x)
 }
 
-/// [`nearest`] among `segments`, the first of equals in their order.
+/// [`nearest_point`] among `segments`, the first of equals in their order.
 fn nearest_of<'a>(
-    segments: impl Iterator<Item = &'a TargetSegment>,
+    segments: impl Iterator<Item = (usize, &'a TargetSegment)>,
     x: Vector2<f64>,
-) -> Option<(f64, Vector2<f64>)> {
+) -> Option<Nearest> {
     let mut best = f64::INFINITY;
     let mut found = None;
-    for s in segments {
+    for (j, s) in segments {
         let (a, b) = (s.seg.xa(), s.seg.xb());
         // No point of the segment is nearer than its box.
         let dx = (a.x.min(b.x) - x.x).max(x.x - a.x.max(b.x)).max(0.0);
@@ -176,12 +191,16 @@ fn nearest_of<'a>(
             continue;
         }
         let raw = s.seg.project(x);
-        let p = s.seg.point_at(raw.beta().clamp(0.0, 1.0));
-        let d = (x - p).norm();
+        let beta = raw.beta().clamp(0.0, 1.0);
+        let d = (x - s.seg.point_at(beta)).norm();
         if d < best {
             best = d;
-            let gap = if raw.gap() < 0.0 { -d } else { d };
-            found = Some((gap, s.seg.normal()));
+            found = Some(Nearest {
+                gap: if raw.gap() < 0.0 { -d } else { d },
+                normal: s.seg.normal(),
+                segment: j,
+                beta,
+            });
         }
     }
     found

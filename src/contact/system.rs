@@ -274,6 +274,16 @@ pub(super) fn count_change(
     Ok(())
 }
 
+/// Times one node may change between stick and slip (or its slip
+/// direction) within an increment before the increment is declared
+/// oscillating (fail fast; the caller bisects).
+const MAX_SLIPS: usize = 2 * MAX_FLIPS;
+
+/// One more change of node `k` between stick and slip (`MAX_SLIPS`).
+pub(super) fn count_slip(pair: &ContactPair, k: usize, slips: &mut [usize]) -> Result<(), String> {
+    count_change(pair, k, slips, MAX_SLIPS, "stick and slip")
+}
+
 /// One more change of node `k` between open and contact (`MAX_FLIPS`).
 pub(super) fn count_flip(pair: &ContactPair, k: usize, flips: &mut [usize]) -> Result<(), String> {
     count_change(pair, k, flips, MAX_FLIPS, "open and contact")

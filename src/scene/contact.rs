@@ -225,7 +225,7 @@ impl Resolver<'_> {
                     v
                 }
             };
-            let formulation = self.formulation(c, &target, [mu_s, mu_d], &key("formulation"))?;
+            let formulation = self.formulation(c, &target, &key("formulation"))?;
             pairs.push(ContactPair {
                 name: c.name.get_ref().clone(),
                 body,
@@ -253,13 +253,12 @@ impl Resolver<'_> {
     }
 
     /// A pair's formulation: node-to-segment unless `formulation = "mortar"`,
-    /// which needs a body as target, no friction, and no `decisions` (those
-    /// are node-to-segment's).
+    /// which needs a body as target and no `decisions` (those are
+    /// node-to-segment's).
     fn formulation(
         &self,
         c: &raw::Contact,
         target: &Target,
-        [mu_s, mu_d]: [f64; 2],
         key: &str,
     ) -> Result<ContactFormulation, SceneError> {
         let Some(f) = &c.formulation else {
@@ -271,12 +270,6 @@ impl Resolver<'_> {
         let refuse = |why: &str| Err(self.invalid(f.span(), key, why.to_string()));
         if matches!(target, Target::Rigid(_)) {
             return refuse("mortar contact needs a body's edge set as target, not a rigid");
-        }
-        if mu_s != 0.0 || mu_d != 0.0 {
-            return refuse(&format!(
-                "mortar contact is frictionless: mu_s = {mu_s:?} and mu_d = {mu_d:?} must be 0 \
-                 (friction needs formulation = \"node_to_segment\")"
-            ));
         }
         if c.decisions.is_some() {
             return refuse(

@@ -45,6 +45,9 @@ pub(super) struct Setting<'a> {
     /// How far into the target a contactor point may be and still meet it
     /// (not the far side of a thin target).
     pub reach: f64,
+    /// The pair has friction: the parts carry the tangential integrals
+    /// (`Part::slips`).
+    pub friction: bool,
 }
 
 /// One contactor side against one target side: its unknowns' mesh dofs
@@ -58,6 +61,24 @@ pub(super) struct Part {
     /// (`hat`: positive, so this is negative only where the target is
     /// entered near the node): value and gradient.
     pub hat_weighted: Vec<(f64, Vec<f64>)>,
+    /// With friction, per node of `gaps`: the side pair's part of `tau_j .
+    /// int Phi_j (x - y) ds`, the contactor's points less the target's
+    /// points they meet along the normal field, along the node's unit
+    /// tangent `tau_j` (`nodal_tangent`): value, gradient, Hessian row by
+    /// row. The weighted slip (`slip_from`) subtracts it.
+    pub slips: Vec<(f64, Vec<f64>, Vec<f64>)>,
+}
+
+/// One contactor node's mortar coupling at a configuration: `int Phi_j
+/// N_k ds` for the contactor's surface nodes k and `int Phi_j N_l ds` for
+/// the target's l, over the overlaps of its sides with the target. Taken
+/// at the start of an increment, `sum_k D_jk x_k - sum_l M_jl y_l` in the
+/// current positions is the contactor's points less the target's points
+/// they met then, weighted (`slip_from`).
+#[derive(Clone, Debug, Default)]
+pub(super) struct Coupling {
+    pub contactor: Vec<(usize, f64)>,
+    pub target: Vec<(usize, f64)>,
 }
 
 /// Every side pair's part of the weighted gaps (`Part`), and per contactor
@@ -237,16 +258,7 @@ fn nodal_normals<const N: usize>(
     at: &dyn Fn(usize) -> V2<N>,
 ) -> Vec<V2<N>> {
     (surface.sides[e].iter())
-        .map(|&k| {
-            let mut t = V2::zero();
-            for &(side, l) in &surface.on[k] {
-                let nodes = &surface.sides[side];
-                let (_, dn) = shape(nodes.len(), Dual::<N>::c(node_xi(nodes.len(), l)));
-                let xs: Vec<V2<N>> = nodes.iter().map(|&q| at(q)).collect();
-                t = t + sum(&dn, &xs).unit();
-            }
-            t.unit().right()
-        })
+        .map(|&k| nodal_tangent(surface, k, at).right())
         .collect()
 }
 
@@ -351,13 +363,12 @@ fn side_pair<const N: usize>(s: &Setting, e: usize, m: usize) -> Option<Part> {
         target.len()
     );
     let side = &s.contactor.sides[e];
-    let reach = s.reach;
     {
         let at = |k: usize| V2::<0>::c(s.x[k]);
         let xs: Vec<V2<0>> = side.iter().map(|&k| at(k)).collect();
         let ns = nodal_normals(s.contactor, e, &at);
         let ys: Vec<V2<0>> = target.iter().map(|&k| V2::c(s.y[k])).collect();
-        overlap(&xs, &ns, &ys, reach)?;
+        overlap(&xs, &ns, &ys, s.reach)?;
     }
     let var = |p: [f64; 2], i: usize| V2(Dual::<N>::var(p[0], 2 * i), Dual::var(p[1], 2 * i + 1));
     let at = |k: usize| {
@@ -372,34 +383,23 @@ fn side_pair<const N: usize>(s: &Setting, e: usize, m: usize) -> Option<Part> {
     let ys: Vec<V2<N>> = (target.iter().enumerate())
         .map(|(i, &k)| var(s.y[k], support.len() + i))
         .collect();
-    let ys0 = plain(&ys);
-    let (lo, hi) = overlap(&xs, &ns, &ys, reach)?;
-    let (mid, half) = ((lo + hi) * 0.5, (hi - lo) * 0.5);
-
     let reference: Vec<V2<N>> = side.iter().map(|&k| V2::c(s.x_ref[k])).collect();
     let measured = if s.reference_measure { &reference } else { &xs };
     let a_dual = dual_basis(s.geometry, measured);
-    let mut gaps = vec![Dual::<N>::c(0.0); side.len()];
-    let mut hat_weighted = vec![Dual::<N>::c(0.0); side.len()];
-    for &(z, w) in &GAUSS {
-        let xi = mid + half * z;
-        let (p, _, n, _) = contactor_at(&xs, &ns, xi);
-        let n = n.unit();
-        let (p0, n0) = (V2::c(p.value()), V2::c(n.value()));
-        let eta = root(
-            |eta| onto_target(&ys, p, n, eta),
-            |eta| onto_target(&ys0, p0, n0, eta),
-            0.0,
-        )?;
-        let (wt, _) = shape(ys.len(), eta);
-        let g = (sum(&wt, &ys) - p).dot(&n);
-        let (sh, dsh) = shape(side.len(), xi);
-        let ds = measure(s.geometry, measured, &sh, &dsh) * half * w;
-        let gds = g * ds;
+    let zero = Dual::<N>::c(0.0);
+    let mut gaps = vec![zero; side.len()];
+    let mut hat_weighted = vec![zero; side.len()];
+    let mut apart = vec![V2::<N>::zero(); if s.friction { side.len() } else { 0 }];
+    for point in points(s, &xs, &ns, &ys, measured)? {
+        let g = (point.y - point.x).dot(&point.n);
+        let gds = g * point.ds;
         for (j, gap) in gaps.iter_mut().enumerate() {
-            let phi = (0..side.len()).fold(Dual::c(0.0), |acc, k| acc + a_dual[j][k] * sh[k]);
+            let phi = (0..side.len()).fold(zero, |acc, k| acc + a_dual[j][k] * point.sh[k]);
             *gap = *gap + phi * gds;
-            hat_weighted[j] = hat_weighted[j] + hat(side.len(), j, xi) * gds;
+            hat_weighted[j] = hat_weighted[j] + hat(side.len(), j, point.xi) * gds;
+            if let Some(v) = apart.get_mut(j) {
+                *v = *v + (point.x - point.y).scale(phi * point.ds);
+            }
         }
     }
 
@@ -411,23 +411,148 @@ fn side_pair<const N: usize>(s: &Setting, e: usize, m: usize) -> Option<Part> {
     for &k in target {
         dofs.extend([2 * s.target.nodes[k], 2 * s.target.nodes[k] + 1]);
     }
+    let hessian = |g: &Dual<N>| -> Vec<f64> {
+        (0..count)
+            .flat_map(|i| (0..count).map(move |j| g.hessian(i, j)))
+            .collect()
+    };
     let hat_weighted = (hat_weighted.iter())
         .map(|g| (g.v, g.g[..count].to_vec()))
         .collect();
-    let gaps = (side.iter().zip(gaps))
-        .map(|(&k, g)| {
-            let g = &g;
-            let hessian = (0..count)
-                .flat_map(|i| (0..count).map(move |j| g.hessian(i, j)))
-                .collect();
-            (k, g.v, g.g[..count].to_vec(), hessian)
+    let gaps = (side.iter().zip(&gaps))
+        .map(|(&k, g)| (k, g.v, g.g[..count].to_vec(), hessian(g)))
+        .collect();
+    // tau_j: the unit tangent the outward normal n_j turns from.
+    let slips = (apart.iter().zip(&ns))
+        .map(|(v, n)| {
+            let t = v.dot(&V2(-n.1, n.0));
+            (t.v, t.g[..count].to_vec(), hessian(&t))
         })
         .collect();
     Some(Part {
         dofs,
         gaps,
         hat_weighted,
+        slips,
     })
+}
+
+/// A Gauss point of a side pair's overlap: the contactor side's parameter
+/// and shape functions there, its point, the unit normal of its normal
+/// field, the target's point met along it and the target side's shape
+/// functions there, and the point's weight in the pair's measure.
+struct Point<const N: usize> {
+    xi: Dual<N>,
+    sh: Vec<Dual<N>>,
+    x: V2<N>,
+    n: V2<N>,
+    y: V2<N>,
+    wt: Vec<Dual<N>>,
+    ds: Dual<N>,
+}
+
+/// The Gauss points of the overlap of the contactor side at `xs` (nodal
+/// normals `ns`, its measure taken on `measured`) with the target side at
+/// `ys` (None: they do not meet).
+fn points<const N: usize>(
+    s: &Setting,
+    xs: &[V2<N>],
+    ns: &[V2<N>],
+    ys: &[V2<N>],
+    measured: &[V2<N>],
+) -> Option<Vec<Point<N>>> {
+    let ys0 = plain(ys);
+    let (lo, hi) = overlap(xs, ns, ys, s.reach)?;
+    let (mid, half) = ((lo + hi) * 0.5, (hi - lo) * 0.5);
+    let mut out = Vec::with_capacity(GAUSS.len());
+    for &(z, w) in &GAUSS {
+        let xi = mid + half * z;
+        let (x, _, n, _) = contactor_at(xs, ns, xi);
+        let n = n.unit();
+        let (x0, n0) = (V2::c(x.value()), V2::c(n.value()));
+        let eta = root(
+            |eta| onto_target(ys, x, n, eta),
+            |eta| onto_target(&ys0, x0, n0, eta),
+            0.0,
+        )?;
+        let (wt, _) = shape(ys.len(), eta);
+        let (sh, dsh) = shape(xs.len(), xi);
+        let ds = measure(s.geometry, measured, &sh, &dsh) * half * w;
+        out.push(Point {
+            xi,
+            y: sum(&wt, ys),
+            sh,
+            x,
+            n,
+            wt,
+            ds,
+        });
+    }
+    Some(out)
+}
+
+/// Per contactor node, its coupling (`Coupling`) at the setting's
+/// positions, in plain numbers.
+pub(super) fn couplings(s: &Setting) -> Vec<Coupling> {
+    let mut out = vec![Coupling::default(); s.contactor.nodes.len()];
+    for e in 0..s.contactor.sides.len() {
+        for m in (0..s.target.sides.len()).filter(|&m| near(s, e, m)) {
+            let side = &s.contactor.sides[e];
+            let target = &s.target.sides[m];
+            let at = |k: usize| V2::<0>::c(s.x[k]);
+            let xs: Vec<V2<0>> = side.iter().map(|&k| at(k)).collect();
+            let ns = nodal_normals(s.contactor, e, &at);
+            let ys: Vec<V2<0>> = target.iter().map(|&k| V2::c(s.y[k])).collect();
+            let reference: Vec<V2<0>> = side.iter().map(|&k| V2::c(s.x_ref[k])).collect();
+            let measured = if s.reference_measure { &reference } else { &xs };
+            let a_dual = dual_basis(s.geometry, measured);
+            let Some(points) = points(s, &xs, &ns, &ys, measured) else {
+                continue;
+            };
+            for point in points {
+                for (j, &node) in side.iter().enumerate() {
+                    let phi: f64 = (0..side.len())
+                        .map(|k| a_dual[j][k].v * point.sh[k].v)
+                        .sum();
+                    let c = &mut out[node];
+                    for (&k, sh) in side.iter().zip(&point.sh) {
+                        add_to(&mut c.contactor, k, phi * sh.v * point.ds.v);
+                    }
+                    for (&l, wt) in target.iter().zip(&point.wt) {
+                        add_to(&mut c.target, l, phi * wt.v * point.ds.v);
+                    }
+                }
+            }
+        }
+    }
+    out
+}
+
+/// `list[key] += v` in a short list of (key, value).
+fn add_to(list: &mut Vec<(usize, f64)>, key: usize, v: f64) {
+    match list.iter_mut().find(|(k, _)| *k == key) {
+        Some(entry) => entry.1 += v,
+        None => list.push((key, v)),
+    }
+}
+
+/// The unit tangent of the contactor surface at its node `k` (toward the
+/// next node; its outward normal turns from it): the average of the unit
+/// tangents of the sides at the node, in `N` unknowns over the positions
+/// `at` gives.
+pub(super) fn nodal_tangent<const N: usize>(
+    surface: &Surface,
+    k: usize,
+    at: &dyn Fn(usize) -> V2<N>,
+) -> V2<N> {
+    let mut t = V2::zero();
+    for &(side, l) in &surface.on[k] {
+        let nodes = &surface.sides[side];
+        let (_, dn) = shape(nodes.len(), Dual::<N>::c(node_xi(nodes.len(), l)));
+        let xs: Vec<V2<N>> = nodes.iter().map(|&q| at(q)).collect();
+        t = t + sum(&dn, &xs).unit();
+    }
+    t.unit()
 }
 
 /// The hat function of node `j` of a side of `n` nodes at `xi`: the
@@ -473,4 +598,83 @@ pub(super) fn field_at_node(s: &Setting, e: usize, l: usize, c: &[f64]) -> f64 {
     (0..side.len())
         .map(|j| c[side[j]] * (0..side.len()).map(|k| a[j][k].v * n[k].v).sum::<f64>())
         .sum()
+}
+
+/// The contactor's points less the target's points they met at the start
+/// of the increment, weighted, along node k's unit tangent: `tau_k .
+/// (sum_l D_kl x_l - sum_l M_kl y_l)` with the start's coupling and the
+/// current positions (the weighted slip adds it to the current iterate's
+/// `-Part::slips`). Value, gradient and Hessian entries over mesh dofs.
+pub(super) fn slip_from(s: &Setting, k: usize, coupling: &Coupling) -> Sparse {
+    let mut support: Vec<usize> = Vec::new();
+    for &(side, _) in &s.contactor.on[k] {
+        for &q in &s.contactor.sides[side] {
+            if !support.contains(&q) {
+                support.push(q);
+            }
+        }
+    }
+    assert!(
+        support.len() <= 5,
+        "a node's tangent over {} nodes",
+        support.len()
+    );
+    let at = |q: usize| {
+        let i = support
+            .iter()
+            .position(|&p| p == q)
+            .expect("in the support");
+        V2(
+            Dual::<10>::var(s.x[q][0], 2 * i),
+            Dual::var(s.x[q][1], 2 * i + 1),
+        )
+    };
+    let tau = nodal_tangent(s.contactor, k, &at);
+    let tau = [tau.0, tau.1];
+    // c = sum D x - sum M y: linear in the positions, dc_i/d(dof) per dof.
+    let mut c = [0.0; 2];
+    let mut linear: Vec<(usize, usize, f64)> = Vec::new();
+    for &(q, d) in &coupling.contactor {
+        for i in 0..2 {
+            c[i] += d * s.x[q][i];
+            linear.push((2 * s.contactor.nodes[q] + i, i, d));
+        }
+    }
+    for &(l, m) in &coupling.target {
+        for i in 0..2 {
+            c[i] -= m * s.y[l][i];
+            linear.push((2 * s.target.nodes[l] + i, i, -m));
+        }
+    }
+    let dof = |a: usize| 2 * s.contactor.nodes[support[a / 2]] + a % 2;
+    let count = 2 * support.len();
+    let mut out = Sparse {
+        value: tau[0].v * c[0] + tau[1].v * c[1],
+        ..Default::default()
+    };
+    for a in 0..count {
+        out.gradient
+            .push((dof(a), tau[0].g[a] * c[0] + tau[1].g[a] * c[1]));
+        for b in 0..count {
+            let h = tau[0].hessian(a, b) * c[0] + tau[1].hessian(a, b) * c[1];
+            out.hessian.push((dof(a), dof(b), h));
+        }
+        for &(d, i, v) in &linear {
+            out.hessian.push((dof(a), d, tau[i].g[a] * v));
+            out.hessian.push((d, dof(a), tau[i].g[a] * v));
+        }
+    }
+    for &(d, i, v) in &linear {
+        out.gradient.push((d, tau[i].v * v));
+    }
+    out
+}
+
+/// A scalar's value, gradient and Hessian as mesh-dof entries (repeated
+/// dofs add up).
+#[derive(Clone, Debug, Default)]
+pub(super) struct Sparse {
+    pub value: f64,
+    pub gradient: Vec<(usize, f64)>,
+    pub hessian: Vec<(usize, usize, f64)>,
 }

@@ -1,47 +1,51 @@
 //! Mortar (segment-to-segment) contact between two bodies (`formulation =
 //! "mortar"`): the contact conditions hold on weighted gaps, one per
 //! contactor node, integrated over the contactor against the target's
-//! interpolation (`integrate`), and the multipliers are the normal
-//! tractions at the contactor's nodes, interpolated by the dual basis of
-//! its sides. A uniform pressure between non-matching meshes is carried
-//! exactly (the contact patch test), and a target node between two
-//! contactor nodes no longer slips through.
+//! interpolation (`integrate`), and the multipliers are the tractions at
+//! the contactor's nodes, interpolated by the dual basis of its sides. A
+//! uniform pressure between non-matching meshes is carried exactly (the
+//! contact patch test), and a target node between two contactor nodes no
+//! longer slips through.
 //!
-//! Per iteration: the weighted gaps with their gradients and Hessians; the
-//! multipliers recovered from the contactor's out-of-balance forces (the
-//! least-squares fit of the gradients, exact at equilibrium); each node
-//! decided on its own multiplier and weighted gap (a node in contact opens
-//! when its traction pulls, an open node closes when its gap weighted by
-//! its hat function is negative); a row per node in contact, `grad g_j du = -g_j`, scaled by
-//! its area; the contact forces `sum lambda_j grad g_j` and the tangent
-//! `-sum lambda_j hess g_j`. Frictionless; against a deformable target.
-//! The derivation is in docs/contact.md section 11.
+//! Per iteration: the weighted gaps with their gradients and Hessians
+//! (with friction also the weighted slips since the start of the
+//! increment); the multipliers recovered from the contactor's
+//! out-of-balance forces (the least-squares fit of the gradients, exact at
+//! equilibrium); each node decided on its own multipliers, weighted gap
+//! and weighted slip (`decide`); per node in contact a row `grad g_j du =
+//! -g_j` scaled by its area, a second one on its weighted slip while it
+//! sticks, its friction `mu_d` against the slip in its multiplier's column
+//! while it slides; the contact forces and their tangent (`rows`). Against
+//! a deformable target. The derivation is in docs/contact.md section 11.
 
+mod decide;
 mod dual;
 mod integrate;
+mod rows;
 mod surface;
 
 use super::Formulation;
 use super::Prediction;
 use super::memory::PairMemory;
-use super::report::{Report, geometry, node_frame};
-use super::search::SearchCache;
+use super::outputs::nearest_point;
+use super::report::geometry;
+use super::search::{SearchCache, target_segments};
 use super::sensitivity::{At, Linearised};
-use super::system::{ContactSystem, Forced, Iterate, Kept, Row, count_flip};
+use super::system::{ContactSystem, Forced, Iterate, Kept};
 use crate::assembly::PRESCRIBED;
 use crate::problem::{ContactPair, Kinematics};
 use crate::results::{NodeState, PairResult};
-use integrate::{Part, Setting, field_at_node, integrate};
+use decide::Decision;
+use integrate::{Coupling, Part, Setting, couplings, integrate, slip_from};
 use nalgebra::Vector2;
 use std::collections::BTreeMap;
 use surface::Surface;
 
-/// A node's traction counts as tension above this fraction of the largest
-/// traction of its pair (round-off at a node just touching).
-const TENSION_TOLERANCE: f64 = 1e-8;
-
 /// Mortar contact (`formulation = "mortar"`).
 pub(super) struct Mortar;
+
+/// A sum of mesh-dof entries (dof, coefficient).
+type Gradient = Vec<(usize, f64)>;
 
 /// One contactor node's weighted gap summed over its side pairs: value and
 /// gradient (mesh dof, coefficient); `touched`: some target side meets one
@@ -49,15 +53,21 @@ pub(super) struct Mortar;
 #[derive(Clone, Debug, Default)]
 struct NodeGap {
     value: f64,
-    gradient: Vec<(usize, f64)>,
+    gradient: Gradient,
     /// The gap weighted by the node's hat function (`integrate::hat`):
     /// value and gradient. The dual basis (and an 8-node side's quadratic
     /// shape functions) take negative values, so a node whose gap grows
     /// along its sides may show a negative weighted gap while clear of the
     /// target everywhere; a node closes on this one, negative only where
     /// the target is entered near the node.
-    hat_weighted: (f64, Vec<(usize, f64)>),
+    hat_weighted: (f64, Gradient),
     touched: bool,
+    /// With friction, the node's weighted slip since the start of the
+    /// increment along its tangent (`integrate::slip_from` less the parts'
+    /// `slips`): value and gradient, and the Hessian entries of its
+    /// `slip_from` term (the parts hold the rest).
+    slip: (f64, Gradient),
+    slip_hessian: Vec<(usize, usize, f64)>,
 }
 
 /// A pair at an iterate: its surfaces and positions, the weighted gaps
@@ -72,20 +82,24 @@ struct PairAt {
     x_ref: Vec<[f64; 2]>,
     reference_measure: bool,
     geometry: crate::contact::traction::Geometry,
+    friction: bool,
     parts: Vec<Part>,
     gaps: Vec<NodeGap>,
     area: Vec<f64>,
     weightless: Vec<bool>,
     free: BTreeMap<usize, usize>,
+    /// The longest side of either surface.
+    h: f64,
 }
 
 /// What `update` keeps for `predict` and the inner solves' `update`: the
-/// pair at the iterate, and the states and multipliers its rows were built
-/// from.
+/// pair at the iterate, and the decisions and multipliers (normal and
+/// tangential tractions) its rows were built from.
 struct Decided {
     at: std::sync::Arc<PairAt>,
-    states: Vec<NodeState>,
+    decisions: Vec<Decision>,
     lambda: Vec<f64>,
+    lambda_t: Vec<f64>,
 }
 
 impl PairAt {
@@ -102,11 +116,8 @@ impl PairAt {
             let p = problem.mesh.nodes[n];
             u.map_or(p, |u| [p[0] + u[2 * n], p[1] + u[2 * n + 1]])
         };
-        let x: Vec<[f64; 2]> = (contactor.nodes.iter())
-            .map(|&n| point(n, Some(at.u)))
-            .collect();
-        let y: Vec<[f64; 2]> = target.nodes.iter().map(|&n| point(n, Some(at.u))).collect();
-        let x_ref: Vec<[f64; 2]> = contactor.nodes.iter().map(|&n| point(n, None)).collect();
+        let positions =
+            |s: &Surface, u: Option<&[f64]>| s.nodes.iter().map(|&n| point(n, u)).collect();
         let mut free = BTreeMap::new();
         for &n in &pair.contactor {
             for d in [2 * n, 2 * n + 1]
@@ -118,24 +129,38 @@ impl PairAt {
             }
         }
         let mut pair_at = PairAt {
+            x: positions(&contactor, Some(at.u)),
+            y: positions(&target, Some(at.u)),
+            x_ref: positions(&contactor, None),
             contactor,
             target,
-            x,
-            y,
-            x_ref,
             reference_measure: matches!(
                 problem.kinematics,
                 Kinematics::SmallStrain | Kinematics::MaterialNonlinearOnly
             ),
             geometry: geometry(problem),
+            friction: pair.mu_s != 0.0 || pair.mu_d != 0.0,
             parts: Vec::new(),
             gaps: Vec::new(),
             area: Vec::new(),
             weightless: Vec::new(),
             free,
+            h: 0.0,
         };
-        let (parts, area) = integrate(&pair_at.setting());
+        pair_at.h = longest_side(&pair_at.contactor, &pair_at.x)
+            .max(longest_side(&pair_at.target, &pair_at.y));
+        let (parts, area) = integrate(&pair_at.setting(&pair_at.x, &pair_at.y));
         let mut gaps = gather(&parts, pair_at.x.len());
+        if pair_at.friction {
+            // Where the contactor's points met the target at the start of
+            // the increment: the weighted slips are measured from there.
+            let (x0, y0) = (
+                positions(&pair_at.contactor, Some(at.start.u)),
+                positions(&pair_at.target, Some(at.start.u)),
+            );
+            let start = couplings(&pair_at.setting(&x0, &y0));
+            pair_at.add_slips(&mut gaps, &parts, &start);
+        }
         // A node of no weight (an 8-node side's corner on the axis) has no
         // weighted gap and no multiplier: it follows its side.
         let largest = area.iter().fold(0.0f64, |a, &b| a.max(b));
@@ -152,129 +177,191 @@ impl PairAt {
         Ok(pair_at)
     }
 
-    fn setting(&self) -> Setting<'_> {
+    /// The pair's setting with the contactor at `x` and the target at `y`.
+    fn setting<'a>(&'a self, x: &'a [[f64; 2]], y: &'a [[f64; 2]]) -> Setting<'a> {
         Setting {
             contactor: &self.contactor,
             target: &self.target,
-            x: &self.x,
-            y: &self.y,
+            x,
+            y,
             x_ref: &self.x_ref,
             reference_measure: self.reference_measure,
             geometry: self.geometry,
-            reach: 2.0
-                * longest_side(&self.contactor, &self.x).max(longest_side(&self.target, &self.y)),
+            reach: 2.0 * self.h,
+            friction: self.friction,
         }
     }
 
-    /// The multipliers of the nodes `closed` from the out-of-balance force
-    /// `force` (per mesh dof): the least-squares fit of `sum lambda_j grad
-    /// g_j` to it over the contactor's free dofs (the contact force there
-    /// at equilibrium); zero for the other nodes.
-    fn multipliers(&self, closed: &[bool], force: &[f64]) -> Vec<f64> {
+    /// Each touched node's weighted slip: its `slip_from` the increment's
+    /// start coupling `start` less its parts' `slips`.
+    fn add_slips(&self, gaps: &mut [NodeGap], parts: &[Part], start: &[Coupling]) {
+        let setting = self.setting(&self.x, &self.y);
+        let mut sums: Vec<(f64, BTreeMap<usize, f64>)> = vec![Default::default(); gaps.len()];
+        for part in parts {
+            for ((k, ..), (value, gradient, _)) in part.gaps.iter().zip(&part.slips) {
+                let sum = &mut sums[*k];
+                sum.0 -= value;
+                for (&d, &v) in part.dofs.iter().zip(gradient) {
+                    *sum.1.entry(d).or_default() -= v;
+                }
+            }
+        }
+        for (k, (gap, (value, mut gradient))) in gaps.iter_mut().zip(sums).enumerate() {
+            if !gap.touched {
+                continue;
+            }
+            let from = slip_from(&setting, k, &start[k]);
+            for &(d, v) in &from.gradient {
+                *gradient.entry(d).or_default() += v;
+            }
+            gap.slip = (
+                value + from.value,
+                gradient.into_iter().filter(|e| e.1 != 0.0).collect(),
+            );
+            gap.slip_hessian = from.hessian.into_iter().filter(|e| e.2 != 0.0).collect();
+        }
+    }
+
+    /// The multipliers of the nodes in contact under `decisions` from the
+    /// out-of-balance force `force` (per mesh dof): the least-squares fit
+    /// of the contact force to it over the contactor's free dofs (the
+    /// contact force there at equilibrium). Per node its normal traction
+    /// (column `grad g_j`) and, with friction, its tangential traction
+    /// (column `grad u_j`, its weighted slip), each its own unknown whatever
+    /// the node's state, so that the force decides; zero for the nodes not
+    /// in contact.
+    fn multipliers(&self, decisions: &[Decision], force: &[f64]) -> (Vec<f64>, Vec<f64>) {
         let mut b = vec![0.0; self.free.len()];
         for (&d, &i) in &self.free {
             b[i] = force[d];
         }
-        let unknowns: Vec<usize> = (0..self.gaps.len())
-            .filter(|&j| closed[j] && self.gaps[j].touched)
-            .collect();
-        let columns: Vec<Vec<(usize, f64)>> = (unknowns.iter())
-            .map(|&j| {
-                (self.gaps[j].gradient.iter())
-                    .filter_map(|&(d, v)| self.free.get(&d).map(|&i| (i, v)))
-                    .collect()
-            })
-            .collect();
-        let mut lambda = vec![0.0; self.gaps.len()];
-        for (&j, l) in unknowns.iter().zip(least_squares(&columns, &b)) {
-            lambda[j] = l;
+        let on_free = |entries: &[(usize, f64)]| -> Gradient {
+            (entries.iter())
+                .filter_map(|&(d, v)| self.free.get(&d).map(|&i| (i, v)))
+                .collect()
+        };
+        // Per unknown: its node and whether it is a tangential traction.
+        let mut unknowns: Vec<(usize, bool)> = Vec::new();
+        let mut columns: Vec<Gradient> = Vec::new();
+        for (j, (gap, d)) in self.gaps.iter().zip(decisions).enumerate() {
+            if d.state == NodeState::Open || !gap.touched {
+                continue;
+            }
+            columns.push(on_free(&gap.gradient));
+            unknowns.push((j, false));
+            if self.friction {
+                columns.push(on_free(&gap.slip.1));
+                unknowns.push((j, true));
+            }
         }
-        lambda
+        let mut lambda = vec![0.0; self.gaps.len()];
+        let mut lambda_t = vec![0.0; self.gaps.len()];
+        for (&(j, tangential), l) in unknowns.iter().zip(least_squares(&columns, &b)) {
+            if tangential {
+                lambda_t[j] = l;
+            } else {
+                lambda[j] = l;
+            }
+        }
+        (lambda, lambda_t)
     }
 
-    /// A node of no weight takes its side's state: in contact when a node
-    /// of weight on its side is.
-    fn weightless_follow(&self, states: &mut [NodeState]) {
-        for j in (0..states.len()).filter(|&j| self.weightless[j]) {
+    /// A node of no weight takes its side's state: that of a node of
+    /// weight on its side in contact, or open.
+    fn weightless_follow(&self, decisions: &mut [Decision]) {
+        for j in (0..decisions.len()).filter(|&j| self.weightless[j]) {
             let side = &self.contactor.sides[self.contactor.on[j][0].0];
-            let closed =
-                (side.iter()).any(|&k| !self.weightless[k] && states[k] != NodeState::Open);
-            states[j] = if closed {
-                NodeState::Slip
-            } else {
-                NodeState::Open
-            };
+            let closed = (side.iter())
+                .find(|&&k| !self.weightless[k] && decisions[k].state != NodeState::Open);
+            decisions[j] = closed.map_or(Decision::OPEN, |&k| Decision {
+                sign: 0.0,
+                ..decisions[k]
+            });
         }
     }
 }
 
 impl Formulation for Mortar {
-    /// One pair's update, in phases: the pair at the iterate (weighted gaps,
-    /// `PairAt::new`), the multipliers recovered (`PairAt::multipliers`),
-    /// each node's state (`decide`; with `keep`, the kept states but for the
-    /// forced nodes'), the rows, forces and tangent (`add_rows`,
-    /// `add_forces`) and the reported results (`report`; none for an inner
-    /// solve's system, which serves its rows alone).
+    /// One pair's update, in phases: the pair at the iterate (weighted gaps
+    /// and slips, `PairAt::new`), the multipliers recovered
+    /// (`PairAt::multipliers`), each node's decision (`decide`; with `keep`,
+    /// the kept decisions but for the forced nodes'), the rows, forces and
+    /// tangent (`rows::add_rows`, `rows::add_forces`) and the reported
+    /// results (`rows::report`; none for an inner solve's system, which
+    /// serves its rows alone).
     fn update(
         &self,
         at: &Iterate,
         pair: &ContactPair,
         mem: &mut PairMemory,
-        [flips, _]: [&mut [usize]; 2],
+        counters: [&mut [usize]; 2],
         log: &mut dyn FnMut(&str),
         out: &mut ContactSystem,
         keep: Option<(&Kept, &[(usize, Forced)])>,
     ) -> Result<PairResult, String> {
-        let (here, states, lambda) = match keep {
+        let (here, decisions, lambda, lambda_t) = match keep {
             Some((kept, forced)) => {
                 let kept = (kept.get::<Decided>()).ok_or("inner solve without mortar decisions")?;
-                let mut states = kept.states.clone();
+                let mut decisions = kept.decisions.clone();
                 for &(j, f) in forced {
-                    states[j] = if f == Forced::Open {
-                        NodeState::Open
-                    } else {
-                        NodeState::Slip
-                    };
+                    decisions[j] = decide::forced(pair, &kept.at, mem, j, f);
                 }
-                kept.at.weightless_follow(&mut states);
-                (kept.at.clone(), states, kept.lambda.clone())
+                kept.at.weightless_follow(&mut decisions);
+                let (lambda, lambda_t) = (kept.lambda.clone(), kept.lambda_t.clone());
+                (kept.at.clone(), decisions, lambda, lambda_t)
             }
             None => {
                 let here = PairAt::new(at, pair)?;
-                let was_closed: Vec<bool> = (mem.nodes.iter())
-                    .map(|n| n.state != NodeState::Open)
-                    .collect();
-                let lambda = here.multipliers(&was_closed, at.r);
-                let mut states = decide(at, pair, mem, &here, &lambda, flips, log, out)?;
-                here.weightless_follow(&mut states);
-                (std::sync::Arc::new(here), states, lambda)
+                let was: Vec<Decision> = mem.nodes.iter().map(Decision::of).collect();
+                let (lambda, lambda_t) = here.multipliers(&was, at.r);
+                let mut decisions = decide::decide(
+                    at,
+                    pair,
+                    mem,
+                    &here,
+                    [&lambda, &lambda_t],
+                    counters,
+                    log,
+                    out,
+                )?;
+                here.weightless_follow(&mut decisions);
+                (std::sync::Arc::new(here), decisions, lambda, lambda_t)
             }
         };
-        // The multipliers of the nodes kept in contact; a node that closes
-        // carries none yet.
-        let lambda: Vec<f64> = (0..states.len())
-            .map(|j| {
-                if states[j] != NodeState::Open {
-                    lambda[j]
-                } else {
-                    0.0
-                }
+        // The multipliers of the nodes kept in contact (a node that closes
+        // carries none yet), a sliding node's friction against its slip.
+        let keep_closed = |l: &[f64], j: usize| {
+            if decisions[j].state != NodeState::Open {
+                l[j]
+            } else {
+                0.0
+            }
+        };
+        let lambda: Vec<f64> = (0..decisions.len())
+            .map(|j| keep_closed(&lambda, j))
+            .collect();
+        let lambda_t: Vec<f64> = (0..decisions.len())
+            .map(|j| match decisions[j].state {
+                NodeState::Slip => -decisions[j].friction(pair) * lambda[j],
+                _ => keep_closed(&lambda_t, j),
             })
             .collect();
-        add_rows(pair, &here, &states, out);
-        let force = add_forces(&here, &lambda, out);
-        for (node, &state) in mem.nodes.iter_mut().zip(&states) {
-            node.state = state;
+        rows::add_rows(pair, &here, &decisions, out);
+        let force = rows::add_forces(&here, [&lambda, &lambda_t], out);
+        for (node, d) in mem.nodes.iter_mut().zip(&decisions) {
+            d.remember(node, here.friction);
         }
         let result = if keep.is_none() {
-            report(pair, &here, &states, &lambda, &force)
+            remember_feet(at, pair, &here, mem)?;
+            rows::report(pair, &here, &decisions, [&lambda, &lambda_t], &force)
         } else {
             PairResult::default()
         };
         out.kept.push(Kept::new(Decided {
             at: here,
-            states,
+            decisions,
             lambda,
+            lambda_t,
         }));
         Ok(result)
     }
@@ -283,48 +370,19 @@ impl Formulation for Mortar {
         true
     }
 
-    /// The nodes the linearised problem decides otherwise: a node in
-    /// contact whose multiplier after the solve (fitted to the predicted
-    /// out-of-balance force) pulls by more than the force tolerance opens;
-    /// an open node whose gap weighted by its hat function the solve
-    /// takes below minus the length tolerance (over its area) closes.
+    /// The nodes the linearised problem decides otherwise (`decide::predict`).
     fn predict(
         &self,
         at: &Prediction,
-        _pair: (usize, &ContactPair),
-        _mem: &PairMemory,
+        (_, pair): (usize, &ContactPair),
+        mem: &PairMemory,
         kept: &Kept,
         _cache: &mut SearchCache,
     ) -> Result<Option<Vec<(usize, Forced)>>, String> {
         let Some(kept) = kept.get::<Decided>() else {
             return Ok(None);
         };
-        let here = &kept.at;
-        let closed: Vec<bool> = kept.states.iter().map(|&s| s != NodeState::Open).collect();
-        let lambda = here.multipliers(&closed, at.force_new);
-        let [force_tol, length_tol] = at.tolerance;
-        let mut switched = Vec::new();
-        for (j, gap) in here.gaps.iter().enumerate() {
-            if here.weightless[j] || !gap.touched {
-                continue;
-            }
-            let a = here.area[j];
-            if closed[j] {
-                if lambda[j] * a < -force_tol && !at.settling {
-                    switched.push((j, Forced::Open));
-                }
-            } else {
-                let (value, gradient) = &gap.hat_weighted;
-                let moved: f64 = (gradient.iter())
-                    .map(|&(d, v)| v * (at.u_new[d] - at.u_now[d]))
-                    .sum();
-                let overlap = -(value + moved) / a;
-                if overlap > length_tol {
-                    switched.push((j, Forced::Close { j: 0, overlap }));
-                }
-            }
-        }
-        Ok(Some(switched))
+        Ok(Some(decide::predict(at, pair, mem, kept)))
     }
 
     fn sensitivities(&self) -> bool {
@@ -343,6 +401,30 @@ impl Formulation for Mortar {
             pair.name
         ))
     }
+}
+
+/// Where each node in contact meets the target: the nearest point of the
+/// target's polyline, into its memory's segment and parameter (the
+/// outputs' gap and slip read them, `outputs::gaps_and_slips`).
+fn remember_feet(
+    at: &Iterate,
+    pair: &ContactPair,
+    here: &PairAt,
+    mem: &mut PairMemory,
+) -> Result<(), String> {
+    if mem.nodes.iter().all(|n| n.state == NodeState::Open) {
+        return Ok(());
+    }
+    let segments = target_segments(at.targets, at.problem, pair, at.u, at.poses)?;
+    for (node, x) in mem.nodes.iter_mut().zip(&here.x) {
+        if node.state == NodeState::Open {
+            continue;
+        }
+        if let Some(foot) = nearest_point(&segments, Vector2::new(x[0], x[1])) {
+            (node.segment, node.beta) = (foot.segment, foot.beta);
+        }
+    }
+    Ok(())
 }
 
 /// The longest side of a surface at positions `x`.
@@ -382,6 +464,7 @@ fn gather(parts: &[Part], m: usize) -> Vec<NodeGap> {
             gradient: entries(gap.1),
             hat_weighted: (hat_weighted.0, entries(hat_weighted.1)),
             touched,
+            ..Default::default()
         })
         .collect()
 }
@@ -436,163 +519,4 @@ fn least_squares(columns: &[Vec<(usize, f64)>], b: &[f64]) -> Vec<f64> {
         }
     }
     x
-}
-
-/// Each node's state from its multiplier and weighted gap: a node in
-/// contact opens when its traction pulls (kept while the iterate settles,
-/// counted as pending); an open node closes when its gap weighted by its
-/// hat function is negative (or zero, when touching closes). Changes between open and
-/// contact are counted and releases logged.
-#[allow(clippy::too_many_arguments)]
-fn decide(
-    at: &Iterate,
-    pair: &ContactPair,
-    mem: &PairMemory,
-    here: &PairAt,
-    lambda: &[f64],
-    flips: &mut [usize],
-    log: &mut dyn FnMut(&str),
-    out: &mut ContactSystem,
-) -> Result<Vec<NodeState>, String> {
-    let scale = lambda.iter().fold(0.0f64, |a, l| a.max(l.abs()));
-    let tension = TENSION_TOLERANCE * scale;
-    let mut states = Vec::with_capacity(here.gaps.len());
-    for (j, gap) in here.gaps.iter().enumerate() {
-        let old = mem.nodes[j].state;
-        if here.weightless[j] {
-            // Set by its side afterwards, not counted.
-            states.push(old);
-            continue;
-        }
-        let state = if !gap.touched {
-            NodeState::Open
-        } else if old != NodeState::Open {
-            if lambda[j] >= -tension {
-                NodeState::Slip
-            } else if at.start.settling {
-                out.pending += 1;
-                NodeState::Slip
-            } else {
-                NodeState::Open
-            }
-        } else if gap.hat_weighted.0 < 0.0 || (gap.hat_weighted.0 == 0.0 && at.start.touching) {
-            NodeState::Slip
-        } else {
-            NodeState::Open
-        };
-        if (state == NodeState::Open) != (old == NodeState::Open) {
-            out.changes += 1;
-            count_flip(pair, j, flips)?;
-            if state == NodeState::Open {
-                log(&format!(
-                    "pair '{}' node {j}: released (traction {:.3e})",
-                    pair.name, lambda[j]
-                ));
-            }
-        }
-        states.push(state);
-    }
-    Ok(states)
-}
-
-/// A row per node in contact: its weighted gap closed to first order,
-/// `grad g_j du = -g_j`, divided by the node's area so that the row reads
-/// in lengths (its multiplier a force) as a node-to-segment row does.
-fn add_rows(pair: &ContactPair, here: &PairAt, states: &[NodeState], out: &mut ContactSystem) {
-    for (j, gap) in here.gaps.iter().enumerate() {
-        if states[j] == NodeState::Open || !gap.touched {
-            continue;
-        }
-        let a = here.area[j];
-        let entries: Vec<(usize, f64)> = gap.gradient.iter().map(|&(d, v)| (d, v / a)).collect();
-        let row = out.rows.len();
-        out.rows.push(Row {
-            dofs: super::Entries::from_slice(&entries),
-            rhs: -gap.value / a,
-            column: Default::default(),
-        });
-        out.groups.push((pair.contactor[j], row..row + 1));
-        out.max_overlap = out.max_overlap.max((gap.value / a).abs());
-    }
-}
-
-/// The contact forces `sum lambda_j grad g_j` into `out.force` and the
-/// tangent `-sum lambda_j hess g_j` into `out.k`; returns the forces per
-/// dof.
-fn add_forces(here: &PairAt, lambda: &[f64], out: &mut ContactSystem) -> BTreeMap<usize, f64> {
-    let mut force: BTreeMap<usize, f64> = BTreeMap::new();
-    for (gap, &l) in here.gaps.iter().zip(lambda).filter(|(_, l)| **l != 0.0) {
-        for &(d, v) in &gap.gradient {
-            *force.entry(d).or_default() += l * v;
-        }
-    }
-    out.force.extend(force.iter().map(|(&d, &f)| (d, f)));
-    for part in &here.parts {
-        let count = part.dofs.len();
-        let mut h = vec![0.0; count * count];
-        let mut any = false;
-        for (k, _, _, hessian) in &part.gaps {
-            let l = lambda[*k];
-            if l != 0.0 {
-                any = true;
-                for (hi, v) in h.iter_mut().zip(hessian) {
-                    *hi -= l * v;
-                }
-            }
-        }
-        if !any {
-            continue;
-        }
-        for (a, &da) in part.dofs.iter().enumerate() {
-            for (b, &db) in part.dofs.iter().enumerate() {
-                let v = h[a * count + b];
-                if v != 0.0 {
-                    out.k.push((da, db, v));
-                }
-            }
-        }
-    }
-    force
-}
-
-/// The pair's results: per node its state, normal force (its traction
-/// times its area) and traction; the resultants of the contact forces on
-/// the contactor, normal (compression positive) and tangential parts along
-/// each node's frame.
-fn report(
-    pair: &ContactPair,
-    here: &PairAt,
-    states: &[NodeState],
-    lambda: &[f64],
-    force: &BTreeMap<usize, f64>,
-) -> PairResult {
-    let (contactor, x, area) = (&here.contactor, &here.x, &here.area);
-    let xv: Vec<Vector2<f64>> = x.iter().map(|p| Vector2::new(p[0], p[1])).collect();
-    let mut report = Report::new(x.len());
-    let mut tn = vec![0.0; x.len()];
-    for (j, &n) in contactor.nodes.iter().enumerate() {
-        let f = Vector2::new(
-            force.get(&(2 * n)).copied().unwrap_or(0.0),
-            force.get(&(2 * n + 1)).copied().unwrap_or(0.0),
-        );
-        let (tau, nu) = node_frame(&xv, pair.closed, j);
-        let result = &mut report.result;
-        result.fx += f.x;
-        result.fy += f.y;
-        result.fn_ += f.dot(&nu);
-        result.ft += f.dot(&tau);
-        if states[j] != NodeState::Open {
-            tn[j] = lambda[j];
-        }
-        report.node(xv[j], states[j], [lambda[j] * area[j], 0.0]);
-    }
-    // A node of no weight reports the traction field's value there.
-    for j in (0..x.len()).filter(|&j| here.weightless[j] && states[j] != NodeState::Open) {
-        let (e, l) = contactor.on[j][0];
-        tn[j] = field_at_node(&here.setting(), e, l, lambda);
-    }
-    let mut result = report.result;
-    result.nodes.tn = tn;
-    result.nodes.tt = vec![0.0; x.len()];
-    result
 }

@@ -20,9 +20,7 @@ use crate::contact::search::{
 };
 use crate::contact::segment::ContactPoint;
 use crate::contact::sensitivity::{At, Linearised};
-use crate::contact::system::{
-    ContactSystem, Forced, Iterate, Kept, MAX_FLIPS, count_change, count_flip,
-};
+use crate::contact::system::{ContactSystem, Forced, Iterate, Kept, count_flip, count_slip};
 use crate::problem::{ContactPair, FrictionRule, Recovery};
 use crate::results::{NodeState, PairResult};
 use nalgebra::Vector2;
@@ -78,11 +76,6 @@ const CORNER_REACH: f64 = 1e-3;
 /// the corner to and fro at every iteration. The limit keeps a node whose
 /// force does leave the cone from cycling between hold and release.
 const CORNER_LEAVES: u32 = 3;
-
-/// Times one node may change between stick and slip (or its slip
-/// direction) within an increment before the increment is declared
-/// oscillating (fail fast; the caller bisects).
-const MAX_SLIPS: usize = 2 * MAX_FLIPS;
 
 impl Formulation for Nodal {
     /// One pair's update under the nodal decisions, in phases: the pair at
@@ -328,7 +321,7 @@ fn count_changes(
             if (d.state == NodeState::Open) != (old.state == NodeState::Open) {
                 count_flip(pair, k, flips)?;
             } else {
-                count_change(pair, k, slips, MAX_SLIPS, "stick and slip")?;
+                count_slip(pair, k, slips)?;
             }
             if old.state != NodeState::Open && d.state == NodeState::Open {
                 log(&format!(
@@ -684,14 +677,9 @@ fn frictional_decision(
     slide(s)
 }
 
-/// The coefficient that holds a sticking node: under the usual rule mu_s
-/// until it first slides and mu_d from then on; under the experiment's,
-/// mu_s throughout.
+/// The coefficient that holds a sticking node (`ContactPair::sticking_mu`).
 fn sticking_mu(pair: &ContactPair, node: &NodeMemory) -> f64 {
-    match pair.rule {
-        FrictionRule::MuDAfterSlip if node.nodal.ever_slid => pair.mu_d,
-        _ => pair.mu_s,
-    }
+    pair.sticking_mu(node.nodal.ever_slid)
 }
 
 /// Whether a node held at the target point (segment `j`, `beta`) can carry

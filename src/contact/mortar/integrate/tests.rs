@@ -38,6 +38,7 @@ fn setting<'a>(
         reference_measure: false,
         geometry,
         reach: 1.0,
+        friction: true,
     }
 }
 
@@ -155,6 +156,156 @@ fn derivatives_match_differences() {
                     shift(&mut xx, &mut yy, a, ha);
                     shift(&mut xx, &mut yy, b, hb);
                     total(&xx, &yy)[k]
+                };
+                let e = 1e-4;
+                let fd = (eval(e, e) - eval(e, -e) - eval(-e, e) + eval(-e, -e)) / (4.0 * e * e);
+                assert!(
+                    (v - fd).abs() < 1e-5 * (1.0 + v.abs()),
+                    "order {order} node {k} dofs {a},{b}: {v} against {fd}"
+                );
+            }
+        }
+    }
+}
+
+/// Each contactor node's weighted slip at positions `x`, `y` from the
+/// coupling `start` of the increment's start: `slip_from` less the parts'
+/// `slips`, with its gradient and Hessian as (dof, value) and ((dof, dof),
+/// value) sums.
+type Slip = (
+    f64,
+    std::collections::BTreeMap<usize, f64>,
+    std::collections::BTreeMap<(usize, usize), f64>,
+);
+
+fn weighted_slips(s: &Setting, start: &[Coupling]) -> Vec<Slip> {
+    let (parts, _) = integrate(s);
+    let mut out: Vec<Slip> = vec![Default::default(); s.x.len()];
+    for part in &parts {
+        let count = part.dofs.len();
+        for ((k, ..), (v, g, h)) in part.gaps.iter().zip(&part.slips) {
+            let o = &mut out[*k];
+            o.0 -= v;
+            for a in 0..count {
+                *o.1.entry(part.dofs[a]).or_default() -= g[a];
+                for b in 0..count {
+                    *o.2.entry((part.dofs[a], part.dofs[b])).or_default() -= h[a * count + b];
+                }
+            }
+        }
+    }
+    for (k, o) in out.iter_mut().enumerate() {
+        let from = slip_from(s, k, &start[k]);
+        o.0 += from.value;
+        for (d, v) in from.gradient {
+            *o.1.entry(d).or_default() += v;
+        }
+        for (a, b, v) in from.hessian {
+            *o.2.entry((a, b)).or_default() += v;
+        }
+    }
+    out
+}
+
+/// The contactor slid by `d` along a flat target that covers it, meshes
+/// not matching: each node's weighted slip is d times its area at the
+/// start (the measure the start's coupling integrates in; about the axis
+/// a radial slide changes it), and a rigid motion of both (a turn and a
+/// shift) slips nothing.
+#[test]
+fn a_uniform_slide_weighs_as_the_area_and_a_rigid_motion_slips_nothing() {
+    let d = 0.07;
+    for (order_c, order_t) in [(1, 1), (2, 2), (1, 2), (2, 1)] {
+        for geometry in [Geometry::Planar { thickness: 2.0 }, Geometry::Axisymmetric] {
+            let (c, x0) = chain(7, order_c, [1.0, 3.0], 0.01, true);
+            let (t, y0) = chain(5, order_t, [0.5, 3.5], 0.0, false);
+            let start = couplings(&setting(&c, &t, &x0, &y0, geometry));
+            let (_, area) = integrate(&setting(&c, &t, &x0, &y0, geometry));
+            let x: Vec<[f64; 2]> = x0.iter().map(|p| [p[0] + d, p[1]]).collect();
+            let s = setting(&c, &t, &x, &y0, geometry);
+            for (k, slip) in weighted_slips(&s, &start).iter().enumerate() {
+                assert!(
+                    (slip.0 - d * area[k]).abs() < 1e-13 * area[k],
+                    "{order_c}/{order_t} {geometry:?} node {k}: {} against {}",
+                    slip.0,
+                    d * area[k]
+                );
+            }
+            if geometry != Geometry::Axisymmetric {
+                let (sin, cos) = 0.3f64.sin_cos();
+                let turn =
+                    |p: &[f64; 2]| [cos * p[0] - sin * p[1] + 0.4, sin * p[0] + cos * p[1] - 0.2];
+                let (x, y): (Vec<_>, Vec<_>) =
+                    (x0.iter().map(turn).collect(), y0.iter().map(turn).collect());
+                let s = setting(&c, &t, &x, &y, geometry);
+                for (k, slip) in weighted_slips(&s, &start).iter().enumerate() {
+                    assert!(
+                        slip.0.abs() < 1e-13,
+                        "{order_c}/{order_t} node {k}: {}",
+                        slip.0
+                    );
+                }
+            }
+        }
+    }
+}
+
+/// The gradients and Hessians of the weighted slips (the parts' and
+/// `slip_from`'s together) against central differences, on curved,
+/// non-matching sides that have slid since the start.
+#[test]
+fn slip_derivatives_match_differences() {
+    for order in [1, 2] {
+        let (c, mut x) = chain(3, order, [0.0, 1.0], 0.0, true);
+        let (t, mut y) = chain(2, order, [-0.2, 1.3], 0.0, false);
+        for p in x.iter_mut() {
+            p[1] = 0.05 - 0.2 * (p[0] - 0.5) * (p[0] - 0.5) + 0.01 * p[0];
+        }
+        for p in y.iter_mut() {
+            p[1] = 0.04 * (p[0] - 0.6) * (p[0] - 0.6);
+        }
+        let mut cs = c.clone();
+        cs.nodes = (0..x.len()).collect();
+        let mut ts = t.clone();
+        ts.nodes = (1000..1000 + y.len()).collect();
+        let geometry = Geometry::Planar { thickness: 1.5 };
+        // The start: the contactor 0.05 to the left and a little higher.
+        let x0: Vec<[f64; 2]> = x.iter().map(|p| [p[0] - 0.05, p[1] + 0.01]).collect();
+        let start = couplings(&setting(&cs, &ts, &x0, &y, geometry));
+        let shift = |x: &mut [[f64; 2]], y: &mut [[f64; 2]], dof: usize, h: f64| {
+            let n = dof / 2;
+            if n < 1000 {
+                x[n][dof % 2] += h;
+            } else {
+                y[n - 1000][dof % 2] += h;
+            }
+        };
+        let total = |x: &[[f64; 2]], y: &[[f64; 2]], k: usize| {
+            weighted_slips(&setting(&cs, &ts, x, y, geometry), &start)[k].0
+        };
+        let slips = weighted_slips(&setting(&cs, &ts, &x, &y, geometry), &start);
+        let m = x.len();
+        let h = 1e-6;
+        for (k, slip) in slips.iter().enumerate() {
+            assert!(!slip.1.is_empty());
+            for (&dof, &g) in &slip.1 {
+                let (mut xp, mut yp, mut xm, mut ym) = (x.clone(), y.clone(), x.clone(), y.clone());
+                shift(&mut xp, &mut yp, dof, h);
+                shift(&mut xm, &mut ym, dof, -h);
+                let fd = (total(&xp, &yp, k) - total(&xm, &ym, k)) / (2.0 * h);
+                assert!(
+                    (g - fd).abs() < 1e-7,
+                    "order {order} node {k} dof {dof}: {g} against {fd}"
+                );
+            }
+        }
+        for k in [m / 2, m - 1] {
+            for (&(a, b), &v) in slips[k].2.iter().filter(|(ab, _)| ab.0 <= ab.1).step_by(3) {
+                let eval = |ha: f64, hb: f64| {
+                    let (mut xx, mut yy) = (x.clone(), y.clone());
+                    shift(&mut xx, &mut yy, a, ha);
+                    shift(&mut xx, &mut yy, b, hb);
+                    total(&xx, &yy, k)
                 };
                 let e = 1e-4;
                 let fd = (eval(e, e) - eval(e, -e) - eval(-e, e) + eval(-e, -e)) / (4.0 * e * e);
