@@ -265,7 +265,7 @@ pub enum ContactFormulation {
     NodeToSegment,
     /// Weighted gaps integrated over the contactor against the target's
     /// interpolation, the multipliers its nodal tractions
-    /// (`contact::mortar`): frictionless, against a body.
+    /// (`contact::mortar`), against a body.
     Mortar,
 }
 
