@@ -4,7 +4,9 @@
 //!     cargo bench --bench mortar
 //!
 //! Two flexible cylinders (Hertz, non-matching arcs) at two refinements,
-//! 4- and 8-node, and the axisymmetric shrink fit. Each scene runs with
+//! 4- and 8-node, and the axisymmetric shrink fit; with friction, the block
+//! dragged over the coarse strip (mu = 0.2) and Cattaneo-Mindlin on its
+//! shipped meshes. Each scene runs with
 //! both formulations in turn, three rounds alternating; the best of the
 //! rounds is printed: wall time per increment, Newton iterations, the
 //! error (Hertz: the largest deviation from Hertz within 0.8 a and the
@@ -77,6 +79,84 @@ fn shrink(element: &str, formulation: &str, radial: usize) -> Run {
     }
 }
 
+/// A shipped scene with `edits`, its [[contact]] table's `marker` line
+/// replaced to choose `formulation`: time per increment, and the error
+/// `error` reads off the last step.
+fn shipped(
+    name: &str,
+    edits: &[(&str, &str)],
+    marker: &str,
+    formulation: &str,
+    error: fn(&contact2d::results::StepResult) -> String,
+) -> Run {
+    let choice = format!("{marker}\nformulation = \"{formulation}\"");
+    let mut all: Vec<(&str, &str)> = edits.to_vec();
+    if formulation == "mortar" {
+        all.push((marker, &choice));
+    }
+    let problem = common::shipped_scene(name, &all);
+    let times = problem.times.clone();
+    let start = Instant::now();
+    let mut solver = Solver::new(problem).unwrap();
+    let mut iterations = Vec::new();
+    let mut last = None;
+    for t in times {
+        let step = solver.advance(t, &mut |_, _| {}).unwrap();
+        iterations.push(step.iterations);
+        last = Some(step);
+    }
+    let seconds = start.elapsed().as_secs_f64();
+    Run {
+        per_increment: seconds / iterations.len() as f64,
+        error: error(&last.unwrap()),
+        iterations,
+        split: solver.phases().split(),
+    }
+}
+
+/// A driver's reaction [Rx, Ry].
+fn reaction(step: &contact2d::results::StepResult, name: &str) -> [f64; 2] {
+    let r = &step.drivers.iter().find(|d| d.0 == name).unwrap().1;
+    [r.rx, r.ry]
+}
+
+fn drag(formulation: &str) -> Run {
+    let friction = "mu_s = 0.2\nmu_d = 0.2";
+    shipped(
+        "verification/flexible_target.toml",
+        &[("mu_s = 0.0", friction)],
+        friction,
+        formulation,
+        |step| {
+            let [rx, ry] = reaction(step, "top");
+            format!("drag Rx / Ry {:.5} (mu 0.2, the strip bends)", -rx / ry)
+        },
+    )
+}
+
+fn cattaneo(formulation: &str) -> Run {
+    // Node-to-segment keeps the shipped scene's paper decisions; a mortar
+    // pair decides node by node (`decisions` is node-to-segment's).
+    let edits: &[(&str, &str)] = if formulation == "mortar" {
+        &[("decisions = \"paper\"", "")]
+    } else {
+        &[]
+    };
+    shipped(
+        "verification/cattaneo_mindlin.toml",
+        edits,
+        "recovery = \"lumped\"",
+        formulation,
+        |step| {
+            let p = &step.pairs[0].1;
+            format!(
+                "stick/slip/open {}/{}/{} at Q/(mu P) = 0.85",
+                p.n_stick, p.n_slip, p.n_open
+            )
+        },
+    )
+}
+
 fn main() {
     type Case = (String, Box<dyn Fn(&str) -> Run>);
     let cases: Vec<Case> = vec![
@@ -98,6 +178,8 @@ fn main() {
         ),
         ("shrink fit q4 8".into(), Box::new(|f| shrink("q4", f, 8))),
         ("shrink fit q8 4".into(), Box::new(|f| shrink("q8", f, 4))),
+        ("drag, mu 0.2 (q4 8/4)".into(), Box::new(drag)),
+        ("Cattaneo-Mindlin (shipped)".into(), Box::new(cattaneo)),
     ];
     for (name, run) in &cases {
         let mut best: [Option<Run>; 2] = [None, None];
