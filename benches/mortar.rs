@@ -198,10 +198,21 @@ fn main() {
             unreachable!()
         };
         for (label, r) in [("node_to_segment", &nts), ("mortar", &mortar)] {
+            let mut sorted = r.iterations.clone();
+            sorted.sort_unstable();
+            let iterations = if sorted.len() > 8 {
+                format!(
+                    "median {} max {} over {} increments",
+                    sorted[sorted.len() / 2],
+                    sorted[sorted.len() - 1],
+                    sorted.len()
+                )
+            } else {
+                format!("{:?}", r.iterations)
+            };
             println!(
-                "{name:<26} {label:<16} {:>8.1} ms/increment  iterations {:?}  {}",
+                "{name:<26} {label:<16} {:>8.1} ms/increment  iterations {iterations}  {}",
                 1e3 * r.per_increment,
-                r.iterations,
                 r.error
             );
         }

@@ -2682,6 +2682,35 @@ fn directional_derivatives_of_the_verification_scenes() {
     run_checks(&checks, &kinks, &[0, 1, 12]);
 }
 
+/// Mortar contact (`formulation = "mortar"`), frictionless: the block on
+/// the coarse flexible strip after the press and during the drag; every
+/// derivative of a converged state against central differences
+/// (`check_derivatives`). A frictional mortar pair declares none (its
+/// forces depend on where the increment started).
+#[test]
+fn directional_derivatives_of_mortar_scenes() {
+    let mortar = "formulation = \"mortar\"\nmu_s";
+    let frictionless = TempScene::new(
+        "mortar_strip",
+        &edited("verification/flexible_target.toml", &[("mu_s", mortar)]),
+    );
+    let check = |scene, at| Check {
+        scene,
+        at,
+        tolerance: 1e-11,
+        skip: &[],
+    };
+    let checks = [check(&frictionless.0, 19), check(&frictionless.0, 40)];
+    let none: &[&str] = &[];
+    run_checks(&checks, &[none; 2], &[]);
+    let frictional = edited(
+        "verification/flexible_target.toml",
+        &[("mu_s = 0.0", "mu_s = 0.3"), ("mu_s", mortar)],
+    );
+    let problem = contact2d::scene::parse(&frictional, Path::new("mortar_mu.toml")).unwrap();
+    assert!(!contact2d::contact::sensitivities(&problem));
+}
+
 /// A force input on a set that moves as one (`distribution = "rigid"`):
 /// the sliding block pressed, then pulled sideways by `drag.Fx` on its top
 /// into partial slip (the edges slide, the middle sticks), as the pull

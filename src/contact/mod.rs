@@ -102,9 +102,9 @@ pub(crate) trait Formulation: Sync {
         cache: &mut SearchCache,
     ) -> Result<Option<Vec<(usize, Forced)>>, String>;
 
-    /// Whether `linearise` answers (the FMU then provides directional
-    /// derivatives).
-    fn sensitivities(&self) -> bool;
+    /// Whether `linearise` answers for `pair` (the FMU then provides
+    /// directional derivatives).
+    fn sensitivities(&self, pair: &ContactPair) -> bool;
 
     /// The exact linearisation of the pair's contact conditions at a
     /// converged state (`sensitivity::linearise`), into `out`.
@@ -132,7 +132,7 @@ pub fn sensitivities(problem: &Problem) -> bool {
     problem
         .contacts
         .iter()
-        .all(|p| formulation(p).sensitivities())
+        .all(|p| formulation(p).sensitivities(p))
 }
 
 /// Whether the inner solves apply: every pair's formulation has them.

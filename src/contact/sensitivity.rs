@@ -43,6 +43,13 @@ pub enum Turn {
     Segment { a: usize, b: usize, length: f64 },
     /// `omega = d theta` of the rigid target.
     Rigid { rigid: usize },
+    /// The frame of a mortar contactor's node (`report::node_frame`), along
+    /// the bisector of its sides' chords, turns by their turns' mean:
+    /// `omega = sum w . (du_b - du_a)` over the chords (a, b) with `w` the
+    /// chord's left normal over its length and their count.
+    Chords {
+        chords: [Option<(usize, usize, Vector2<f64>)>; 2],
+    },
 }
 
 /// A contactor node in contact, as the pair results count it.
@@ -160,6 +167,9 @@ impl Linearised {
                     node.normal.dot(&(at(du, b) - at(du, a))) / length
                 }
                 Turn::Rigid { rigid } => dpose[rigid][2],
+                Turn::Chords { chords } => (chords.iter().flatten())
+                    .map(|&(a, b, w)| w.dot(&(at(du, b) - at(du, a))))
+                    .sum(),
             };
             let (f, n_s, n_r) = (node.force, node.normal, node.tangent);
             let out = &mut pair[node.pair];

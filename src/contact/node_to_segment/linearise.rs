@@ -38,7 +38,7 @@ impl Contact {
                 let w = material_velocity(self.point, self.reference);
                 (0..3).map(|c| (rigid, c, -v.dot(&w[c]))).collect()
             }
-            Turn::Segment { .. } => Vec::new(),
+            Turn::Segment { .. } | Turn::Chords { .. } => Vec::new(),
         }
     }
 }
@@ -178,6 +178,6 @@ fn sliding_terms(
                 out.pose.push((2 * contact.ends[0].0 + c, rigid, 2, w[c]));
             }
         }
-        (None, Turn::Segment { .. }) => {}
+        (None, Turn::Segment { .. } | Turn::Chords { .. }) => {}
     }
 }

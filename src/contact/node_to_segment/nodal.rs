@@ -139,7 +139,7 @@ impl Formulation for Nodal {
         predict_pair(at, pair, mem, kept, cache).map(Some)
     }
 
-    fn sensitivities(&self) -> bool {
+    fn sensitivities(&self, _pair: &ContactPair) -> bool {
         true
     }
 

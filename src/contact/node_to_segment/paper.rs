@@ -55,7 +55,7 @@ impl Formulation for Paper {
         Ok(None)
     }
 
-    fn sensitivities(&self) -> bool {
+    fn sensitivities(&self, _pair: &ContactPair) -> bool {
         false
     }
 
