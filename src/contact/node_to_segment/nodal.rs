@@ -69,6 +69,11 @@ pub(super) struct Decided {
 /// is taken to be at it.
 const CORNER_REACH: f64 = 1e-3;
 
+/// How near a reflex corner (in beta) a frictionless node that has just
+/// crossed back over it is tested at it (`corner`): anywhere on the half
+/// of the segment next to the corner.
+const CROSSED_BACK_REACH: f64 = 0.5;
+
 /// Times a frictionless node may leave a corner hold in one increment and
 /// be held again when it comes back within `CORNER_REACH`: the force of an
 /// early iterate may lie outside the cone of the two normals and release a
@@ -868,8 +873,24 @@ fn corner(
     // has crossed the corner and come back, or is held there; in the wedge
     // beyond both segments' ends in any case. A node dragged across a corner
     // once passes it.
-    let tol = CORNER_REACH;
-    let (end_j, beta, i, end_i, beta_i) = search::near_reflex(segments, j, x, tol)?;
+    // A node that crosses back over the corner its last crossing in this
+    // increment took it over has shown that its sliding equilibrium on
+    // either segment lies across the corner: it is tested at the corner
+    // wherever the step left it (within half a segment of it), and the
+    // cone of the normals decides, as for a node within `CORNER_REACH`.
+    // The ironing ring pressed into its soft block left such a node 0.024
+    // and 0.008 of a segment either side of a vertex at alternate
+    // iterations, without end (scenes/verification/ironing.toml).
+    let back = j != old.segment && old.crossed == Some((j, old.segment));
+    let near = |tol: f64| search::near_reflex(segments, j, x, tol);
+    let crossed_back = back.then(|| near(CROSSED_BACK_REACH)).flatten();
+    let crossed_back = crossed_back.filter(|c| c.2 == old.segment);
+    let tol = if crossed_back.is_some() {
+        CROSSED_BACK_REACH
+    } else {
+        CORNER_REACH
+    };
+    let (end_j, beta, i, end_i, beta_i) = crossed_back.or_else(|| near(tol))?;
     let beyond = |tol: f64| search::at_end(beta, end_j, tol) && search::at_end(beta_i, end_i, tol);
     let returned = old.nodal.corner_leaves < CORNER_LEAVES
         && (old.state == NodeState::Open

@@ -1,0 +1,208 @@
+//! scenes/verification/ironing.toml, the 2D ironing benchmark (a stiff half
+//! ring pressed into a soft Mooney-Rivlin block, then slid along it), run
+//! with both formulations and with either body's surface as contactor, by
+//! editing the scene's [[contact]] table: no increment bisected, Newton's
+//! iterations per increment bounded, and the ring's reaction forces smooth
+//! over the slide (`largest_jump`, docs/contact.md section 11).
+//!
+//! Run with `cargo test --release --test ironing -- --nocapture` to see the
+//! measured numbers.
+
+mod common;
+
+use contact2d::newton::Solver;
+use contact2d::results::{LogCategory, StepResult};
+
+const SCENE: &str = "verification/ironing.toml";
+/// The slide runs for t in (1, 2].
+const SLIDE_START: f64 = 1.0;
+/// The scene's own [[contact]] lines, replaced by the variants' own.
+const CONTACTOR_RING: &str = "contactor = \"ring.outer\"\ntarget = \"block.top\"";
+const CONTACTOR_BLOCK: &str = "contactor = \"block.top\"\ntarget = \"ring.outer\"";
+const NODE_TO_SEGMENT: &str = "formulation = \"node_to_segment\"";
+
+/// One variant of the scene: its formulation and which surface is contactor.
+struct Variant {
+    name: &'static str,
+    mortar: bool,
+    ring_contactor: bool,
+}
+
+/// What a run of the variant gave.
+struct Run {
+    steps: Vec<StepResult>,
+    /// Bisections, fallbacks and failures the solver logged.
+    warnings: Vec<String>,
+    seconds: f64,
+}
+
+fn run(v: &Variant) -> Run {
+    let mut edits = Vec::new();
+    if v.mortar {
+        edits.push((NODE_TO_SEGMENT, "formulation = \"mortar\""));
+    }
+    if v.ring_contactor {
+        edits.push((CONTACTOR_BLOCK, CONTACTOR_RING));
+    }
+    let problem = common::shipped_scene(SCENE, &edits);
+    let times = problem.times.clone();
+    let mut solver = Solver::new(problem).unwrap();
+    let (mut steps, mut warnings) = (Vec::new(), Vec::new());
+    let clock = std::time::Instant::now();
+    for t in times {
+        let step = solver.advance(t, &mut |c, m| {
+            if matches!(c, LogCategory::Warning | LogCategory::Error) {
+                warnings.push(format!("{c:?} {m}"));
+            }
+        });
+        match step {
+            Ok(s) => steps.push(s),
+            Err(e) => panic!("{}: {e}", v.name),
+        }
+    }
+    let seconds = clock.elapsed().as_secs_f64();
+    Run {
+        steps,
+        warnings,
+        seconds,
+    }
+}
+
+/// The ring's reaction [Rx, Ry]: the sum of its two driven ends'.
+fn ring_force(s: &StepResult) -> [f64; 2] {
+    let mut f = [0.0; 2];
+    for (name, d) in &s.drivers {
+        if name == "left_end" || name == "right_end" {
+            f[0] += d.rx;
+            f[1] += d.ry;
+        }
+    }
+    f
+}
+
+/// The largest force jump during the slide: per component, the largest
+/// second difference |R(k+1) - 2 R(k) + R(k-1)| over the slide's
+/// increments (t > 1; at a constant sliding speed a smooth force has
+/// second differences of order dt^2, a bump at a node crossing shows in
+/// full), divided by the mean magnitude |R| of the ring's force over the
+/// slide. [Rx, Ry].
+fn largest_jump(steps: &[StepResult]) -> [f64; 2] {
+    let forces: Vec<[f64; 2]> = (steps.iter())
+        .filter(|s| s.time > SLIDE_START + 1e-9)
+        .map(ring_force)
+        .collect();
+    let mean = forces.iter().map(|f| f[0].hypot(f[1])).sum::<f64>() / forces.len() as f64;
+    let mut jump = [0.0f64; 2];
+    for w in forces.windows(3) {
+        for (c, j) in jump.iter_mut().enumerate() {
+            *j = j.max((w[2][c] - 2.0 * w[1][c] + w[0][c]).abs() / mean);
+        }
+    }
+    jump
+}
+
+/// Median and largest Newton iterations per increment.
+fn iterations(steps: &[StepResult]) -> (usize, usize) {
+    let mut its: Vec<usize> = steps.iter().map(|s| s.iterations).collect();
+    its.sort_unstable();
+    (its[its.len() / 2], its[its.len() - 1])
+}
+
+/// Runs the variant and checks what every variant must show: every
+/// increment taken whole (no bisection; an increment tried again with
+/// opening and closing decided on the iterate, `StepResult::fallbacks`, is
+/// counted and printed, not refused), at most 5 iterations
+/// per increment in the median and 15 in the worst, the ring pressing
+/// (Ry < 0) throughout the slide; returns the largest jumps.
+fn check(v: &Variant) -> [f64; 2] {
+    let r = run(v);
+    let (median, max) = iterations(&r.steps);
+    let bisections: usize = r.steps.iter().map(|s| s.substeps).sum();
+    let fallbacks: usize = r.steps.iter().map(|s| s.fallbacks).sum();
+    let jump = largest_jump(&r.steps);
+    println!(
+        "{}: {} increments, iterations median {median} max {max}, \
+         {bisections} bisections, {fallbacks} fallbacks, largest jump Rx {:.4} Ry {:.4} of |R|, {:.2} s",
+        v.name,
+        r.steps.len(),
+        jump[0],
+        jump[1],
+        r.seconds
+    );
+    assert!(
+        r.steps.iter().all(|s| s.substeps == 0),
+        "{}: {:?}",
+        v.name,
+        r.warnings
+    );
+    assert!(
+        median <= 5 && max <= 15,
+        "{}: median {median}, max {max}",
+        v.name
+    );
+    for s in r.steps.iter().filter(|s| s.time > SLIDE_START + 1e-9) {
+        assert!(
+            ring_force(s)[1] < 0.0,
+            "{} t = {}: ring lifted",
+            v.name,
+            s.time
+        );
+    }
+    jump
+}
+
+// Measured (2026-11-28, this scene): node-to-segment with the block as
+// contactor, 80 increments, iterations median 4 max 7, largest jump Rx
+// 0.0074, Ry 0.0028 of |R|; mortar with the block as contactor, median 4
+// max 14, Rx 0.046, Ry 0.019 (its jumps come where a contactor node enters
+// or leaves the contact at the zone's edge, docs/contact.md section 11).
+// The jump bounds are those figures rounded up: they guard against a
+// change that makes the slide rougher, they do not say what smooth is.
+
+#[test]
+fn node_to_segment_block_contactor() {
+    let jump = check(&Variant {
+        name: "node_to_segment, block contactor",
+        mortar: false,
+        ring_contactor: false,
+    });
+    assert!(jump[0] < 0.01 && jump[1] < 0.004, "{jump:?}");
+}
+
+#[test]
+fn mortar_block_contactor() {
+    let jump = check(&Variant {
+        name: "mortar, block contactor",
+        mortar: true,
+        ring_contactor: false,
+    });
+    assert!(jump[0] < 0.06 && jump[1] < 0.025, "{jump:?}");
+}
+
+// With the ring's surface as contactor neither formulation meets the bounds
+// yet (measured 2026-11-28: node-to-segment median 7 max 23 iterations and
+// 7 bisections, mortar median 4.5 max 15 and 2 bisections, all in the
+// slide: contactor nodes at the edges of the contact zone alternate
+// between open and contact, and iterates invert block elements under the
+// ring; docs/performance-log.md, fourth session). These two state the
+// target; run them with `-- --ignored`.
+
+#[test]
+#[ignore = "the slide bisects with the ring as contactor (node-to-segment: 7 bisections)"]
+fn node_to_segment_ring_contactor() {
+    check(&Variant {
+        name: "node_to_segment, ring contactor",
+        mortar: false,
+        ring_contactor: true,
+    });
+}
+
+#[test]
+#[ignore = "the slide bisects with the ring as contactor (mortar: 2 bisections)"]
+fn mortar_ring_contactor() {
+    check(&Variant {
+        name: "mortar, ring contactor",
+        mortar: true,
+        ring_contactor: true,
+    });
+}
