@@ -267,31 +267,44 @@ impl<const N: usize> Dual<N> {
     }
 
     /// `f(self)` from `f`, `f'` and `f''` at `self.v` (the chain rule).
-    fn chain(&self, f: f64, df: f64, d2f: f64) -> Self {
-        let mut out = *self;
-        let (lo, hi) = out.span();
+    fn chain(&mut self, f: f64, df: f64, d2f: f64) {
+        let (lo, hi) = self.span();
         for i in lo..hi {
-            let gi = d2f * out.g[i];
-            let row = out.h[i][i..hi].iter_mut().zip(&out.g[i..hi]);
+            let gi = d2f * self.g[i];
+            let row = self.h[i][i..hi].iter_mut().zip(&self.g[i..hi]);
             for (h, gj) in row {
                 *h = df * *h + gi * gj;
             }
         }
-        for g in &mut out.g[lo..hi] {
+        for g in &mut self.g[lo..hi] {
             *g *= df;
         }
-        out.v = f;
+        self.v = f;
+    }
+
+    fn sqrt_in_place(&mut self) {
+        let s = self.v.sqrt();
+        self.chain(s, 0.5 / s, -0.25 / (s * self.v));
+    }
+
+    fn recip_in_place(&mut self) {
+        let r = 1.0 / self.v;
+        self.chain(r, -r * r, 2.0 * r * r * r);
+    }
+
+    // Integrals take square roots through `V2::norm`; kept for the ones
+    // written on values.
+    #[allow(dead_code)]
+    pub fn sqrt(&self) -> Self {
+        let mut out = *self;
+        out.sqrt_in_place();
         out
     }
 
-    pub fn sqrt(&self) -> Self {
-        let s = self.v.sqrt();
-        self.chain(s, 0.5 / s, -0.25 / (s * self.v))
-    }
-
     pub fn recip(&self) -> Self {
-        let r = 1.0 / self.v;
-        self.chain(r, -r * r, 2.0 * r * r * r)
+        let mut out = *self;
+        out.recip_in_place();
+        out
     }
 
     /// Entry (i, j) of the Hessian.
@@ -345,8 +358,10 @@ impl<const N: usize> Div for Dual<N> {
     type Output = Self;
     #[allow(clippy::suspicious_arithmetic_impl)]
     #[inline(always)]
-    fn div(self, b: Self) -> Self {
-        self * b.recip()
+    fn div(mut self, mut b: Self) -> Self {
+        b.recip_in_place();
+        self.mul_in_place(&b);
+        self
     }
 }
 
@@ -399,7 +414,9 @@ impl<const N: usize> V2<N> {
     }
 
     pub fn norm(&self) -> Dual<N> {
-        self.dot(self).sqrt()
+        let mut d = self.dot(self);
+        d.sqrt_in_place();
+        d
     }
 
     #[inline(always)]
@@ -411,7 +428,9 @@ impl<const N: usize> V2<N> {
     }
 
     pub fn unit(&self) -> Self {
-        self.scale(self.norm().recip())
+        let mut k = self.norm();
+        k.recip_in_place();
+        self.scale(k)
     }
 
     /// Turned by -90 degrees: the outward normal of a tangent that has its
