@@ -108,7 +108,13 @@ impl<const N: usize> Dual<N> {
             return;
         }
         let (lo, hi) = union(self.span(), (blo, bhi));
-        if (lo, hi) == (blo, bhi) {
+        if self.span() == (0, N) && (blo, bhi) == (0, N) {
+            for i in 0..N {
+                for j in i..N {
+                    self.h[i][j] += k * b.h[i][j];
+                }
+            }
+        } else if (lo, hi) == (blo, bhi) {
             // b's span holds self's: one pass, which sets the entries
             // outside self's.
             for i in lo..hi {
@@ -144,6 +150,18 @@ impl<const N: usize> Dual<N> {
         let (blo, bhi) = b.span();
         let ab = union((alo, ahi), (blo, bhi));
         if ab.0 == ab.1 {
+            return;
+        }
+        if self.span() == (0, N) && (alo, ahi) == (0, N) && (blo, bhi) == (0, N) {
+            for i in 0..N {
+                let (ag, bg) = (k * a.g[i], k * b.g[i]);
+                for j in i..N {
+                    self.h[i][j] += bv * a.h[i][j] + av * b.h[i][j] + ag * b.g[j] + bg * a.g[j];
+                }
+            }
+            for i in 0..N {
+                self.g[i] += av * b.g[i] + bv * a.g[i];
+            }
             return;
         }
         self.widen(union(self.span(), ab));
@@ -203,7 +221,16 @@ impl<const N: usize> Dual<N> {
             return self.scale_in_place(bv);
         }
         let (lo, hi) = union((alo, ahi), (blo, bhi));
-        if (lo, hi) == (blo, bhi) {
+        if (alo, ahi) == (0, N) && (blo, bhi) == (0, N) {
+            // Both over all unknowns: bounds known at compile time.
+            for i in 0..N {
+                let (ag, bg) = (self.g[i], b.g[i]);
+                for j in i..N {
+                    self.h[i][j] =
+                        bv * self.h[i][j] + av * b.h[i][j] + ag * b.g[j] + bg * self.g[j];
+                }
+            }
+        } else if (lo, hi) == (blo, bhi) {
             // b's span holds self's: one pass, which sets the entries
             // outside self's.
             for i in lo..hi {
@@ -269,6 +296,17 @@ impl<const N: usize> Dual<N> {
     /// `f(self)` from `f`, `f'` and `f''` at `self.v` (the chain rule).
     fn chain(&mut self, f: f64, df: f64, d2f: f64) {
         let (lo, hi) = self.span();
+        if (lo, hi) == (0, N) {
+            for i in 0..N {
+                let gi = d2f * self.g[i];
+                for j in i..N {
+                    self.h[i][j] = df * self.h[i][j] + gi * self.g[j];
+                }
+                self.g[i] *= df;
+            }
+            self.v = f;
+            return;
+        }
         for i in lo..hi {
             let gi = d2f * self.g[i];
             let row = self.h[i][i..hi].iter_mut().zip(&self.g[i..hi]);
@@ -712,7 +750,7 @@ mod reference {
             0.9, -1.2, 0.4, 1.6, 2.2, -0.3, 0.8, 1.1, -0.6, 1.4, 0.25, 1.9,
         ];
         let u = |i: usize| Dual::<12>::var(x[i], i);
-        let wide = (u(1) * u(5) + u(2)).sqrt() * u(9);
+        let wide = (u(1) * u(5) + u(2)).sqrt() * u(9) + u(0);
         let narrow = u(3) * u(4) + u(3);
         let other = (u(10) + u(11) * u(8)).recip();
         let values = [Dual::c(1.7), wide, narrow, other, wide * other];
