@@ -9,7 +9,9 @@
 //! position on 2, a nodal normal on the 6 to 10 of its sides' nodes, a
 //! constant on none), so each value carries its span: the range
 //! `lo..hi` of unknowns outside which its gradient and Hessian are zero.
-//! Operations work over the spans of their operands only. The gradient is
+//! Operations work over the spans of their operands only (over all `N`
+//! unknowns, the common case once a projection mixes both sides, in loops
+//! of compile-time bounds, which vectorize). The gradient is
 //! stored whole (zero outside the span); the Hessian is symmetric, and
 //! only its upper triangle within the span (`h[i][j]`, `lo <= i <= j <
 //! hi`) is computed and read (`hessian`): entries outside it hold stale
