@@ -149,7 +149,14 @@ fn areas(s: &Setting) -> Vec<f64> {
 
 /// `sum w_i v_i`.
 fn sum<const N: usize>(w: &[Dual<N>], v: &[V2<N>]) -> V2<N> {
-    (w.iter().zip(v)).fold(V2::zero(), |acc, (w, v)| acc + v.scale(*w))
+    // Accumulated in place: a Dual is kilobytes, and each `acc + ...`
+    // copied it whole.
+    let mut acc = V2::zero();
+    for (w, v) in w.iter().zip(v) {
+        acc.0.add_product(1.0, w, &v.0);
+        acc.1.add_product(1.0, w, &v.1);
+    }
+    acc
 }
 
 /// The integrand's measure at a side point: length per parameter times
@@ -273,9 +280,10 @@ fn dual_basis<const N: usize>(geometry: Geometry, xs: &[V2<N>]) -> Vec<Vec<Dual<
         let (sh, dsh) = shape(n, Dual::<N>::c(z));
         let ds = measure(geometry, xs, &sh, &dsh) * w;
         for j in 0..n {
-            d[j] = d[j] + sh[j] * ds;
+            d[j].add_product(1.0, &sh[j], &ds);
+            let shds = sh[j] * ds;
             for k in 0..n {
-                m[j][k] = m[j][k] + sh[j] * sh[k] * ds;
+                m[j][k].add_product(1.0, &shds, &sh[k]);
             }
         }
     }
@@ -400,9 +408,12 @@ fn side_pair<const N: usize>(s: &Setting, e: usize, m: usize) -> Option<Part> {
         let g = (point.y - point.x).dot(&point.n);
         let gds = g * point.ds;
         for (j, gap) in gaps.iter_mut().enumerate() {
-            let phi = (0..side.len()).fold(zero, |acc, k| acc + a_dual[j][k] * point.sh[k]);
-            *gap = *gap + phi * gds;
-            hat_weighted[j] = hat_weighted[j] + hat(side.len(), j, point.xi) * gds;
+            let mut phi = zero;
+            for k in 0..side.len() {
+                phi.add_product(1.0, &a_dual[j][k], &point.sh[k]);
+            }
+            gap.add_product(1.0, &phi, &gds);
+            hat_weighted[j].add_product(1.0, &hat(side.len(), j, point.xi), &gds);
             if let Some(v) = apart.get_mut(j) {
                 *v = *v + (point.x - point.y).scale(phi * point.ds);
             }
