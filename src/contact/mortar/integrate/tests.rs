@@ -1,4 +1,5 @@
 use super::*;
+use std::collections::BTreeMap;
 
 /// A straight chain of `n` sides of `order` + 1 nodes from x = a to x = b
 /// at height `y`, its parameter running left to right when `forward`.
@@ -81,48 +82,94 @@ fn a_uniform_gap_weighs_as_the_area() {
     }
 }
 
+/// Curved, non-matching sides of `order`: a contactor of 3 sides that
+/// bulges down into a target of 2 whose surface sags, numbered as mesh
+/// dofs (contactor nodes as they are, target nodes from 1000).
+fn curved(order: usize) -> (Surface, Surface, Vec<[f64; 2]>, Vec<[f64; 2]>) {
+    let (mut c, mut x) = chain(3, order, [0.0, 1.0], 0.0, true);
+    let (mut t, mut y) = chain(2, order, [-0.2, 1.3], 0.0, false);
+    for p in x.iter_mut() {
+        p[1] = 0.05 - 0.2 * (p[0] - 0.5) * (p[0] - 0.5) + 0.01 * p[0];
+    }
+    for p in y.iter_mut() {
+        p[1] = 0.04 * (p[0] - 0.6) * (p[0] - 0.6);
+    }
+    c.nodes = (0..x.len()).collect();
+    t.nodes = (1000..1000 + y.len()).collect();
+    (c, t, x, y)
+}
+
+/// Mesh dof `dof` of `curved`'s numbering moved by h.
+fn shift(x: &mut [[f64; 2]], y: &mut [[f64; 2]], dof: usize, h: f64) {
+    let n = dof / 2;
+    if n < 1000 {
+        x[n][dof % 2] += h;
+    } else {
+        y[n - 1000][dof % 2] += h;
+    }
+}
+
+/// Per node k a quantity's gradient and Hessian (sums per dof and dof
+/// pair) against central differences of `value(x, y, k)`: every gradient
+/// entry to 1e-7, and the Hessians of a node inside and of the last (every
+/// third entry: each takes four evaluations) to 1e-5 relative.
+#[allow(clippy::type_complexity)]
+fn check_differences(
+    label: &str,
+    (x, y): (&[[f64; 2]], &[[f64; 2]]),
+    value: &dyn Fn(&[[f64; 2]], &[[f64; 2]], usize) -> f64,
+    grad: &[BTreeMap<usize, f64>],
+    hess: &[BTreeMap<(usize, usize), f64>],
+) {
+    let h = 1e-6;
+    let m = x.len();
+    for k in 0..m {
+        for (&dof, &g) in &grad[k] {
+            let (mut xp, mut yp, mut xm, mut ym) = (x.to_vec(), y.to_vec(), x.to_vec(), y.to_vec());
+            shift(&mut xp, &mut yp, dof, h);
+            shift(&mut xm, &mut ym, dof, -h);
+            let fd = (value(&xp, &yp, k) - value(&xm, &ym, k)) / (2.0 * h);
+            assert!(
+                (g - fd).abs() < 1e-7,
+                "{label} node {k} dof {dof}: {g} against {fd}"
+            );
+        }
+    }
+    for k in [m / 2, m - 1] {
+        for (&(a, b), &v) in hess[k].iter().filter(|(ab, _)| ab.0 <= ab.1).step_by(3) {
+            let eval = |ha: f64, hb: f64| {
+                let (mut xx, mut yy) = (x.to_vec(), y.to_vec());
+                shift(&mut xx, &mut yy, a, ha);
+                shift(&mut xx, &mut yy, b, hb);
+                value(&xx, &yy, k)
+            };
+            let e = 1e-4;
+            let fd = (eval(e, e) - eval(e, -e) - eval(-e, e) + eval(-e, -e)) / (4.0 * e * e);
+            assert!(
+                (v - fd).abs() < 1e-5 * (1.0 + v.abs()),
+                "{label} node {k} dofs {a},{b}: {v} against {fd}"
+            );
+        }
+    }
+}
+
 /// The gradients and Hessians of the weighted gaps against central
 /// differences of the values, on curved, non-matching sides.
 #[test]
 fn derivatives_match_differences() {
     for order in [1, 2] {
-        let (c, mut x) = chain(3, order, [0.0, 1.0], 0.0, true);
-        let (t, mut y) = chain(2, order, [-0.2, 1.3], 0.0, false);
-        // Curve both: the contactor bulges down into the target, whose
-        // surface sags.
-        for p in x.iter_mut() {
-            p[1] = 0.05 - 0.2 * (p[0] - 0.5) * (p[0] - 0.5) + 0.01 * p[0];
-        }
-        for p in y.iter_mut() {
-            p[1] = 0.04 * (p[0] - 0.6) * (p[0] - 0.6);
-        }
+        let (cs, ts, x, y) = curved(order);
         let geometry = Geometry::Axisymmetric;
-        let shift = |x: &mut [[f64; 2]], y: &mut [[f64; 2]], dof: usize, h: f64| {
-            let n = dof / 2;
-            if n < 1000 {
-                x[n][dof % 2] += h;
-            } else {
-                y[n - 1000][dof % 2] += h;
-            }
+        let total = |x: &[[f64; 2]], y: &[[f64; 2]], k: usize| {
+            let (parts, _) = integrate(&setting(&cs, &ts, x, y, geometry));
+            summed(&parts, x.len())[k]
         };
-        // Mesh dofs: contactor nodes as they are, target nodes from 1000.
-        let mut cs = c.clone();
-        cs.nodes = (0..x.len()).collect();
-        let mut ts = t.clone();
-        ts.nodes = (1000..1000 + y.len()).collect();
-        let total = |x: &[[f64; 2]], y: &[[f64; 2]]| {
-            let s = setting(&cs, &ts, x, y, geometry);
-            let (parts, _) = integrate(&s);
-            summed(&parts, x.len())
-        };
-        let s = setting(&cs, &ts, &x, &y, geometry);
-        let (parts, _) = integrate(&s);
+        let (parts, _) = integrate(&setting(&cs, &ts, &x, &y, geometry));
         assert!(!parts.is_empty());
-        let h = 1e-6;
-        // The node totals' gradients: summed over parts per dof.
+        // The node totals' gradients and Hessians: summed over parts.
         let m = x.len();
-        let mut grad = vec![std::collections::BTreeMap::<usize, f64>::new(); m];
-        let mut hess = vec![std::collections::BTreeMap::<(usize, usize), f64>::new(); m];
+        let mut grad = vec![BTreeMap::<usize, f64>::new(); m];
+        let mut hess = vec![BTreeMap::<(usize, usize), f64>::new(); m];
         for part in &parts {
             let count = part.dofs.len();
             for (k, _, g, hh) in &part.gaps {
@@ -135,36 +182,7 @@ fn derivatives_match_differences() {
                 }
             }
         }
-        for k in 0..m {
-            for (&dof, &g) in &grad[k] {
-                let (mut xp, mut yp, mut xm, mut ym) = (x.clone(), y.clone(), x.clone(), y.clone());
-                shift(&mut xp, &mut yp, dof, h);
-                shift(&mut xm, &mut ym, dof, -h);
-                let fd = (total(&xp, &yp)[k] - total(&xm, &ym)[k]) / (2.0 * h);
-                assert!(
-                    (g - fd).abs() < 1e-7,
-                    "order {order} node {k} dof {dof}: {g} against {fd}"
-                );
-            }
-        }
-        // The Hessians of a node inside and of the last (every third
-        // entry: each takes four integrations).
-        for k in [m / 2, m - 1] {
-            for (&(a, b), &v) in hess[k].iter().filter(|(ab, _)| ab.0 <= ab.1).step_by(3) {
-                let eval = |ha: f64, hb: f64| {
-                    let (mut xx, mut yy) = (x.clone(), y.clone());
-                    shift(&mut xx, &mut yy, a, ha);
-                    shift(&mut xx, &mut yy, b, hb);
-                    total(&xx, &yy)[k]
-                };
-                let e = 1e-4;
-                let fd = (eval(e, e) - eval(e, -e) - eval(-e, e) + eval(-e, -e)) / (4.0 * e * e);
-                assert!(
-                    (v - fd).abs() < 1e-5 * (1.0 + v.abs()),
-                    "order {order} node {k} dofs {a},{b}: {v} against {fd}"
-                );
-            }
-        }
+        check_differences(&format!("order {order}"), (&x, &y), &total, &grad, &hess);
     }
 }
 
@@ -172,11 +190,7 @@ fn derivatives_match_differences() {
 /// coupling `start` of the increment's start: `slip_from` less the parts'
 /// `slips`, with its gradient and Hessian as (dof, value) and ((dof, dof),
 /// value) sums.
-type Slip = (
-    f64,
-    std::collections::BTreeMap<usize, f64>,
-    std::collections::BTreeMap<(usize, usize), f64>,
-);
+type Slip = (f64, BTreeMap<usize, f64>, BTreeMap<(usize, usize), f64>);
 
 fn weighted_slips(s: &Setting, start: &[Coupling]) -> Vec<Slip> {
     let (parts, _) = integrate(s);
@@ -256,64 +270,17 @@ fn a_uniform_slide_weighs_as_the_area_and_a_rigid_motion_slips_nothing() {
 #[test]
 fn slip_derivatives_match_differences() {
     for order in [1, 2] {
-        let (c, mut x) = chain(3, order, [0.0, 1.0], 0.0, true);
-        let (t, mut y) = chain(2, order, [-0.2, 1.3], 0.0, false);
-        for p in x.iter_mut() {
-            p[1] = 0.05 - 0.2 * (p[0] - 0.5) * (p[0] - 0.5) + 0.01 * p[0];
-        }
-        for p in y.iter_mut() {
-            p[1] = 0.04 * (p[0] - 0.6) * (p[0] - 0.6);
-        }
-        let mut cs = c.clone();
-        cs.nodes = (0..x.len()).collect();
-        let mut ts = t.clone();
-        ts.nodes = (1000..1000 + y.len()).collect();
+        let (cs, ts, x, y) = curved(order);
         let geometry = Geometry::Planar { thickness: 1.5 };
         // The start: the contactor 0.05 to the left and a little higher.
         let x0: Vec<[f64; 2]> = x.iter().map(|p| [p[0] - 0.05, p[1] + 0.01]).collect();
         let start = couplings(&setting(&cs, &ts, &x0, &y, geometry));
-        let shift = |x: &mut [[f64; 2]], y: &mut [[f64; 2]], dof: usize, h: f64| {
-            let n = dof / 2;
-            if n < 1000 {
-                x[n][dof % 2] += h;
-            } else {
-                y[n - 1000][dof % 2] += h;
-            }
-        };
         let total = |x: &[[f64; 2]], y: &[[f64; 2]], k: usize| {
             weighted_slips(&setting(&cs, &ts, x, y, geometry), &start)[k].0
         };
         let slips = weighted_slips(&setting(&cs, &ts, &x, &y, geometry), &start);
-        let m = x.len();
-        let h = 1e-6;
-        for (k, slip) in slips.iter().enumerate() {
-            assert!(!slip.1.is_empty());
-            for (&dof, &g) in &slip.1 {
-                let (mut xp, mut yp, mut xm, mut ym) = (x.clone(), y.clone(), x.clone(), y.clone());
-                shift(&mut xp, &mut yp, dof, h);
-                shift(&mut xm, &mut ym, dof, -h);
-                let fd = (total(&xp, &yp, k) - total(&xm, &ym, k)) / (2.0 * h);
-                assert!(
-                    (g - fd).abs() < 1e-7,
-                    "order {order} node {k} dof {dof}: {g} against {fd}"
-                );
-            }
-        }
-        for k in [m / 2, m - 1] {
-            for (&(a, b), &v) in slips[k].2.iter().filter(|(ab, _)| ab.0 <= ab.1).step_by(3) {
-                let eval = |ha: f64, hb: f64| {
-                    let (mut xx, mut yy) = (x.clone(), y.clone());
-                    shift(&mut xx, &mut yy, a, ha);
-                    shift(&mut xx, &mut yy, b, hb);
-                    total(&xx, &yy, k)
-                };
-                let e = 1e-4;
-                let fd = (eval(e, e) - eval(e, -e) - eval(-e, e) + eval(-e, -e)) / (4.0 * e * e);
-                assert!(
-                    (v - fd).abs() < 1e-5 * (1.0 + v.abs()),
-                    "order {order} node {k} dofs {a},{b}: {v} against {fd}"
-                );
-            }
-        }
+        assert!(slips.iter().all(|s| !s.1.is_empty()));
+        let (grad, hess): (Vec<_>, Vec<_>) = slips.into_iter().map(|s| (s.1, s.2)).unzip();
+        check_differences(&format!("order {order}"), (&x, &y), &total, &grad, &hess);
     }
 }
