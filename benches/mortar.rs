@@ -18,7 +18,7 @@
 #[path = "../tests/common/mod.rs"]
 mod common;
 
-use common::mortar::{hertz_fit, lame_pressure, shrink_fit, two_cylinders};
+use common::mortar::{hertz_fit, lame_pressure, run, shrink_fit, two_cylinders};
 use contact2d::newton::Solver;
 use std::time::Instant;
 
@@ -32,15 +32,7 @@ struct Run {
 }
 
 fn cylinders(element: &str, formulation: &str, disk: usize, ring: [usize; 2]) -> Run {
-    let text = two_cylinders(element, formulation, disk, ring);
-    let fit = hertz_fit(&text);
-    // The split of a second run (hertz_fit keeps no solver).
-    let problem = contact2d::scene::parse(&text, std::path::Path::new("c.toml")).unwrap();
-    let times = problem.times.clone();
-    let mut solver = Solver::new(problem).unwrap();
-    for t in times {
-        solver.advance(t, &mut |_, _| {}).unwrap();
-    }
+    let fit = hertz_fit(&two_cylinders(element, formulation, disk, ring));
     Run {
         per_increment: fit.seconds / fit.iterations.len() as f64,
         error: format!(
@@ -48,7 +40,7 @@ fn cylinders(element: &str, formulation: &str, disk: usize, ring: [usize; 2]) ->
             fit.deviation, fit.swing
         ),
         iterations: fit.iterations,
-        split: solver.phases().split(),
+        split: fit.split,
     }
 }
 
@@ -94,23 +86,12 @@ fn shipped(
     if formulation == "mortar" {
         all.push((marker, &choice));
     }
-    let problem = common::shipped_scene(name, &all);
-    let times = problem.times.clone();
-    let start = Instant::now();
-    let mut solver = Solver::new(problem).unwrap();
-    let mut iterations = Vec::new();
-    let mut last = None;
-    for t in times {
-        let step = solver.advance(t, &mut |_, _| {}).unwrap();
-        iterations.push(step.iterations);
-        last = Some(step);
-    }
-    let seconds = start.elapsed().as_secs_f64();
+    let ran = run(common::shipped_scene(name, &all));
     Run {
-        per_increment: seconds / iterations.len() as f64,
-        error: error(&last.unwrap()),
-        iterations,
-        split: solver.phases().split(),
+        per_increment: ran.seconds / ran.iterations.len() as f64,
+        error: error(&ran.last),
+        iterations: ran.iterations,
+        split: ran.solver.phases().split(),
     }
 }
 

@@ -2,7 +2,8 @@
 //! tests and the mortar benchmark.
 
 use contact2d::newton::Solver;
-use contact2d::results::NodeState;
+use contact2d::problem::Problem;
+use contact2d::results::{NodeState, StepResult};
 
 /// The text of an axisymmetric shrink fit: a hub (r from `a`, 0 for a
 /// solid one, to b + delta = 75.05) inside a rim (r from b = 75 to c =
@@ -152,11 +153,20 @@ pub struct HertzFit {
     pub iterations: Vec<usize>,
     /// Wall time of the increments, s.
     pub seconds: f64,
+    /// Where the run's time went (`Phases::split`).
+    pub split: String,
 }
 
-pub fn hertz_fit(text: &str) -> HertzFit {
-    let problem = contact2d::scene::parse(text, std::path::Path::new("cylinders.toml"))
-        .unwrap_or_else(|e| panic!("{e}"));
+/// A problem run through its times: the solver after it, the Newton
+/// iterations of each increment, the last step and the wall time, s.
+pub struct Ran {
+    pub solver: Solver,
+    pub iterations: Vec<usize>,
+    pub last: StepResult,
+    pub seconds: f64,
+}
+
+pub fn run(problem: Problem) -> Ran {
     let times = problem.times.clone();
     let start = std::time::Instant::now();
     let mut solver = Solver::new(problem).unwrap();
@@ -167,8 +177,23 @@ pub fn hertz_fit(text: &str) -> HertzFit {
         iterations.push(step.iterations);
         last = Some(step);
     }
-    let seconds = start.elapsed().as_secs_f64();
-    let step = last.unwrap();
+    Ran {
+        seconds: start.elapsed().as_secs_f64(),
+        solver,
+        iterations,
+        last: last.expect("a problem with times"),
+    }
+}
+
+pub fn hertz_fit(text: &str) -> HertzFit {
+    let problem = contact2d::scene::parse(text, std::path::Path::new("cylinders.toml"))
+        .unwrap_or_else(|e| panic!("{e}"));
+    let Ran {
+        solver,
+        iterations,
+        last: step,
+        seconds,
+    } = run(problem);
     let press = step.drivers.iter().find(|d| d.0 == "press").unwrap().1.ry;
     let load = 2.0 * press.abs();
     let e_star = 200000.0 / (2.0 * (1.0 - 0.09));
@@ -197,5 +222,6 @@ pub fn hertz_fit(text: &str) -> HertzFit {
         a,
         iterations,
         seconds,
+        split: solver.phases().split(),
     }
 }
