@@ -220,8 +220,8 @@ pub(super) fn forced(
 /// - a node in contact whose normal traction times its area pulls by more
 ///   than the force tolerance opens (not while the iterate settles: it is
 ///   then kept in contact, with no friction to carry);
-/// - an open node whose gap weighted by its hat function falls below
-///   minus the length tolerance (over its area) closes;
+/// - an open node whose mean gap where the target covers it (weighted by
+///   its hat function) falls below minus the length tolerance closes;
 /// - with friction, a sticking node whose tangential traction exceeds its
 ///   capacity slides against it, and a sliding node whose weighted slip
 ///   turns back by more than the length tolerance (over its area) sticks.
@@ -246,8 +246,17 @@ pub(super) fn predict(
         }
         let (a, d) = (here.area[j], kept.decisions[j]);
         if d.state == NodeState::Open {
-            let (value, gradient) = &gap.hat_weighted;
-            let overlap = -(value + moved(gradient)) / a;
+            // The mean gap over the covered part, linearised as a ratio:
+            // as the cover of a node far from the target shrinks, its
+            // hat-weighted gap and its weight vanish together, and a
+            // linearised hat-weighted gap alone crosses zero though the
+            // gap there stays open.
+            let ((h, dh), (w, dw)) = (&gap.hat_weighted, &gap.covered);
+            if *w <= 0.0 {
+                continue;
+            }
+            let mean = h / w;
+            let overlap = -(mean + (moved(dh) - mean * moved(dw)) / w);
             if overlap > length_tol {
                 switched.push((j, Forced::Close { j: 0, overlap }));
             }

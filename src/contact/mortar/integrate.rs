@@ -61,6 +61,10 @@ pub(super) struct Part {
     /// (`hat`: positive, so this is negative only where the target is
     /// entered near the node): value and gradient.
     pub hat_weighted: Vec<(f64, Vec<f64>)>,
+    /// Per node of `gaps`, the integral of its hat function over the
+    /// overlap (its covered weight): value and gradient. The hat-weighted
+    /// gap over it is the node's mean gap where the target covers it.
+    pub covered: Vec<(f64, Vec<f64>)>,
     /// With friction, per node of `gaps`: the side pair's part of `tau_j .
     /// int Phi_j (x - y) ds`, the contactor's points less the target's
     /// points they meet along the normal field, along the node's unit
@@ -85,22 +89,110 @@ pub(super) struct Coupling {
 /// node the integral of its shape function (its share of the contactor's
 /// area, in the same measure).
 pub(super) fn integrate(s: &Setting) -> (Vec<Part>, Vec<f64>) {
-    let quadratic = s.contactor.quadratic() || s.target.quadratic();
     let mut parts = Vec::new();
     for e in 0..s.contactor.sides.len() {
-        for m in 0..s.target.sides.len() {
-            if !near(s, e, m) {
-                continue;
-            }
-            let part = if quadratic {
-                side_pair::<20>(s, e, m)
-            } else {
-                side_pair::<12>(s, e, m)
+        let cover = cover(s, e);
+        for &m in &cover.met {
+            let count = 2
+                * (s.contactor.normal_support(e).len()
+                    + s.target.sides[m].len()
+                    + cover.extra_nodes(&s.target.sides[m]).len());
+            let part = match count {
+                ..=12 => side_pair::<12>(s, e, m, &cover),
+                ..=16 => side_pair::<16>(s, e, m, &cover),
+                ..=20 => side_pair::<20>(s, e, m, &cover),
+                ..=24 => side_pair::<24>(s, e, m, &cover),
+                _ => side_pair::<32>(s, e, m, &cover),
             };
             parts.extend(part);
         }
     }
     (parts, areas(s))
+}
+
+/// Where a contactor side meets the target: the target sides it overlaps
+/// (`met`) and the pieces of its parameter range they cover, merged.
+/// Each piece's end is a side end or the projection of the target node
+/// that cuts it there (an end of the target surface, or where its
+/// projection turns back).
+struct Cover {
+    met: Vec<usize>,
+    pieces: Vec<[Cut; 2]>,
+}
+
+/// A covered piece's end in the contactor side's parameter: at a side end
+/// (`node` None), or where target surface node `node` projects.
+#[derive(Clone, Copy, Debug)]
+struct Cut {
+    xi: f64,
+    node: Option<usize>,
+}
+
+impl Cover {
+    /// Whether the target covers the whole side.
+    fn whole(&self) -> bool {
+        matches!(
+            self.pieces[..],
+            [[Cut { node: None, .. }, Cut { node: None, .. }]]
+        )
+    }
+
+    /// The target nodes that cut the side and are not among `target`'s.
+    fn extra_nodes(&self, target: &[usize]) -> Vec<usize> {
+        let mut list = Vec::new();
+        for cut in self.pieces.iter().flatten() {
+            if let Some(k) = cut.node
+                && !target.contains(&k)
+                && !list.contains(&k)
+            {
+                list.push(k);
+            }
+        }
+        list
+    }
+}
+
+/// Pieces closer than this in the parameter (of order 1) are one: the
+/// same target node projected from its two sides agrees to round-off of
+/// the projection (`root`, 1e-12).
+const SAME_CUT: f64 = 1e-9;
+
+/// The cover of contactor side e (`Cover`), in plain numbers.
+fn cover(s: &Setting, e: usize) -> Cover {
+    let side = &s.contactor.sides[e];
+    let at = |k: usize| V2::<0>::c(s.x[k]);
+    let xs: Vec<V2<0>> = side.iter().map(|&k| at(k)).collect();
+    let ns = nodal_normals(s.contactor, e, &at);
+    let mut met = Vec::new();
+    let mut pieces: Vec<[Cut; 2]> = Vec::new();
+    for m in (0..s.target.sides.len()).filter(|&m| near(s, e, m)) {
+        let target = &s.target.sides[m];
+        let ys: Vec<V2<0>> = target.iter().map(|&k| V2::c(s.y[k])).collect();
+        let Some(ends) = overlap(&xs, &ns, &ys, s.reach) else {
+            continue;
+        };
+        met.push(m);
+        pieces.push(ends.map(|(xi, end)| Cut {
+            xi: xi.v,
+            node: end.map(|i| target[i]),
+        }));
+    }
+    pieces.sort_by(|a, b| a[0].xi.total_cmp(&b[0].xi));
+    let mut merged: Vec<[Cut; 2]> = Vec::new();
+    for piece in pieces {
+        match merged.last_mut() {
+            Some(last) if piece[0].xi <= last[1].xi + SAME_CUT => {
+                if piece[1].xi > last[1].xi {
+                    last[1] = piece[1];
+                }
+            }
+            _ => merged.push(piece),
+        }
+    }
+    Cover {
+        met,
+        pieces: merged,
+    }
 }
 
 /// Whether sides e and m lie within `reach` of each other (their bounding
@@ -269,27 +361,73 @@ fn nodal_normals<const N: usize>(
         .collect()
 }
 
-/// The dual basis of side e (`Phi_j = sum_k A_jk N_k`, biorthogonal to its
-/// shape functions in the pair's measure: `int Phi_j N_k = delta_jk int
-/// N_k`): `A = D M^-1`.
-fn dual_basis<const N: usize>(geometry: Geometry, xs: &[V2<N>]) -> Vec<Vec<Dual<N>>> {
+/// The dual basis of a contactor side at `xs` (`Phi_j = sum_k A_jk N_k`)
+/// over the `pieces` of its parameter range the target covers:
+/// biorthogonal to its shape functions there in the pair's measure (`int
+/// Phi_j N_k = delta_jk int N_k`, both over the pieces): `A = D M^-1`.
+/// Taken over the covered part only (Cichosz & Bischoff 2011; Popp et al.
+/// 2013), a node's weighted gap keeps the sign of the gap there: over the
+/// whole side, the negative lobe of `Phi_j` over a piece next to the other
+/// node could cancel a positive gap, and a node far from the target was
+/// held on it.
+fn dual_basis<const N: usize>(
+    geometry: Geometry,
+    xs: &[V2<N>],
+    pieces: &[[Dual<N>; 2]],
+) -> Vec<Vec<Dual<N>>> {
     let n = xs.len();
     let mut m = vec![vec![Dual::<N>::c(0.0); n]; n];
     let mut d = vec![Dual::<N>::c(0.0); n];
-    for &(z, w) in &GAUSS {
-        let (sh, dsh) = shape(n, Dual::<N>::c(z));
-        let ds = measure(geometry, xs, &sh, &dsh) * w;
-        for j in 0..n {
-            d[j].add_product(1.0, &sh[j], &ds);
-            let shds = sh[j] * ds;
-            for k in 0..n {
-                m[j][k].add_product(1.0, &shds, &sh[k]);
+    for [lo, hi] in pieces {
+        let (mid, half) = ((*lo + *hi) * 0.5, (*hi - *lo) * 0.5);
+        for &(z, w) in &GAUSS {
+            let (sh, dsh) = shape(n, mid + half * z);
+            let ds = measure(geometry, xs, &sh, &dsh) * half * w;
+            for j in 0..n {
+                d[j].add_product(1.0, &sh[j], &ds);
+                let shds = sh[j] * ds;
+                for k in 0..n {
+                    m[j][k].add_product(1.0, &shds, &sh[k]);
+                }
             }
         }
     }
     let inv = inverse(&m);
     (0..n)
         .map(|j| (0..n).map(|k| d[j] * inv[j][k]).collect())
+        .collect()
+}
+
+/// The covered pieces of a contactor side at `xs` (nodal normals `ns`) in
+/// `N` unknowns: a cut by target node k is where `target_at(k)` projects
+/// onto the side along its normal field.
+fn pieces<const N: usize>(
+    cover: &Cover,
+    xs: &[V2<N>],
+    ns: &[V2<N>],
+    target_at: &dyn Fn(usize) -> V2<N>,
+) -> Vec<[Dual<N>; 2]> {
+    if cover.whole() || cover.pieces.is_empty() {
+        // A side the target does not meet keeps the basis of its whole
+        // range (its nodes' traction field, `field_at_node`).
+        return vec![[Dual::c(-1.0), Dual::c(1.0)]];
+    }
+    let (xs0, ns0) = (plain(xs), plain(ns));
+    let cut = |c: &Cut| match c.node {
+        None => Dual::c(c.xi),
+        Some(k) => {
+            let y = target_at(k);
+            let y0 = V2::c(y.value());
+            root(
+                |xi| onto_contactor(xs, ns, y, xi),
+                |xi| onto_contactor(&xs0, &ns0, y0, xi),
+                c.xi,
+            )
+            .expect("it projected in plain numbers")
+        }
+    };
+    (cover.pieces.iter())
+        .map(|[lo, hi]| [cut(lo), cut(hi)])
         .collect()
 }
 
@@ -324,7 +462,7 @@ fn overlap<const N: usize>(
     ns: &[V2<N>],
     ys: &[V2<N>],
     reach: f64,
-) -> Option<(Dual<N>, Dual<N>)> {
+) -> Option<[(Dual<N>, Option<usize>); 2]> {
     let (xs0, ns0, ys0) = (plain(xs), plain(ns), plain(ys));
     let ends = [ys[0], ys[ys.len() - 1]].map(|y| {
         let y0 = V2::c(y.value());
@@ -338,19 +476,32 @@ fn overlap<const N: usize>(
     let [Some(a), Some(b)] = ends else {
         return None;
     };
-    let (lo, hi) = if a.v <= b.v { (a, b) } else { (b, a) };
-    let lo = if lo.v > -1.0 { lo } else { Dual::c(-1.0) };
-    let hi = if hi.v < 1.0 { hi } else { Dual::c(1.0) };
+    let last = ys.len() - 1;
+    let (lo, hi) = if a.v <= b.v {
+        ((a, 0), (b, last))
+    } else {
+        ((b, last), (a, 0))
+    };
+    let lo = if lo.0.v > -1.0 {
+        (lo.0, Some(lo.1))
+    } else {
+        (Dual::c(-1.0), None)
+    };
+    let hi = if hi.0.v < 1.0 {
+        (hi.0, Some(hi.1))
+    } else {
+        (Dual::c(1.0), None)
+    };
     // However short, an overlap counts: its value vanishes with its length
     // but not its derivative, the motion of its cut, which cancels the
     // neighbouring piece's (a target node projecting just past a contactor
     // node). Dropped below a threshold, the neighbour's stayed alone: the
     // cylinder of 80 divisions on a block of 120 matched at its centre
     // node, and Newton cycled there at |r|/F = 2e-6.
-    if hi.v <= lo.v {
+    if hi.0.v <= lo.0.v {
         return None;
     }
-    let (p, _, n, _) = contactor_at(&xs0, &ns0, Dual::c(0.5 * (lo.v + hi.v)));
+    let (p, _, n, _) = contactor_at(&xs0, &ns0, Dual::c(0.5 * (lo.0.v + hi.0.v)));
     let n = n.unit();
     let eta = root(
         |eta| onto_target(&ys0, p, n, eta),
@@ -360,30 +511,27 @@ fn overlap<const N: usize>(
     let (w, dw) = shape(ys0.len(), eta);
     let gap = (sum(&w, &ys0) - p).dot(&n).v;
     let facing = sum(&dw, &ys0).right().dot(&n).v < 0.0;
-    (facing && gap >= -reach && eta.v.abs() <= 1.0 + 1e-6).then_some((lo, hi))
+    (facing && gap >= -reach && eta.v.abs() <= 1.0 + 1e-6).then_some([lo, hi])
 }
 
 /// The part of side pair (e, m) in the contactor nodes' weighted gaps, in
-/// `N` unknowns (None: the sides do not overlap, or do not face each other
-/// within reach). The overlap is found in plain numbers first, so that a
-/// side pair that does not meet costs no derivatives.
-fn side_pair<const N: usize>(s: &Setting, e: usize, m: usize) -> Option<Part> {
+/// `N` unknowns: the side's nodes and its neighbours' (the nodal normals),
+/// the target side's, and the target nodes that cut the side's `cover`
+/// elsewhere (the dual basis of a partly covered side depends on them).
+/// None: the sides do not meet after all.
+fn side_pair<const N: usize>(s: &Setting, e: usize, m: usize, cover: &Cover) -> Option<Part> {
     let support = s.contactor.normal_support(e);
     let target = &s.target.sides[m];
+    let extra = cover.extra_nodes(target);
+    let count = 2 * (support.len() + target.len() + extra.len());
     assert!(
-        2 * (support.len() + target.len()) <= N,
-        "mortar side pair of {} + {} nodes over {N} unknowns",
+        count <= N,
+        "mortar side pair of {} + {} + {} nodes over {N} unknowns",
         support.len(),
-        target.len()
+        target.len(),
+        extra.len()
     );
     let side = &s.contactor.sides[e];
-    {
-        let at = |k: usize| V2::<0>::c(s.x[k]);
-        let xs: Vec<V2<0>> = side.iter().map(|&k| at(k)).collect();
-        let ns = nodal_normals(s.contactor, e, &at);
-        let ys: Vec<V2<0>> = target.iter().map(|&k| V2::c(s.y[k])).collect();
-        overlap(&xs, &ns, &ys, s.reach)?;
-    }
     let var = |p: [f64; 2], i: usize| V2(Dual::<N>::var(p[0], 2 * i), Dual::var(p[1], 2 * i + 1));
     let at = |k: usize| {
         let i = support
@@ -394,15 +542,21 @@ fn side_pair<const N: usize>(s: &Setting, e: usize, m: usize) -> Option<Part> {
     };
     let xs: Vec<V2<N>> = side.iter().map(|&k| at(k)).collect();
     let ns = nodal_normals(s.contactor, e, &at);
-    let ys: Vec<V2<N>> = (target.iter().enumerate())
-        .map(|(i, &k)| var(s.y[k], support.len() + i))
-        .collect();
+    let target_at = |k: usize| match target.iter().position(|&q| q == k) {
+        Some(i) => var(s.y[k], support.len() + i),
+        None => {
+            let i = extra.iter().position(|&q| q == k).expect("a cutting node");
+            var(s.y[k], support.len() + target.len() + i)
+        }
+    };
+    let ys: Vec<V2<N>> = target.iter().map(|&k| target_at(k)).collect();
     let reference: Vec<V2<N>> = side.iter().map(|&k| V2::c(s.x_ref[k])).collect();
     let measured = if s.reference_measure { &reference } else { &xs };
-    let a_dual = dual_basis(s.geometry, measured);
+    let a_dual = dual_basis(s.geometry, measured, &pieces(cover, &xs, &ns, &target_at));
     let zero = Dual::<N>::c(0.0);
     let mut gaps = vec![zero; side.len()];
     let mut hat_weighted = vec![zero; side.len()];
+    let mut covered = vec![zero; side.len()];
     let mut apart = vec![V2::<N>::zero(); if s.friction { side.len() } else { 0 }];
     for point in points(s, &xs, &ns, &ys, measured)? {
         let g = (point.y - point.x).dot(&point.n);
@@ -413,19 +567,20 @@ fn side_pair<const N: usize>(s: &Setting, e: usize, m: usize) -> Option<Part> {
                 phi.add_product(1.0, &a_dual[j][k], &point.sh[k]);
             }
             gap.add_product(1.0, &phi, &gds);
-            hat_weighted[j].add_product(1.0, &hat(side.len(), j, point.xi), &gds);
+            let hat_j = hat(side.len(), j, point.xi);
+            hat_weighted[j].add_product(1.0, &hat_j, &gds);
+            covered[j].add_product(1.0, &hat_j, &point.ds);
             if let Some(v) = apart.get_mut(j) {
                 *v = *v + (point.x - point.y).scale(phi * point.ds);
             }
         }
     }
 
-    let count = 2 * (support.len() + target.len());
     let mut dofs = Vec::with_capacity(count);
     for &k in &support {
         dofs.extend([2 * s.contactor.nodes[k], 2 * s.contactor.nodes[k] + 1]);
     }
-    for &k in target {
+    for &k in target.iter().chain(&extra) {
         dofs.extend([2 * s.target.nodes[k], 2 * s.target.nodes[k] + 1]);
     }
     let hessian = |g: &Dual<N>| -> Vec<f64> {
@@ -433,9 +588,9 @@ fn side_pair<const N: usize>(s: &Setting, e: usize, m: usize) -> Option<Part> {
             .flat_map(|i| (0..count).map(move |j| g.hessian(i, j)))
             .collect()
     };
-    let hat_weighted = (hat_weighted.iter())
-        .map(|g| (g.v, g.g[..count].to_vec()))
-        .collect();
+    let plain_gradient = |g: &Dual<N>| (g.v, g.g[..count].to_vec());
+    let hat_weighted = hat_weighted.iter().map(plain_gradient).collect();
+    let covered = covered.iter().map(plain_gradient).collect();
     let gaps = (side.iter().zip(&gaps))
         .map(|(&k, g)| (k, g.v, g.g[..count].to_vec(), hessian(g)))
         .collect();
@@ -450,6 +605,7 @@ fn side_pair<const N: usize>(s: &Setting, e: usize, m: usize) -> Option<Part> {
         dofs,
         gaps,
         hat_weighted,
+        covered,
         slips,
     })
 }
@@ -479,7 +635,7 @@ fn points<const N: usize>(
     measured: &[V2<N>],
 ) -> Option<Vec<Point<N>>> {
     let ys0 = plain(ys);
-    let (lo, hi) = overlap(xs, ns, ys, s.reach)?;
+    let [(lo, _), (hi, _)] = overlap(xs, ns, ys, s.reach)?;
     let (mid, half) = ((lo + hi) * 0.5, (hi - lo) * 0.5);
     let mut out = Vec::with_capacity(GAUSS.len());
     for &(z, w) in &GAUSS {
@@ -513,16 +669,18 @@ fn points<const N: usize>(
 pub(super) fn couplings(s: &Setting) -> Vec<Coupling> {
     let mut out = vec![Coupling::default(); s.contactor.nodes.len()];
     for e in 0..s.contactor.sides.len() {
-        for m in (0..s.target.sides.len()).filter(|&m| near(s, e, m)) {
-            let side = &s.contactor.sides[e];
+        let cover = cover(s, e);
+        let side = &s.contactor.sides[e];
+        let at = |k: usize| V2::<0>::c(s.x[k]);
+        let xs: Vec<V2<0>> = side.iter().map(|&k| at(k)).collect();
+        let ns = nodal_normals(s.contactor, e, &at);
+        let reference: Vec<V2<0>> = side.iter().map(|&k| V2::c(s.x_ref[k])).collect();
+        let measured = if s.reference_measure { &reference } else { &xs };
+        let target_at = |k: usize| V2::<0>::c(s.y[k]);
+        let a_dual = dual_basis(s.geometry, measured, &pieces(&cover, &xs, &ns, &target_at));
+        for &m in &cover.met {
             let target = &s.target.sides[m];
-            let at = |k: usize| V2::<0>::c(s.x[k]);
-            let xs: Vec<V2<0>> = side.iter().map(|&k| at(k)).collect();
-            let ns = nodal_normals(s.contactor, e, &at);
             let ys: Vec<V2<0>> = target.iter().map(|&k| V2::c(s.y[k])).collect();
-            let reference: Vec<V2<0>> = side.iter().map(|&k| V2::c(s.x_ref[k])).collect();
-            let measured = if s.reference_measure { &reference } else { &xs };
-            let a_dual = dual_basis(s.geometry, measured);
             let Some(points) = points(s, &xs, &ns, &ys, measured) else {
                 continue;
             };
@@ -608,9 +766,17 @@ mod tests;
 /// pi r` vanishes and with it its basis function).
 pub(super) fn field_at_node(s: &Setting, e: usize, l: usize, c: &[f64]) -> f64 {
     let side = &s.contactor.sides[e];
-    let at = if s.reference_measure { s.x_ref } else { s.x };
-    let xs: Vec<V2<0>> = side.iter().map(|&k| V2::c(at[k])).collect();
-    let a = dual_basis(s.geometry, &xs);
+    let at = |k: usize| V2::<0>::c(s.x[k]);
+    let xs: Vec<V2<0>> = side.iter().map(|&k| at(k)).collect();
+    let ns = nodal_normals(s.contactor, e, &at);
+    let target_at = |k: usize| V2::<0>::c(s.y[k]);
+    let pieces = pieces(&cover(s, e), &xs, &ns, &target_at);
+    let measured: Vec<V2<0>> = if s.reference_measure {
+        side.iter().map(|&k| V2::c(s.x_ref[k])).collect()
+    } else {
+        xs
+    };
+    let a = dual_basis(s.geometry, &measured, &pieces);
     let (n, _) = shape(side.len(), Dual::<0>::c(node_xi(side.len(), l)));
     (0..side.len())
         .map(|j| c[side[j]] * (0..side.len()).map(|k| a[j][k].v * n[k].v).sum::<f64>())

@@ -62,6 +62,11 @@ struct NodeGap {
     /// target everywhere; a node closes on this one, negative only where
     /// the target is entered near the node.
     hat_weighted: (f64, Gradient),
+    /// The integral of its hat function where the target covers its sides
+    /// (`Part::covered`): value and gradient. `hat_weighted` over it is
+    /// its mean gap there (`mean_gap`), which a shrinking cover leaves
+    /// finite.
+    covered: (f64, Gradient),
     touched: bool,
     /// With friction, the node's weighted slip since the start of the
     /// increment along its tangent (`integrate::slip_from` less the parts'
@@ -451,7 +456,7 @@ fn longest_side(surface: &Surface, x: &[[f64; 2]]) -> f64 {
 /// Each contactor node's weighted gap from the side pairs' parts.
 fn gather(parts: &[Part], m: usize) -> Vec<NodeGap> {
     type Sum = (f64, BTreeMap<usize, f64>);
-    let mut sums: Vec<(Sum, Sum, bool)> = vec![Default::default(); m];
+    let mut sums: Vec<(Sum, Sum, Sum, bool)> = vec![Default::default(); m];
     let add = |sum: &mut Sum, value: f64, dofs: &[usize], gradient: &[f64]| {
         sum.0 += value;
         for (&d, &v) in dofs.iter().zip(gradient) {
@@ -459,21 +464,24 @@ fn gather(parts: &[Part], m: usize) -> Vec<NodeGap> {
         }
     };
     for part in parts {
-        for ((k, value, gradient, _), (mean, mean_gradient)) in
-            part.gaps.iter().zip(&part.hat_weighted)
+        for (((k, value, gradient, _), hat), weight) in (part.gaps.iter())
+            .zip(&part.hat_weighted)
+            .zip(&part.covered)
         {
             let s = &mut sums[*k];
             add(&mut s.0, *value, &part.dofs, gradient);
-            add(&mut s.1, *mean, &part.dofs, mean_gradient);
-            s.2 = true;
+            add(&mut s.1, hat.0, &part.dofs, &hat.1);
+            add(&mut s.2, weight.0, &part.dofs, &weight.1);
+            s.3 = true;
         }
     }
     let entries = |m: BTreeMap<usize, f64>| m.into_iter().filter(|e| e.1 != 0.0).collect();
     sums.into_iter()
-        .map(|(gap, hat_weighted, touched)| NodeGap {
+        .map(|(gap, hat_weighted, covered, touched)| NodeGap {
             value: gap.0,
             gradient: entries(gap.1),
             hat_weighted: (hat_weighted.0, entries(hat_weighted.1)),
+            covered: (covered.0, entries(covered.1)),
             touched,
             ..Default::default()
         })

@@ -28,11 +28,6 @@ impl Surface {
         Surface { nodes, sides, on }
     }
 
-    /// Whether its sides are quadratic.
-    pub fn quadratic(&self) -> bool {
-        self.sides.first().is_some_and(|s| s.len() == 3)
-    }
-
     /// The contactor of `pair`: its chain, in sides of 2 nodes, or of 3 on
     /// a body of 8-node elements.
     pub fn contactor(problem: &Problem, pair: &ContactPair) -> Result<Self, String> {
