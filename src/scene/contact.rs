@@ -252,9 +252,10 @@ impl Resolver<'_> {
         Ok(pairs)
     }
 
-    /// A pair's formulation: node-to-segment unless `formulation = "mortar"`,
-    /// which needs a body as target and no `decisions` (those are
-    /// node-to-segment's).
+    /// A pair's formulation: `formulation` when given; otherwise mortar
+    /// against a body and node-to-segment against a rigid (mortar has no
+    /// rigid targets) or when the pair names `decisions` (those are
+    /// node-to-segment's). Mortar needs a body as target and no `decisions`.
     fn formulation(
         &self,
         c: &raw::Contact,
@@ -262,7 +263,10 @@ impl Resolver<'_> {
         key: &str,
     ) -> Result<ContactFormulation, SceneError> {
         let Some(f) = &c.formulation else {
-            return Ok(ContactFormulation::NodeToSegment);
+            return Ok(match target {
+                Target::Body { .. } if c.decisions.is_none() => ContactFormulation::Mortar,
+                _ => ContactFormulation::NodeToSegment,
+            });
         };
         if *f.get_ref() == FormulationName::NodeToSegment {
             return Ok(ContactFormulation::NodeToSegment);

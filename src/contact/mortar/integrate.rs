@@ -99,9 +99,9 @@ pub(super) fn integrate(s: &Setting) -> (Vec<Part>, Vec<f64>) {
                     + cover.extra_nodes(&s.target.sides[m]).len());
             let part = match count {
                 ..=12 => side_pair::<12>(s, e, m, &cover),
-                ..=16 => side_pair::<16>(s, e, m, &cover),
-                ..=20 => side_pair::<20>(s, e, m, &cover),
-                ..=24 => side_pair::<24>(s, e, m, &cover),
+                13..=16 => side_pair::<16>(s, e, m, &cover),
+                17..=20 => side_pair::<20>(s, e, m, &cover),
+                21..=24 => side_pair::<24>(s, e, m, &cover),
                 _ => side_pair::<32>(s, e, m, &cover),
             };
             parts.extend(part);
