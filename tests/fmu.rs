@@ -2599,8 +2599,9 @@ fn directional_derivatives_of_the_shipped_scenes() {
 /// its sticking nodes along, their rows holding them at their anchors, so
 /// `plane.ux` has a derivative there too; until 2026-11-28 a free node off
 /// its anchor by the plane's motion was read as driven and slid, a kink), a
-/// frictional block on a flexible target (the sliding node's full
-/// linearisation: the turning segment, the moving contact point), lift-off, an inclined plane, von Mises plasticity (the
+/// frictional block on a flexible target under node-to-segment (the sliding
+/// node's full linearisation: the turning segment, the moving contact
+/// point; the shipped frictionless one runs mortar, the default), lift-off, an inclined plane, von Mises plasticity (the
 /// consistent tangent from the step's start), a total Lagrangian strip, the
 /// Lame cylinder, the cantilever; a force driver on the cantilever's tip
 /// (`<driver>.uy` and its `.Fy` input) and an edge pressure input on a bar.
@@ -2618,7 +2619,12 @@ fn directional_derivatives_of_the_verification_scenes() {
         "flexible",
         &edited(
             "verification/flexible_target.toml",
-            &[("mu_s = 0.0", "mu_s = 0.3")],
+            // Node-to-segment's sliding node, pinned: the scene's default
+            // is mortar, whose frictional pairs declare no derivatives.
+            &[(
+                "mu_s = 0.0",
+                "mu_s = 0.3\nformulation = \"node_to_segment\"",
+            )],
         ),
     );
     let tip = TempScene::new(
