@@ -9,7 +9,8 @@ use contact2d::newton::Solver;
 use contact2d::results::{LogCategory, NodeState, PairResult};
 
 /// One patch test: two stacked 2 x 1 blocks, the upper one's bottom the
-/// mortar contactor against the lower one's top, the lower block's bottom
+/// contactor against the lower one's top under the default formulation
+/// (mortar, the pair's target being a body), the lower block's bottom
 /// held vertically, the upper one's top pushed down by `press`.
 #[derive(Clone, Copy, Debug)]
 struct Patch {
@@ -86,7 +87,6 @@ uy = {{ function = "press", scale = {:?} }}
 name = "interface"
 contactor = "upper.bottom"
 target = "lower.top"
-formulation = "mortar"
 [steps]
 dt = 0.5
 t_end = 1.0

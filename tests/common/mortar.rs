@@ -57,7 +57,6 @@ uy = 0.0
 name = "fit"
 contactor = "hub.right"
 target = "rim.left"
-formulation = "mortar"
 [steps]
 dt = 1.0
 t_end = 1.0
