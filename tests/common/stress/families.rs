@@ -188,9 +188,8 @@ pub fn shrink_fit(friction: bool, v: Variant) -> Outcome {
         let p = pair(out.run.last(), "fit");
         let radius = 75.05;
         // The header's tolerance: 4-node (pi / 4n)^2 for n = 16 x refine
-        // facets round the quarter (the facets' half angle squared: the
-        // mortar gap, measured along normals interpolated between a
-        // facet's radial nodal normals, carries that error), 8-node 1e-4.
+        // facets round the quarter (the mesh's error falls as h^2, h the
+        // facet's half angle), 8-node 1e-4.
         let tolerance = match v.element {
             Element::Q4 => (std::f64::consts::PI / (64.0 * v.refine as f64)).powi(2),
             Element::Q8 => 1e-4,
