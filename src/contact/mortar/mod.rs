@@ -78,8 +78,8 @@ struct NodeGap {
 
 /// A pair at an iterate: its surfaces and positions, the weighted gaps
 /// with their side pairs' parts, each contactor node's area and whether
-/// it has none, and the contactor's free dofs (the rows of the multipliers'
-/// least-squares fit). Kept for the inner solves at the same iterate.
+/// it has none, and the free dofs of both surfaces (the rows of the
+/// multipliers' least-squares fit). Kept for the inner solves at the same iterate.
 struct PairAt {
     contactor: Surface,
     target: Surface,
@@ -124,8 +124,12 @@ impl PairAt {
         };
         let positions =
             |s: &Surface, u: Option<&[f64]>| s.nodes.iter().map(|&n| point(n, u)).collect();
+        // The contactor's and the target's surface dofs that no driver
+        // holds: where a contactor node's tangential dof is held (a
+        // symmetry plane), the target's side of its weighted slip still
+        // sets its tangential traction.
         let mut free = BTreeMap::new();
-        for &n in &pair.contactor {
+        for &n in pair.contactor.iter().chain(&target.nodes) {
             for d in [2 * n, 2 * n + 1]
                 .into_iter()
                 .filter(|&d| at.eq[d] != PRESCRIBED)
@@ -230,8 +234,10 @@ impl PairAt {
 
     /// The multipliers of the nodes in contact under `decisions` from the
     /// out-of-balance force `force` (per mesh dof): the least-squares fit
-    /// of the contact force to it over the contactor's free dofs (the
-    /// contact force there at equilibrium). Per node its normal traction
+    /// of the contact force to it over both surfaces' free dofs (the
+    /// contact force there at equilibrium; the out-of-balance force of a
+    /// surface node that another pair also touches carries that pair's
+    /// force as well). Per node its normal traction
     /// (column `grad g_j`) and, with friction, its tangential traction
     /// (column `grad u_j`, its weighted slip), each its own unknown whatever
     /// the node's state, so that the force decides; zero for the nodes not
@@ -491,6 +497,25 @@ fn gather(parts: &[Part], m: usize) -> Vec<NodeGap> {
 /// `argmin |A l - b|` for the sparse columns of A, by conjugate gradients
 /// on the normal equations (CGLS) to round-off.
 fn least_squares(columns: &[Vec<(usize, f64)>], b: &[f64]) -> Vec<f64> {
+    // Each column scaled to unit length (a node whose own dof a driver
+    // holds has a short slip column on the free dofs): CGLS on the scaled
+    // columns converges to round-off where the unscaled ones stalled.
+    let scale: Vec<f64> = (columns.iter())
+        .map(|c| {
+            let norm = c.iter().map(|e| e.1 * e.1).sum::<f64>().sqrt();
+            if norm > 0.0 { 1.0 / norm } else { 0.0 }
+        })
+        .collect();
+    let scaled: Vec<Vec<(usize, f64)>> = (columns.iter().zip(&scale))
+        .map(|(c, s)| c.iter().map(|&(i, v)| (i, v * s)).collect())
+        .collect();
+    let x = cgls(&scaled, b);
+    x.iter().zip(&scale).map(|(x, s)| x * s).collect()
+}
+
+/// `argmin |A l - b|` for the sparse columns of A by conjugate gradients
+/// on the normal equations.
+fn cgls(columns: &[Vec<(usize, f64)>], b: &[f64]) -> Vec<f64> {
     let n = columns.len();
     let apply = |p: &[f64]| {
         let mut q = vec![0.0; b.len()];
