@@ -418,12 +418,15 @@ fn pieces<const N: usize>(
         Some(k) => {
             let y = target_at(k);
             let y0 = V2::c(y.value());
+            // Where the plain projection had converged from the chord,
+            // started on its root it stays there; a zero slope there (a
+            // projection at its turning point) keeps the plain cut.
             root(
                 |xi| onto_contactor(xs, ns, y, xi),
                 |xi| onto_contactor(&xs0, &ns0, y0, xi),
                 c.xi,
             )
-            .expect("it projected in plain numbers")
+            .unwrap_or(Dual::c(c.xi))
         }
     };
     (cover.pieces.iter())
