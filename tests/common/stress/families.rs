@@ -183,7 +183,10 @@ pub fn shrink_fit_pressure(problem: &Problem) -> f64 {
 /// answer): docs/contact.md section 11, "What it does not do".
 pub fn shrink_fit(friction: bool, v: Variant) -> Outcome {
     let edits: &[(&str, &str)] = if friction {
-        &[("mu_s = 0.0", "mu_s = 0.3\nformulation = \"node_to_segment\"")]
+        &[(
+            "mu_s = 0.0",
+            "mu_s = 0.3\nformulation = \"node_to_segment\"",
+        )]
     } else {
         &[]
     };
