@@ -1560,8 +1560,30 @@ impl Solver {
                 inner_solves && inner.count < MAX_INNER && system.is_some() && rhs_base.is_some();
             let neqc = system.as_ref().map_or(0, |c| c.rows.len());
             let b = more.then(|| full.clone());
-            let (solved, partial) =
+            let (mut solved, mut partial) =
                 self.solve_constraint_system(&mut full, extra, inner.count, more);
+            if solved.is_ok()
+                && !partial
+                && let Some(sys) = system.as_ref()
+                && self.contact_terms_turn_step(sys, &full)
+            {
+                // The pair's sliding gradient terms (Eq. 24) turn the
+                // tangent's curvature along its own step non-positive: the
+                // step heads for a saddle of the linearised problem, not
+                // for an equilibrium. Solved again without them.
+                log(LogCategory::Contact, &{
+                    let (t, it) = (step.t, step.it);
+                    format!(
+                        "t = {t:.6e} it {it}: the contact's sliding gradient turns the \
+                         tangent's curvature along the correction non-positive; solved \
+                         without it"
+                    )
+                });
+                full =
+                    self.constraint_system_without_gradient(step, system.as_ref(), &rhs_now, extra);
+                (solved, partial) =
+                    self.solve_constraint_system(&mut full, extra, inner.count, more);
+            }
             let solved = solved.map_err(|e| format!("constraint system (NEQC {neqc}): {e}"));
             if let Some(previous) = kept.take()
                 && let Some(x) =
@@ -1818,12 +1840,62 @@ impl Solver {
         rhs_now: &[f64],
         extra: &mut Vec<(usize, usize, f64)>,
     ) -> Vec<f64> {
+        self.constraint_system_with(step, system, rhs_now, extra, true)
+    }
+
+    /// The constraint system of `constraint_system` without the contact's
+    /// displacement block (the sliding gradient of Eq. 24): its rows only.
+    fn constraint_system_without_gradient(
+        &self,
+        step: &Step,
+        system: Option<&ContactSystem>,
+        rhs_now: &[f64],
+        extra: &mut Vec<(usize, usize, f64)>,
+    ) -> Vec<f64> {
+        self.constraint_system_with(step, system, rhs_now, extra, false)
+    }
+
+    /// Whether the contact's displacement block `sys.k` turns the
+    /// curvature of the tangent along the solved correction `full`
+    /// non-positive while the body's tangent alone keeps it positive:
+    /// `du^T (K + K_c) du <= 0 < du^T K du`.
+    fn contact_terms_turn_step(&self, sys: &ContactSystem, full: &[f64]) -> bool {
+        if sys.k.is_empty() {
+            return false;
+        }
+        let (eq, pattern, n) = (&self.model.eq, &self.model.pattern, self.model.free_dofs());
+        let du = &full[..n];
+        let mut body = 0.0;
+        for (c, &du_c) in du.iter().enumerate().take(pattern.n) {
+            for p in pattern.col_ptr[c]..pattern.col_ptr[c + 1] {
+                body += du[pattern.row_idx[p]] * self.k[p] * du_c;
+            }
+        }
+        let mut contact = 0.0;
+        for &(a, b, v) in &sys.k {
+            if eq[a] != PRESCRIBED && eq[b] != PRESCRIBED {
+                contact += du[eq[a] as usize] * v * du[eq[b] as usize];
+            }
+        }
+        body > 0.0 && body + contact <= 0.0
+    }
+
+    /// The constraint system, the contact's displacement block included
+    /// (`gradient`) or not.
+    fn constraint_system_with(
+        &self,
+        step: &Step,
+        system: Option<&ContactSystem>,
+        rhs_now: &[f64],
+        extra: &mut Vec<(usize, usize, f64)>,
+        gradient: bool,
+    ) -> Vec<f64> {
         let (eq, n, it) = (&self.model.eq, self.model.free_dofs(), step.it);
         let (u, dup) = (step.u, step.dup);
         extra.clear();
         let mut full = rhs_now.to_vec();
         let contact_rows = system.map_or(&[][..], |c| &c.rows[..]);
-        if let Some(c) = system {
+        if let Some(c) = system.filter(|_| gradient) {
             for &(a, b, v) in &c.k {
                 if eq[a] != PRESCRIBED && eq[b] != PRESCRIBED {
                     extra.push((eq[a] as usize, eq[b] as usize, v));
