@@ -97,11 +97,13 @@ pub(super) fn integrate(s: &Setting) -> (Vec<Part>, Vec<f64>) {
                 * (s.contactor.normal_support(e).len()
                     + s.target.sides[m].len()
                     + cover.extra_nodes(&s.target.sides[m]).len());
+            // Three sizes: a linear side pair, a quadratic one or a linear
+            // one with cutting nodes, and a quadratic one with cutting
+            // nodes (each size is one more copy of the dual-number code in
+            // the FMU's library).
             let part = match count {
                 ..=12 => side_pair::<12>(s, e, m, &cover),
-                13..=16 => side_pair::<16>(s, e, m, &cover),
-                17..=20 => side_pair::<20>(s, e, m, &cover),
-                21..=24 => side_pair::<24>(s, e, m, &cover),
+                13..=20 => side_pair::<20>(s, e, m, &cover),
                 _ => side_pair::<32>(s, e, m, &cover),
             };
             parts.extend(part);
