@@ -1579,8 +1579,8 @@ impl Solver {
                          without it"
                     )
                 });
-                full =
-                    self.constraint_system_without_gradient(step, system.as_ref(), &rhs_now, extra);
+                // Its rows only: the contact's displacement block left out.
+                full = self.constraint_system_with(step, system.as_ref(), &rhs_now, extra, false);
                 (solved, partial) =
                     self.solve_constraint_system(&mut full, extra, inner.count, more);
             }
@@ -1841,18 +1841,6 @@ impl Solver {
         extra: &mut Vec<(usize, usize, f64)>,
     ) -> Vec<f64> {
         self.constraint_system_with(step, system, rhs_now, extra, true)
-    }
-
-    /// The constraint system of `constraint_system` without the contact's
-    /// displacement block (the sliding gradient of Eq. 24): its rows only.
-    fn constraint_system_without_gradient(
-        &self,
-        step: &Step,
-        system: Option<&ContactSystem>,
-        rhs_now: &[f64],
-        extra: &mut Vec<(usize, usize, f64)>,
-    ) -> Vec<f64> {
-        self.constraint_system_with(step, system, rhs_now, extra, false)
     }
 
     /// Whether the contact's displacement block `sys.k` turns the

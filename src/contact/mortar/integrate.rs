@@ -92,11 +92,10 @@ pub(super) fn integrate(s: &Setting) -> (Vec<Part>, Vec<f64>) {
     let mut parts = Vec::new();
     for e in 0..s.contactor.sides.len() {
         let cover = cover(s, e);
+        let support = s.contactor.normal_support(e).len();
         for &m in &cover.met {
             let count = 2
-                * (s.contactor.normal_support(e).len()
-                    + s.target.sides[m].len()
-                    + cover.extra_nodes(&s.target.sides[m]).len());
+                * (support + s.target.sides[m].len() + cover.extra_nodes(&s.target.sides[m]).len());
             // Three sizes: a linear side pair, a quadratic one or a linear
             // one with cutting nodes, and a quadratic one with cutting
             // nodes (each size is one more copy of the dual-number code in
@@ -675,6 +674,9 @@ pub(super) fn couplings(s: &Setting) -> Vec<Coupling> {
     let mut out = vec![Coupling::default(); s.contactor.nodes.len()];
     for e in 0..s.contactor.sides.len() {
         let cover = cover(s, e);
+        if cover.met.is_empty() {
+            continue;
+        }
         let side = &s.contactor.sides[e];
         let at = |k: usize| V2::<0>::c(s.x[k]);
         let xs: Vec<V2<0>> = side.iter().map(|&k| at(k)).collect();
