@@ -450,6 +450,8 @@ impl Solver {
             u: vec![0.0; ndof],
             history: vec![0.0; model.history_len],
             step_start_history: Vec::new(),
+            step_start_u: Vec::new(),
+            step_start_rigid: Vec::new(),
             contact: problem.contacts.iter().map(PairMemory::new).collect(),
             rigid: contact::scene_poses(&problem, 0.0),
             ties: vec![0.0; problem.ties.iter().map(|t| t.rows.len()).sum()],
@@ -1934,14 +1936,15 @@ impl Solver {
         full
     }
 
-    /// The converged increment becomes the state (the history the step
-    /// started from is kept for the sensitivities' material tangent).
+    /// The converged increment becomes the state (the history, the
+    /// displacements and the poses the step started from are kept for the
+    /// sensitivities: the material tangent, mortar's weighted slips).
     fn commit(&mut self, inc: Increment, contact: Option<ContactSystem>) {
         self.state.time = inc.t;
-        self.state.u = inc.u;
+        self.state.step_start_u = std::mem::replace(&mut self.state.u, inc.u);
         self.state.step_start_history = std::mem::replace(&mut self.state.history, inc.history);
         self.state.contact = inc.memory;
-        self.state.rigid = inc.poses;
+        self.state.step_start_rigid = std::mem::replace(&mut self.state.rigid, inc.poses);
         self.state.ties = inc.lambda;
         self.state.driver_forces.clone_from(&self.step_forces);
         self.state.pressures.clone_from(&self.ws.pressures);

@@ -16,6 +16,14 @@ pub struct State {
     /// from it. Empty before the first increment (then `history`).
     #[serde(default)]
     pub step_start_history: Vec<f64>,
+    /// The displacements and the rigid targets' poses the increment that
+    /// reached this state started from: the weighted slips of mortar
+    /// friction are measured from there, in the sensitivities as in the
+    /// increment. Empty before the first increment (then `u`, `rigid`).
+    #[serde(default)]
+    pub step_start_u: Vec<f64>,
+    #[serde(default)]
+    pub step_start_rigid: Vec<[f64; 3]>,
     /// Contact memory per pair (node states, contact points, segment
     /// states), in scene order.
     pub contact: Vec<crate::contact::PairMemory>,

@@ -148,11 +148,18 @@ impl Solver {
             Linearised::default()
         } else {
             // The contact states as the state holds them: deciding again at
-            // the converged iterate from its memory gives the same states.
+            // the converged iterate from its memory, with the increment's
+            // start, gives the same states (and mortar's weighted slips
+            // measured from where the increment started).
             let mut memory = s.contact.clone();
+            let (start_u, start_poses) = if s.step_start_u.len() == s.u.len() {
+                (&s.step_start_u, &s.step_start_rigid)
+            } else {
+                (&s.u, &s.rigid)
+            };
             let start = contact::Start {
-                u: &s.u,
-                poses: &s.rigid,
+                u: start_u,
+                poses: start_poses,
                 settling: false,
                 touching: false,
             };

@@ -397,12 +397,11 @@ impl Formulation for Mortar {
         Ok(Some(decide::predict(at, pair, mem, kept)))
     }
 
-    /// Frictionless pairs only: a frictional pair's forces depend on where
-    /// its increment started (the weighted slip's coupling), which the
-    /// linearisation of a converged state does not hold, and its
-    /// derivatives came out 1e-6 to 3e-5 off central differences.
-    fn sensitivities(&self, pair: &ContactPair) -> bool {
-        pair.mu_s == 0.0 && pair.mu_d == 0.0
+    /// Every pair: the weighted slips of a frictional one are measured
+    /// from where the increment started (`State::step_start_u`), as
+    /// Newton's were.
+    fn sensitivities(&self, _pair: &ContactPair) -> bool {
+        true
     }
 
     fn linearise(
@@ -412,12 +411,6 @@ impl Formulation for Mortar {
         kept: &Kept,
         out: &mut Linearised,
     ) -> Result<(), String> {
-        if !self.sensitivities(pair) {
-            return Err(format!(
-                "pair '{}': the sensitivities of mortar contact with friction are not available",
-                pair.name
-            ));
-        }
         let kept = (kept.get::<Decided>())
             .ok_or_else(|| format!("pair '{}': no mortar decisions (internal)", pair.name))?;
         linearise::linearise_pair(at, (p, pair), kept, out);
