@@ -161,15 +161,11 @@ name = "cylinder"
 set = "winding.bottom"
 uy = 0.0"#,
 );
-/// The paper's formulation, pinned (against a body the default is mortar,
-/// whose contactor node at the far end, held along the interface on both
-/// bodies, reads as sliding: its slip's multiplier is fitted from the few
-/// free dofs its weighted slip touches; docs/contact.md section 11).
-const ON_WINDING: (&str, &str) = (
-    r#"target = "cylinder""#,
-    r#"target = "winding.top"
-formulation = "node_to_segment""#,
-);
+/// The layer on the winding below it: against a body the default is
+/// mortar (its contactor node at the far end, held along the interface on
+/// both bodies, lies on a symmetry plane and sticks with no friction,
+/// docs/contact.md section 11).
+const ON_WINDING: (&str, &str) = (r#"target = "cylinder""#, r#"target = "winding.top""#);
 
 /// Least-squares line through the points: (slope, value at x = 0).
 fn fit(points: &[(f64, f64)]) -> (f64, f64) {

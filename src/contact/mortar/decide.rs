@@ -153,6 +153,8 @@ pub(super) fn decide(
 ///
 /// Under the experiment's rule (mu_s throughout) a node that slid in an
 /// earlier increment but not yet in this one is decided as a sticking one.
+/// A node on a symmetry plane sticks, with no friction (`PairAt::
+/// on_symmetry_plane`).
 fn frictional(
     pair: &ContactPair,
     here: &PairAt,
@@ -162,6 +164,9 @@ fn frictional(
 ) -> Decision {
     if !here.friction {
         return Decision::slip(0.0);
+    }
+    if here.on_symmetry_plane(j) {
+        return Decision::STICK;
     }
     let restarts = pair.rule == FrictionRule::AlwaysMuS && !node.nodal.slid;
     let u = here.gaps[j].slip.0;
@@ -188,6 +193,9 @@ fn frictional(
 fn closing(pair: &ContactPair, here: &PairAt, node: &NodeMemory, j: usize) -> Decision {
     if !here.friction {
         return Decision::slip(0.0);
+    }
+    if here.on_symmetry_plane(j) {
+        return Decision::STICK;
     }
     let (u, g) = (here.gaps[j].slip.0, here.gaps[j].value);
     if u.abs() > pair.sticking_mu(node.nodal.ever_slid) * (-g).max(0.0) {

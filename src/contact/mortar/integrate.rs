@@ -721,7 +721,8 @@ fn add_to(list: &mut Vec<(usize, f64)>, key: usize, v: f64) {
 /// The unit tangent of the contactor surface at its node `k` (toward the
 /// next node; its outward normal turns from it): the average of the unit
 /// tangents of the sides at the node, in `N` unknowns over the positions
-/// `at` gives.
+/// `at` gives; on a symmetry plane (`Surface::mirror`), the plane's
+/// normal.
 pub(super) fn nodal_tangent<const N: usize>(
     surface: &Surface,
     k: usize,
@@ -734,7 +735,15 @@ pub(super) fn nodal_tangent<const N: usize>(
         let xs: Vec<V2<N>> = nodes.iter().map(|&q| at(q)).collect();
         t = t + sum(&dn, &xs).unit();
     }
-    t.unit()
+    match surface.mirror[k] {
+        // On a symmetry plane: the side's tangent and its mirror image's
+        // meet along the plane's normal `e`, whatever the side's turn.
+        Some(e) => {
+            let s = (t.value()[0] * e[0] + t.value()[1] * e[1]).signum();
+            V2::c([s * e[0], s * e[1]])
+        }
+        None => t.unit(),
+    }
 }
 
 /// The hat function of node `j` of a side of `n` nodes at `xi`: the

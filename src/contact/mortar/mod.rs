@@ -111,7 +111,11 @@ struct Decided {
 impl PairAt {
     fn new(at: &Iterate, pair: &ContactPair) -> Result<Self, String> {
         let problem = at.problem;
-        let contactor = Surface::contactor(problem, pair)?;
+        let mut contactor = Surface::contactor(problem, pair)?;
+        let reference: Vec<[f64; 2]> = (contactor.nodes.iter())
+            .map(|&n| problem.mesh.nodes[n])
+            .collect();
+        contactor.hold_symmetry_planes(&reference, &|d| at.eq[d] == PRESCRIBED);
         let target = Surface::target(problem, pair)?.ok_or_else(|| {
             format!(
                 "pair '{}': mortar contact needs a body as target",
@@ -261,7 +265,7 @@ impl PairAt {
             }
             columns.push(on_free(&gap.gradient));
             unknowns.push((j, false));
-            if self.friction {
+            if self.friction && !self.on_symmetry_plane(j) {
                 columns.push(on_free(&gap.slip.1));
                 unknowns.push((j, true));
             }
@@ -276,6 +280,15 @@ impl PairAt {
             }
         }
         (lambda, lambda_t)
+    }
+
+    /// Whether contactor node `j` lies on a symmetry plane
+    /// (`Surface::hold_symmetry_planes`): its tangential motion is the
+    /// symmetry driver's, and by symmetry the shear across the plane, its
+    /// tangential traction, is zero. It sticks, with no slip row and no
+    /// tangential multiplier.
+    fn on_symmetry_plane(&self, j: usize) -> bool {
+        self.contactor.mirror[j].is_some()
     }
 
     /// A node of no weight takes its side's state: that of a node of

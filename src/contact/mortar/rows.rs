@@ -16,7 +16,9 @@ use std::collections::BTreeMap;
 /// The rows of each node in contact, divided by the node's area so that
 /// they read in lengths (their multipliers forces) as node-to-segment
 /// rows do: its weighted gap closed to first order, `grad g_j du = -g_j`;
-/// sticking, its weighted slip held as well, `grad u_j du = -u_j`; sliding
+/// sticking, its weighted slip held as well, `grad u_j du = -u_j` (not on
+/// a symmetry plane, where the drivers hold it and the friction is zero:
+/// `PairAt::on_symmetry_plane`); sliding
 /// with friction, its multiplier's column `grad g_j - s mu_d grad u_j`
 /// (the friction its normal traction brings along).
 pub(super) fn add_rows(
@@ -51,7 +53,7 @@ pub(super) fn add_rows(
             column,
         });
         out.max_overlap = out.max_overlap.max((gap.value / a).abs());
-        if here.friction && d.state == NodeState::Stick {
+        if here.friction && d.state == NodeState::Stick && !here.on_symmetry_plane(j) {
             out.rows.push(Row {
                 dofs: Entries::from_slice(&scaled(&gap.slip.1, a)),
                 rhs: -gap.slip.0 / a,

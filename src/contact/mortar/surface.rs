@@ -15,6 +15,9 @@ pub(super) struct Surface {
     pub sides: Vec<Vec<usize>>,
     /// Per surface node, the sides it lies on and its place in each.
     pub on: Vec<Vec<(usize, usize)>>,
+    /// Per surface node, the unit normal of the symmetry plane it lies on
+    /// (`hold_symmetry_planes`): its tangent is along it.
+    pub mirror: Vec<Option<[f64; 2]>>,
 }
 
 impl Surface {
@@ -25,7 +28,41 @@ impl Surface {
                 on[k].push((s, l));
             }
         }
-        Surface { nodes, sides, on }
+        let mirror = vec![None; nodes.len()];
+        Surface {
+            nodes,
+            sides,
+            on,
+            mirror,
+        }
+    }
+
+    /// Marks the end nodes of an open chain that lie on a symmetry plane:
+    /// a driver holds one of their components (`held(dof)`), and their
+    /// side, at the reference positions `x`, runs within 45 degrees of that
+    /// direction (a surface meets its symmetry plane at a right angle). The
+    /// mirror image of the end side continues the surface there, so the
+    /// node's tangent is the plane's normal: the mean of the side's tangent
+    /// and its image's.
+    pub fn hold_symmetry_planes(&mut self, x: &[[f64; 2]], held: &dyn Fn(usize) -> bool) {
+        for k in 0..self.nodes.len() {
+            let [(side, _)] = self.on[k][..] else {
+                continue;
+            };
+            let n = self.nodes[k];
+            let e = match (held(2 * n), held(2 * n + 1)) {
+                (true, false) => [1.0, 0.0],
+                (false, true) => [0.0, 1.0],
+                _ => continue,
+            };
+            let nodes = &self.sides[side];
+            let (a, b) = (x[nodes[0]], x[nodes[nodes.len() - 1]]);
+            let d = [b[0] - a[0], b[1] - a[1]];
+            let along = (d[0] * e[0] + d[1] * e[1]).abs();
+            if along >= std::f64::consts::FRAC_1_SQRT_2 * d[0].hypot(d[1]) {
+                self.mirror[k] = Some(e);
+            }
+        }
     }
 
     /// The contactor of `pair`: its chain, in sides of 2 nodes, or of 3 on

@@ -174,19 +174,17 @@ pub fn shrink_fit_pressure(problem: &Problem) -> f64 {
 /// against Lame's, from the contact force on the hub (-Fx over its radius
 /// b + delta; -Fy gives the same).
 ///
-/// With friction the pair is pinned to node-to-segment. Under mortar (the
-/// default) the contactor's end nodes on the symmetry planes, whose tangent
-/// is their one side's (pi / 4n off the plane's normal), read the removal
-/// of the initial overlap as slip and slide with mu tn into the symmetry
-/// drivers (measured 2026-11-28: p +1.7e-2 on Q4 1x, +8.0e-3 on 2x, Q8
-/// +4.9e-3 and +2.5e-3, every interior node within the frictionless
-/// answer): docs/contact.md section 11, "What it does not do".
+/// With friction every node sticks, and p is the frictionless one: the
+/// contactor's end nodes lie on the symmetry planes, where their tangent
+/// is the plane's normal and they carry no friction
+/// (`Surface::hold_symmetry_planes`). Before 2026-11-28 (sixth session)
+/// their tangent was their one side's, pi / 4n off the plane's normal, and
+/// they read the removal of the initial overlap as slip and slid with mu
+/// tn into the symmetry drivers: p +1.7e-2 on Q4 1x, +8.0e-3 on 2x, Q8
+/// +4.9e-3 and +2.5e-3, so the pair was pinned to node-to-segment.
 pub fn shrink_fit(friction: bool, v: Variant) -> Outcome {
     let edits: &[(&str, &str)] = if friction {
-        &[(
-            "mu_s = 0.0",
-            "mu_s = 0.3\nformulation = \"node_to_segment\"",
-        )]
+        &[("mu_s = 0.0", "mu_s = 0.3")]
     } else {
         &[]
     };
