@@ -112,16 +112,13 @@ impl PairAt {
     fn new(at: &Iterate, pair: &ContactPair) -> Result<Self, String> {
         let problem = at.problem;
         let mut contactor = Surface::contactor(problem, pair)?;
-        let reference: Vec<[f64; 2]> = (contactor.nodes.iter())
-            .map(|&n| problem.mesh.nodes[n])
-            .collect();
-        contactor.hold_symmetry_planes(&reference, &|d| at.eq[d] == PRESCRIBED);
         let target = Surface::target(problem, pair)?.ok_or_else(|| {
             format!(
                 "pair '{}': mortar contact needs a body as target",
                 pair.name
             )
         })?;
+        contactor.hold_symmetry_planes(&target, &problem.mesh.nodes, &|d| at.eq[d] == PRESCRIBED);
         let point = |n: usize, u: Option<&[f64]>| {
             let p = problem.mesh.nodes[n];
             u.map_or(p, |u| [p[0] + u[2 * n], p[1] + u[2 * n + 1]])
@@ -282,10 +279,10 @@ impl PairAt {
         (lambda, lambda_t)
     }
 
-    /// Whether contactor node `j` lies on a symmetry plane
-    /// (`Surface::hold_symmetry_planes`): its tangential motion is the
-    /// symmetry driver's, and by symmetry the shear across the plane, its
-    /// tangential traction, is zero. It sticks, with no slip row and no
+    /// Whether contactor node `j` lies on a symmetry plane both surfaces
+    /// end on (`Surface::hold_symmetry_planes`): its tangential motion is
+    /// the symmetry drivers', and by symmetry the shear across the plane,
+    /// its tangential traction, is zero. It sticks, with no slip row and no
     /// tangential multiplier.
     fn on_symmetry_plane(&self, j: usize) -> bool {
         self.contactor.mirror[j].is_some()

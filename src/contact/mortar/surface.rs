@@ -37,14 +37,17 @@ impl Surface {
         }
     }
 
-    /// Marks the end nodes of an open chain that lie on a symmetry plane:
-    /// a driver holds one of their components (`held(dof)`), and their
-    /// side, at the reference positions `x`, runs within 45 degrees of that
-    /// direction (a surface meets its symmetry plane at a right angle). The
-    /// mirror image of the end side continues the surface there, so the
-    /// node's tangent is the plane's normal: the mean of the side's tangent
-    /// and its image's.
-    pub fn hold_symmetry_planes(&mut self, x: &[[f64; 2]], held: &dyn Fn(usize) -> bool) {
+    /// The end nodes of an open chain a driver holds in one direction
+    /// (`held(dof)`) whose side, at the mesh's reference positions
+    /// `points`, runs within 45 degrees of that direction (a surface meets
+    /// its symmetry plane at a right angle): per node, its surface index,
+    /// the unit direction held and its side's length.
+    pub fn held_ends(
+        &self,
+        points: &[[f64; 2]],
+        held: &dyn Fn(usize) -> bool,
+    ) -> Vec<(usize, [f64; 2], f64)> {
+        let mut out = Vec::new();
         for k in 0..self.nodes.len() {
             let [(side, _)] = self.on[k][..] else {
                 continue;
@@ -56,10 +59,40 @@ impl Surface {
                 _ => continue,
             };
             let nodes = &self.sides[side];
-            let (a, b) = (x[nodes[0]], x[nodes[nodes.len() - 1]]);
+            let (a, b) = (
+                points[self.nodes[nodes[0]]],
+                points[self.nodes[nodes[nodes.len() - 1]]],
+            );
             let d = [b[0] - a[0], b[1] - a[1]];
-            let along = (d[0] * e[0] + d[1] * e[1]).abs();
-            if along >= std::f64::consts::FRAC_1_SQRT_2 * d[0].hypot(d[1]) {
+            let length = d[0].hypot(d[1]);
+            if (d[0] * e[0] + d[1] * e[1]).abs() >= std::f64::consts::FRAC_1_SQRT_2 * length {
+                out.push((k, e, length));
+            }
+        }
+        out
+    }
+
+    /// Marks the contactor's end nodes on a symmetry plane: held in one
+    /// direction (`held_ends`), with an end node of the target `target`
+    /// held in the same direction on the same plane (within a thousandth
+    /// of the contactor's side, at the mesh's reference positions
+    /// `points`). The mirror image of the end side continues the surface
+    /// there, so the node's tangent is the plane's normal: the mean of the
+    /// side's tangent and its image's.
+    pub fn hold_symmetry_planes(
+        &mut self,
+        target: &Surface,
+        points: &[[f64; 2]],
+        held: &dyn Fn(usize) -> bool,
+    ) {
+        let partners = target.held_ends(points, held);
+        for (k, e, length) in self.held_ends(points, held) {
+            let along = |n: usize| points[n][0] * e[0] + points[n][1] * e[1];
+            let plane = along(self.nodes[k]);
+            let shared = (partners.iter()).any(|&(l, f, _)| {
+                f == e && (along(target.nodes[l]) - plane).abs() <= 1e-3 * length
+            });
+            if shared {
                 self.mirror[k] = Some(e);
             }
         }
@@ -184,5 +217,61 @@ pub(super) fn node_xi(n: usize, l: usize) -> f64 {
         [-1.0, 1.0][l]
     } else {
         [-1.0, 0.0, 1.0][l]
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A chain of 2-node sides over the mesh nodes `nodes`.
+    fn chain(nodes: Vec<usize>) -> Surface {
+        let sides = (0..nodes.len() - 1).map(|s| vec![s, s + 1]).collect();
+        Surface::from_sides(nodes, sides)
+    }
+
+    /// A quarter arc's contactor (mesh nodes 0..=4, radius 1) and target
+    /// (5..=9, radius 1.01) from the x axis to the y axis: both end on the
+    /// planes y = 0 and x = 0.
+    fn quarter() -> (Surface, Surface, Vec<[f64; 2]>) {
+        let arc = |r: f64| {
+            (0..5).map(move |i| {
+                let a = std::f64::consts::FRAC_PI_2 * f64::from(i) / 4.0;
+                [r * a.cos(), r * a.sin()]
+            })
+        };
+        let points: Vec<[f64; 2]> = arc(1.0).chain(arc(1.01)).collect();
+        (chain(vec![0, 1, 2, 3, 4]), chain(vec![9, 8, 7, 6, 5]), points)
+    }
+
+    /// Held on the symmetry planes (uy = 0 on the x axis, ux = 0 on the y
+    /// axis) on both surfaces: both contactor ends lie on a plane, their
+    /// tangent along its normal; with the target free at one end, or the
+    /// surfaces ending on different planes, that end does not.
+    #[test]
+    fn end_nodes_on_a_symmetry_plane_both_surfaces_share() {
+        let (mut c, t, points) = quarter();
+        let symmetry = |d: usize| matches!(d, 1 | 8 | 11 | 18);
+        c.hold_symmetry_planes(&t, &points, &symmetry);
+        assert_eq!(c.mirror[0], Some([0.0, 1.0]));
+        assert_eq!(c.mirror[4], Some([1.0, 0.0]));
+        assert!(c.mirror[1..4].iter().all(Option::is_none));
+
+        // The target's end on the x axis free: the contactor's is not on a
+        // plane the two share.
+        let (mut c, t, points) = quarter();
+        c.hold_symmetry_planes(&t, &points, &|d| matches!(d, 1 | 8 | 18));
+        assert_eq!((c.mirror[0], c.mirror[4]), (None, Some([1.0, 0.0])));
+
+        // Held along the surface (a side across the held direction): no plane.
+        let (mut c, t, points) = quarter();
+        c.hold_symmetry_planes(&t, &points, &|d| matches!(d, 0 | 9 | 10 | 19));
+        assert!(c.mirror.iter().all(Option::is_none));
+
+        // The target's end held in the same direction on another plane.
+        let (mut c, t, mut points) = quarter();
+        points[5][1] = 0.05;
+        c.hold_symmetry_planes(&t, &points, &symmetry);
+        assert_eq!((c.mirror[0], c.mirror[4]), (None, Some([1.0, 0.0])));
     }
 }
