@@ -241,7 +241,11 @@ mod tests {
             })
         };
         let points: Vec<[f64; 2]> = arc(1.0).chain(arc(1.01)).collect();
-        (chain(vec![0, 1, 2, 3, 4]), chain(vec![9, 8, 7, 6, 5]), points)
+        (
+            chain(vec![0, 1, 2, 3, 4]),
+            chain(vec![9, 8, 7, 6, 5]),
+            points,
+        )
     }
 
     /// Held on the symmetry planes (uy = 0 on the x axis, ux = 0 on the y
