@@ -2723,6 +2723,33 @@ fn directional_derivatives_of_mortar_scenes() {
         &[none; 2],
         &[0],
     );
+    // Symmetry planes: the buried pipe under mortar with mu = 0.3, its
+    // contactor's end nodes on the symmetry axis (sticking, with no slip
+    // row). As for node-to-segment (`directional_derivatives_of_the_
+    // shipped_scenes`) the axis drivers are not compared: moving one
+    // body's symmetry plane off the other's moves the end node's normal
+    // ray off the target's end, a kink (measured on the quarter shrink fit
+    // 16/23: d Ry / d hub_x_axis.uy 1.1e4, central differences 1.0e5).
+    let pipe = TempScene::new(
+        "mortar_pipe",
+        &edited(
+            "buried_pipe.toml",
+            &[(
+                "formulation = \"node_to_segment\"",
+                "formulation = \"mortar\"",
+            )],
+        ),
+    );
+    let axes = ["soil_axis.ux", "pipe_axis_bottom.ux", "pipe_axis_top.ux"];
+    // The tolerance the node-to-segment check uses on this scene (its LU
+    // solves are good to about 1e-10 of the forces).
+    let on_axes = |at| Check {
+        scene: &pipe.0,
+        at,
+        tolerance: 1e-10,
+        skip: &axes,
+    };
+    run_checks(&[on_axes(0), on_axes(3)], &[none; 2], &[0, 1]);
 }
 
 /// A force input on a set that moves as one (`distribution = "rigid"`):

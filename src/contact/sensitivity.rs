@@ -59,7 +59,8 @@ pub struct NodeForce {
     /// Mesh node.
     pub node: usize,
     /// Its contact force (the out-of-balance force at its free
-    /// components), the target's normal and tangent where it touches, and
+    /// components; with `multipliers`, its rows' forces at every
+    /// component), the target's normal and tangent where it touches, and
     /// the contact point.
     pub force: Vector2<f64>,
     pub normal: Vector2<f64>,
@@ -70,6 +71,10 @@ pub struct NodeForce {
     pub held: bool,
     /// A rigid target's moved reference point (the moment's origin).
     pub reference: [f64; 2],
+    /// The pair reads the node's force from its multipliers (mortar), a
+    /// prescribed component's too; else from the out-of-balance force,
+    /// which counts a prescribed component as zero (node-to-segment).
+    pub multipliers: bool,
 }
 
 /// The linearised contact part of a converged state.
@@ -147,20 +152,25 @@ impl Linearised {
     /// them) and of each rigid target's reaction [Rx, Ry, Mz] (`rigids`),
     /// for displacement changes `du`, out-of-balance force changes `dr`
     /// (all dofs; `eq` marks the prescribed ones, whose force counts as
-    /// zero) and pose changes `dpose`.
+    /// zero), contact force changes `dfc` (all dofs: a node read from its
+    /// multipliers, `NodeForce::multipliers`) and pose changes `dpose`.
     pub fn resultant_changes(
         &self,
         [pairs, rigids]: [usize; 2],
         du: &[f64],
-        dr: &[f64],
+        [dr, dfc]: [&[f64]; 2],
         eq: &[u32],
         dpose: &[[f64; 3]],
     ) -> (Vec<[f64; 4]>, Vec<[f64; 3]>) {
         let mut pair = vec![[0.0; 4]; pairs];
         let mut rigid = vec![[0.0; 3]; rigids];
-        let component = |d: usize| if eq[d] == PRESCRIBED { 0.0 } else { dr[d] };
         let at = |v: &[f64], m: usize| Vector2::new(v[2 * m], v[2 * m + 1]);
         for node in &self.nodes {
+            let component = |d: usize| match (node.multipliers, eq[d] == PRESCRIBED) {
+                (true, _) => dfc[d],
+                (false, true) => 0.0,
+                (false, false) => dr[d],
+            };
             let df = Vector2::new(component(2 * node.node), component(2 * node.node + 1));
             let omega = match node.turn {
                 Turn::Segment { a, b, length } => {

@@ -321,9 +321,13 @@ impl Solver {
         let mut dfc = vec![0.0; ndof];
         lin.contact
             .force_change(&du, &x[n..n + m], &dpose, &mut dfc);
-        let (pairs, rigids) =
-            lin.contact
-                .resultant_changes([p.contacts.len(), p.rigids.len()], &du, &dr, eq, &dpose);
+        let (pairs, rigids) = lin.contact.resultant_changes(
+            [p.contacts.len(), p.rigids.len()],
+            &du,
+            [&dr, &dfc],
+            eq,
+            &dpose,
+        );
         let changes = Changes {
             du: &du,
             dr: &dr,

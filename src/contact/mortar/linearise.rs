@@ -87,6 +87,7 @@ fn nodes(
             },
             held: false,
             reference: [0.0; 2],
+            multipliers: true,
         });
     }
 }

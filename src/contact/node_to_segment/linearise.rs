@@ -82,6 +82,7 @@ pub(super) fn linearise_pair(
             turn,
             held,
             reference,
+            multipliers: false,
         });
         let mut ends = vec![(n, 1.0)];
         if let Some([a, b]) = target {
