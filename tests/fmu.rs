@@ -2752,6 +2752,52 @@ fn directional_derivatives_of_mortar_scenes() {
     run_checks(&[on_axes(0), on_axes(3)], &[none; 2], &[0, 1]);
 }
 
+/// The hub's equilibrium in the derivatives: on the quarter shrink fit
+/// under mortar with mu = 0.3, the contactor's end nodes lie on the
+/// symmetry planes, with contact forces on the dofs their drivers hold.
+/// For every input the pair's d Fx equals -d Rx of the hub's y-axis driver
+/// and d Fy equals -d Ry of its x-axis driver (the contact force on the hub
+/// is all its drivers hold): the pair's resultants change with the forces
+/// its multipliers give, held components included
+/// (`NodeForce::multipliers`; read off the out-of-balance force, which
+/// counts them zero, they came out 2e-3 off the reactions'). An identity,
+/// whichever side of a kink an input's derivative is taken on.
+#[test]
+fn mortar_resultant_derivatives_balance_the_reactions() {
+    let scene = TempScene::new(
+        "fit_balance",
+        &edited("stress/shrink_fit.toml", &[("mu_s = 0.0", "mu_s = 0.3")]),
+    );
+    let problem = contact2d::scene::load(&scene.0).unwrap();
+    let vars = variables(&problem);
+    let vr = |name: &str| vars.iter().find(|v| v.name == name).unwrap().vr;
+    let unknown = [
+        vr("fit.Fx"),
+        vr("hub_y_axis.Rx"),
+        vr("fit.Fy"),
+        vr("hub_x_axis.Ry"),
+    ];
+    let u = unpack(&scene.0, "fit_balance");
+    let inst = Inst::new(&u, "fit_balance");
+    inst.init();
+    assert_eq!(inst.step(0.0, 1.0), OK, "{:?}", inst.messages());
+    let inputs: Vec<_> = (vars.iter())
+        .filter(|v| v.causality == contact2d::fmi::variables::Causality::Input)
+        .collect();
+    assert_eq!(inputs.len(), 4);
+    for input in inputs {
+        let (status, dy) = inst.derivative(&unknown, &[input.vr], &[1.0]);
+        assert_eq!(status, OK, "{}", inst.last_message());
+        for (f, r) in [(dy[0], dy[1]), (dy[2], dy[3])] {
+            assert!(
+                (f + r).abs() <= 1e-9 * f.abs().max(r.abs()),
+                "d / d {}: pair {f:e}, reaction {r:e}",
+                input.name
+            );
+        }
+    }
+}
+
 /// A force input on a set that moves as one (`distribution = "rigid"`):
 /// the sliding block pressed, then pulled sideways by `drag.Fx` on its top
 /// into partial slip (the edges slide, the middle sticks), as the pull
