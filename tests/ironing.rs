@@ -157,17 +157,21 @@ fn check(v: &Variant) -> [f64; 2] {
     jump
 }
 
-// Measured (2026-11-28, this scene): node-to-segment with the block as
-// contactor, 80 increments, iterations median 4 max 7, largest jump Rx
-// 0.0074, Ry 0.0028 of |R|; mortar with the block as contactor, median 3
-// max 5, Rx 0.0049, Ry 0.0049. What is left in both comes where a
-// contactor node enters or leaves the contact at the zone's edges, every
-// 2.9 increments (the block's node spacing over the slide per increment).
-// The jump bounds are those figures rounded up: they guard against a
-// change that makes the slide rougher, they do not say what smooth is.
-// Before the dual basis was taken over the covered part of a side,
-// mortar's were Rx 0.046, Ry 0.019: nodes far behind the ring were held
-// on its flank (docs/contact.md section 11).
+// Measured (2026-11-29, this scene: the ring's 32 sides, increments of
+// 0.01), largest jumps Rx / Ry of |R|, iterations median / max:
+// - frictionless, block as contactor: node-to-segment 0.0173 / 0.0079
+//   (3 / 9), mortar 0.0025 / 0.0013 (3 / 5);
+// - frictionless, ring as contactor: mortar 0.0020 / 0.0013 (3 / 5);
+//   node-to-segment fails at t = 1.07 (below);
+// - mu = 0.3, block as contactor: node-to-segment 0.0332 / 0.0130 (4 /
+//   10), mortar 0.0059 / 0.0028 (3 / 5); ring as contactor: mortar 0.0056
+//   / 0.0009 (3 / 6).
+// Node-to-segment's jumps come where a block node crosses a vertex of the
+// ring's facets (the normal it is held along turns by 5.6 degrees);
+// mortar's are those of a rigid circle of 960 sides slid the same way
+// under node-to-segment (0.0020 / 0.0010): the ripple the block's mesh
+// leaves. Each variant's bounds are its figures rounded up: they guard
+// against a change that makes the slide rougher.
 
 #[test]
 fn node_to_segment_block_contactor() {
@@ -177,7 +181,7 @@ fn node_to_segment_block_contactor() {
         ring_contactor: false,
         mu: 0.0,
     });
-    assert!(jump[0] < 0.01 && jump[1] < 0.004, "{jump:?}");
+    assert!(jump[0] < 0.02 && jump[1] < 0.009, "{jump:?}");
 }
 
 #[test]
@@ -188,21 +192,48 @@ fn mortar_block_contactor() {
         ring_contactor: false,
         mu: 0.0,
     });
-    assert!(jump[0] < 0.006 && jump[1] < 0.006, "{jump:?}");
+    assert!(jump[0] < 0.003 && jump[1] < 0.0015, "{jump:?}");
 }
 
-// With the ring's surface as contactor (measured 2026-11-28, fifth session,
-// with the Newton driver re-solving a correction whose contact terms turn
-// the tangent's curvature along it non-positive,
-// `Solver::contact_terms_turn_step`): mortar median 5 max 11, no bisection
-// or fallback (was max 22 with 4 fallbacks), largest jumps Rx 0.0031, Ry
-// 0.0054; node-to-segment median 7 max 23, 1 bisection (was 7), 1
-// fallback (at t = 1.95 inner solves open 6 and close 4 nodes and the
-// iterate inverts block element 283), Rx 0.0084, Ry 0.0063: it states the
-// target, run it with `-- --ignored`.
+/// Mortar's jumps are a small fraction of node-to-segment's on the same
+/// meshes, per component, frictionless and with mu = 0.3 (block as
+/// contactor, the variant both formulations run). Measured 0.14 / 0.16
+/// and 0.18 / 0.22; the bound, a quarter, says "small fraction" without
+/// leaning on the last digit.
+#[test]
+fn mortar_jumps_are_a_fraction_of_node_to_segments() {
+    for mu in [0.0, 0.3] {
+        let [nts, mortar] = [false, true].map(|mortar| {
+            largest_jump(
+                &run(&Variant {
+                    name: "ratio",
+                    mortar,
+                    ring_contactor: false,
+                    mu,
+                })
+                .steps,
+            )
+        });
+        for c in 0..2 {
+            assert!(
+                mortar[c] <= 0.25 * nts[c],
+                "mu = {mu}, component {c}: mortar {} against node-to-segment {}",
+                mortar[c],
+                nts[c]
+            );
+        }
+    }
+}
+
+// With the ring's surface as contactor, node-to-segment fails at t = 1.07,
+// frictionless and with mu = 0.3: Newton falls into a two-iterate cycle
+// (|r|/F alternating 2.2e-3 / 3.2e-3, no contact state changing) as ring
+// nodes switch between the block's segments; it states the target, run it
+// with `-- --ignored`. (On the ring's 48 sides with these increments it
+// ran with no bisection, 19 iterations at most.)
 
 #[test]
-#[ignore = "the slide bisects with the ring as contactor (node-to-segment: 1 bisection)"]
+#[ignore = "node-to-segment with the ring as contactor fails at t = 1.07 (segment switching)"]
 fn node_to_segment_ring_contactor() {
     check(&Variant {
         name: "node_to_segment, ring contactor",
@@ -220,14 +251,8 @@ fn mortar_ring_contactor() {
         ring_contactor: true,
         mu: 0.0,
     });
-    assert!(jump[0] < 0.004 && jump[1] < 0.006, "{jump:?}");
+    assert!(jump[0] < 0.0025 && jump[1] < 0.0015, "{jump:?}");
 }
-
-// With mu = 0.3 and the block as contactor (measured 2026-11-28):
-// node-to-segment median 4 max 9 iterations, largest jump Rx 0.0144, Ry
-// 0.0053; mortar median 3 max 5, Rx 0.0149, Ry 0.0063. Bounds rounded up
-// as above. With the ring as contactor and friction, mortar bisects 21
-// times (not run here).
 
 #[test]
 fn node_to_segment_block_contactor_with_friction() {
@@ -237,7 +262,7 @@ fn node_to_segment_block_contactor_with_friction() {
         ring_contactor: false,
         mu: 0.3,
     });
-    assert!(jump[0] < 0.016 && jump[1] < 0.006, "{jump:?}");
+    assert!(jump[0] < 0.035 && jump[1] < 0.014, "{jump:?}");
 }
 
 #[test]
@@ -248,5 +273,16 @@ fn mortar_block_contactor_with_friction() {
         ring_contactor: false,
         mu: 0.3,
     });
-    assert!(jump[0] < 0.016 && jump[1] < 0.007, "{jump:?}");
+    assert!(jump[0] < 0.0065 && jump[1] < 0.003, "{jump:?}");
+}
+
+#[test]
+fn mortar_ring_contactor_with_friction() {
+    let jump = check(&Variant {
+        name: "mortar, ring contactor, mu = 0.3",
+        mortar: true,
+        ring_contactor: true,
+        mu: 0.3,
+    });
+    assert!(jump[0] < 0.0065 && jump[1] < 0.0015, "{jump:?}");
 }
