@@ -397,42 +397,20 @@ fn drag_over_a_flexible_strip_slides_with_coulomb_friction() {
 }
 
 /// The cylinder of `scenes/hertz_plane_strain.toml` pressed onto its flat:
-/// the nodal pressures within 0.8 a against Hertz (a and p0 from the
-/// press's reaction), as RMS and largest node-to-node change of the error,
-/// both over p0.
+/// the nodal pressures within 0.8 a against Hertz (`common::hertz`), as
+/// RMS and largest node-to-node change of the error, both over p0.
 fn hertz_on_flat(edits: &[(&str, &str)]) -> [f64; 2] {
-    let problem = common::shipped_scene("hertz_plane_strain.toml", edits);
-    let times = problem.times.clone();
-    let mut solver = Solver::new(problem).unwrap();
-    let mut last = None;
-    for t in times {
-        last = Some(solver.advance(t, &mut |_, _| {}).unwrap());
-    }
-    let step = last.unwrap();
-    let (e, nu, r) = (200000.0, 0.3, 10.0);
-    // The quarter model carries half the cylinder's load.
-    let load = 2.0
-        * step
-            .drivers
-            .iter()
-            .find(|(n, _)| n == "press")
-            .unwrap()
-            .1
-            .ry
-            .abs();
-    let a = (4.0 * load * r * (1.0 - nu * nu) / (std::f64::consts::PI * e)).sqrt();
-    let p0 = 2.0 * load / (std::f64::consts::PI * a);
-    let nodes = &step.pairs[0].1.nodes;
-    let errors: Vec<f64> = (nodes.x.iter().zip(&nodes.tn))
-        .filter(|(x, _)| x.abs() < 0.8 * a)
-        .map(|(x, tn)| (tn - p0 * (1.0 - (x / a).powi(2)).sqrt()) / p0)
+    let ran = common::mortar::run(common::shipped_scene("hertz_plane_strain.toml", edits));
+    let hertz = common::hertz(&ran.solver, 10.0, 200000.0 / (1.0 - 0.09));
+    let problem = ran.solver.problem();
+    let nodes = &ran.last.pairs[0].1.nodes;
+    let errors: Vec<f64> = (problem.contacts[0].contactor.iter().zip(&nodes.tn))
+        .map(|(&c, tn)| (problem.mesh.nodes[c][0], tn))
+        .filter(|(x, _)| *x < 0.8 * hertz.a)
+        .map(|(x, tn)| (tn - common::hertz_pressure(hertz.p0, hertz.a, x)) / hertz.p0)
         .collect();
-    let rms = (errors.iter().map(|e| e * e).sum::<f64>() / errors.len() as f64).sqrt();
-    let swing = errors
-        .windows(2)
-        .map(|w| (w[1] - w[0]).abs())
-        .fold(0.0, f64::max);
-    [rms, swing]
+    let swing = (errors.windows(2)).fold(0.0, |m: f64, w| m.max((w[1] - w[0]).abs()));
+    [hertz.rms_interior, swing]
 }
 
 /// Why node-to-segment stays the default against a rigid target (mortar
@@ -441,8 +419,8 @@ fn hertz_on_flat(edits: &[(&str, &str)]) -> [f64; 2] {
 /// functions for the forces to follow, so node-to-segment is as accurate
 /// as mortar. Hertz on the rigid flat (node-to-segment) against Hertz on
 /// a flat body 1e5 times stiffer than the cylinder, meshed with 8-node
-/// elements that do not match it, under mortar: measured RMS 0.472 % and
-/// 0.469 % of p0, node-to-node change 0.22 % and 0.40 %. The test fails
+/// elements that do not match it, under mortar: measured RMS 0.055 % and
+/// 0.060 % of p0, node-to-node change 0.053 % and 0.19 %. The test fails
 /// if mortar against a near-rigid flat becomes the more accurate by more
 /// than a tenth of node-to-segment's error, which would call for mortar
 /// against rigid targets and a new default.
@@ -481,8 +459,10 @@ ux = 0.0
         "node-to-segment on the rigid flat: RMS {rms_rigid:.5}, swing {swing_rigid:.5}; \
          mortar on the stiff flat: RMS {rms_mortar:.5}, swing {swing_mortar:.5}"
     );
-    // The Hertz scene's own accuracy (contact.md: p RMS 0.3-0.5 %).
-    assert!(rms_rigid <= 0.006 && rms_mortar <= 0.006);
+    // The Hertz scene's accuracy away from the edge, as
+    // tests/contact_hertz.rs bounds it (what is left is Hertz's half-space
+    // against a finite cylinder, not the mesh).
+    assert!(rms_rigid < 1e-3 && rms_mortar < 1e-3);
     assert!(
         rms_mortar >= 0.9 * rms_rigid && swing_mortar >= 0.9 * swing_rigid,
         "mortar on the stiff flat: RMS {rms_mortar}, swing {swing_mortar}"
