@@ -7,6 +7,10 @@
 //! the target a body) every node of the interface carries the exact uniform
 //! pressure. Bounded for CI (`cases` below); `PROPTEST_CASES=2000 cargo
 //! test --release --test mortar_patch_family` runs a longer campaign.
+//!
+//! Also a block dragged along a strip over the same family, with friction
+//! (Coulomb at every node), ignored: it finds two failures not yet fixed
+//! (`a_block_dragged_..._coulomb_friction`).
 
 use contact2d::newton::Solver;
 use contact2d::results::{LogCategory, NodeState};
@@ -224,5 +228,218 @@ proptest! {
     #[test]
     fn a_uniform_pressure_crosses_any_non_matching_flat_interface_exactly(case in case()) {
         check(&case)?;
+    }
+}
+
+/// A block pressed onto a longer strip and dragged along it by its top,
+/// the two meshes non-matching, with Coulomb friction (mu_s = mu_d).
+#[derive(Clone, Debug)]
+struct Drag {
+    element: &'static str,
+    /// Elements along the interface: block (contactor), strip (target,
+    /// three times as long).
+    along: [usize; 2],
+    /// Heights: block, strip (each two elements through).
+    heights: [f64; 2],
+    width: f64,
+    /// [E, nu] of the block and the strip.
+    materials: [[f64; 2]; 2],
+    analysis: &'static str,
+    kinematics: &'static str,
+    mu: f64,
+}
+
+impl Drag {
+    fn scene(&self) -> String {
+        let [[e1, nu1], [e2, nu2]] = self.materials;
+        let [ab, as_] = self.along;
+        let [hb, hs] = self.heights;
+        let w = self.width;
+        let mu = self.mu;
+        // Pressed by a thousandth of the stack's height over t in [0, 1],
+        // then dragged by the block's width over t in [1, 3] in ten
+        // increments (a tenth of the width each, far beyond the elastic
+        // shear that takes the whole interface to sliding).
+        format!(
+            r#"title = "drag family"
+[analysis]
+kind = "{analysis}"
+kinematics = "{kinematics}"
+[[material]]
+name = "block"
+model = "linear_elastic"
+E = {e1:?}
+nu = {nu1:?}
+[[material]]
+name = "strip"
+model = "linear_elastic"
+E = {e2:?}
+nu = {nu2:?}
+[[body]]
+name = "strip"
+material = "strip"
+element = "{element}"
+mesh = {{ generator = "rectangle", origin = [0.0, {:?}], size = [{:?}, {hs:?}], divisions = [{as_}, 2] }}
+[[body]]
+name = "block"
+material = "block"
+element = "{element}"
+mesh = {{ generator = "rectangle", origin = [{:?}, 0.0], size = [{w:?}, {hb:?}], divisions = [{ab}, 2] }}
+[[function]]
+name = "press"
+points = [[0.0, 0.0], [1.0, 1.0]]
+[[function]]
+name = "drag"
+points = [[0.0, 0.0], [1.0, 0.0], [3.0, 1.0]]
+[[driver]]
+name = "base"
+set = "strip.bottom"
+ux = 0.0
+uy = 0.0
+[[driver]]
+name = "top"
+set = "block.top"
+ux = {{ function = "drag", scale = {w:?} }}
+uy = {{ function = "press", scale = {:?} }}
+[[contact]]
+name = "interface"
+contactor = "block.bottom"
+target = "strip.top"
+mu_s = {mu:?}
+mu_d = {mu:?}
+[steps]
+times = [0.5, 1.0, 1.2, 1.4, 1.6, 1.8, 2.0, 2.2, 2.4, 2.6, 2.8, 3.0]
+"#,
+            -hs,
+            3.0 * w,
+            0.5 * w,
+            -1e-3 * (hb + hs),
+            analysis = self.analysis,
+            kinematics = self.kinematics,
+            element = self.element,
+        )
+    }
+}
+
+fn drag(element: &'static str) -> impl Strategy<Value = Drag> {
+    let material = (2.0..5.0f64, 0.0..0.45f64).prop_map(|(lg, nu)| [10f64.powf(lg), nu]);
+    (
+        Just(element),
+        (2..=10usize, 1..=10usize),
+        (0.3..2.0f64, 0.3..2.0f64, 0.5..3.0f64),
+        (material.clone(), material),
+        prop_oneof![Just("plane_strain"), Just("plane_stress")],
+        prop_oneof![Just("small_strain"), Just("total_lagrangian")],
+        0.1..0.6f64,
+    )
+        .prop_map(
+            |(element, along, (hb, hs, width), materials, analysis, kinematics, mu)| Drag {
+                element,
+                along: [along.0, along.1],
+                heights: [hb, hs],
+                width,
+                materials: [materials.0, materials.1],
+                analysis,
+                kinematics,
+                mu,
+            },
+        )
+}
+
+/// Runs `case` and checks Coulomb's law at every node of every increment:
+/// no node in contact in tension; once the drag has begun (after its first
+/// increment, in which the stick zone releases), no node sticks, and every
+/// sliding node carries |t_t| = mu t_n against its slip (where the output
+/// measures one). The friction of a
+/// sliding node is mu times its multiplier by construction, so the equality
+/// holds to round-off (1e-12, as tests/mortar.rs's drag); no bisection, and
+/// Newton within the issue's median 5 and max 15 iterations.
+fn check_drag(case: &Drag) -> Result<(), TestCaseError> {
+    let problem = contact2d::scene::parse(&case.scene(), std::path::Path::new("drag.toml"))
+        .map_err(|e| TestCaseError::fail(format!("{case:?}: {e}")))?;
+    let times = problem.times.clone();
+    let mut solver = Solver::new(problem).map_err(|e| TestCaseError::fail(e.to_string()))?;
+    let mut iterations = Vec::new();
+    let mut sliding = 0;
+    for t in times {
+        let mut quiet = |_: LogCategory, _: &str| {};
+        let step = solver
+            .advance(t, &mut quiet)
+            .map_err(|e| TestCaseError::fail(format!("{case:?} at t = {t}: {e}")))?;
+        prop_assert_eq!(step.substeps, 0, "{:?} t = {}: bisected", case, t);
+        iterations.push(step.iterations);
+        let nodes = &step.pairs[0].1.nodes;
+        for k in 0..nodes.state.len() {
+            let (tn, tt, slip, state) = (nodes.tn[k], nodes.tt[k], nodes.slip[k], nodes.state[k]);
+            if state != NodeState::Open {
+                prop_assert!(tn >= 0.0, "{:?} t = {} node {}: tn = {}", case, t, k, tn);
+            }
+            if t < 1.3 {
+                continue;
+            }
+            prop_assert_ne!(state, NodeState::Stick, "{:?} t = {} node {}", case, t, k);
+            if state != NodeState::Slip || tn <= 0.0 {
+                continue;
+            }
+            prop_assert!(
+                (tt.abs() - case.mu * tn).abs() <= 1e-12 * tn,
+                "{:?} t = {} node {}: tt = {}, mu tn = {}",
+                case,
+                t,
+                k,
+                tt,
+                case.mu * tn
+            );
+            // (The output's slip is zero for a node that was open when
+            // the increment began: the stiff block's middle node lifts off
+            // a coarse strip's vertex for an increment.)
+            prop_assert!(
+                slip == 0.0 || tt * slip < 0.0,
+                "{:?} t = {} node {}: tt = {} along its slip {}",
+                case,
+                t,
+                k,
+                tt,
+                slip
+            );
+            sliding += 1;
+        }
+    }
+    prop_assert!(sliding > 0, "{:?}: no sliding node", case);
+    let mut sorted = iterations.clone();
+    sorted.sort_unstable();
+    let (median, max) = (sorted[sorted.len() / 2], sorted[sorted.len() - 1]);
+    prop_assert!(
+        median <= 5 && max <= 15,
+        "{:?}: iterations {:?}",
+        case,
+        iterations
+    );
+    Ok(())
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 12, ..ProptestConfig::default() })]
+
+    /// Ignored: fails (`-- --ignored`, 2026-11-29), on two cases proptest
+    /// reduced (docs/performance-log.md, eighth session):
+    /// - 8-node, block 4 sides (E 9579, nu 0) over strip 5 sides (E 100,
+    ///   nu 0), heights 1.10 / 1.78, width 0.5, mu 0.1, plane strain,
+    ///   small strain: mortar fails at t = 2.9 (6 bisections), the node
+    ///   at the tilted block's contact edge pulling in contact (-0.54)
+    ///   and penetrating when open, at every iteration. Frictionless, or
+    ///   with 4-node elements, or node-to-segment: it runs.
+    /// - 4-node, block 9 sides (E 3025, nu 0.427) over strip 1 side (E
+    ///   3323, nu 0), heights 1.37 / 1.68, width 1.69, mu 0.21: the press
+    ///   itself (t < 0.008) fails under both formulations, a node next to
+    ///   the middle alternating between stick and slip (13 changes). The
+    ///   press is proportional loading from zero, so the stick pattern is
+    ///   the same at every load and bisection cannot help.
+    #[test]
+    #[ignore]
+    fn a_block_dragged_over_any_non_matching_strip_slides_with_coulomb_friction(
+        case in prop_oneof![drag("q4"), drag("q8")]
+    ) {
+        check_drag(&case)?;
     }
 }
