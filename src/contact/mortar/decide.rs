@@ -128,6 +128,15 @@ pub(super) fn decide(
         } else {
             Decision::OPEN
         };
+        decisions.push(d);
+    }
+    if !at.start.settling {
+        for j in parting(pair, here, mem, &decisions, [lambda, lambda_t]) {
+            decisions[j] = Decision::STICK;
+        }
+    }
+    for (j, &d) in decisions.iter().enumerate() {
+        let old = Decision::of(&mem.nodes[j]);
         if d != old {
             out.changes += 1;
             if (d.state == NodeState::Open) != (old.state == NodeState::Open) {
@@ -142,9 +151,49 @@ pub(super) fn decide(
                 ));
             }
         }
-        decisions.push(d);
     }
     Ok(decisions)
+}
+
+/// Where two nodes on one side that stuck are both released, sliding in
+/// opposite directions, the one less far outside its friction cone
+/// (`|lambda_t| / (mu lambda)`) sticks for another iteration: the nodes so
+/// held. They are the last of a stick zone, round the point where the slip
+/// changes sign; released together, the slip's zero moved past them and
+/// back at alternate iterations without end (a block of nu = 0.45 pressed
+/// onto one of nu = 0.07 with friction: the press failed at its first
+/// increment). Held, the one left decides alone at the next iteration, so
+/// a pair that must both slide costs one iteration more. Not while the
+/// iterate settles (the caller's test). As the nodal decisions of
+/// node-to-segment contact do (`nodal::parting`).
+fn parting(
+    pair: &ContactPair,
+    here: &PairAt,
+    mem: &PairMemory,
+    decided: &[Decision],
+    [lambda, lambda_t]: [&[f64]; 2],
+) -> Vec<usize> {
+    let released =
+        |k: usize| mem.nodes[k].state == NodeState::Stick && decided[k].state == NodeState::Slip;
+    let excess = |k: usize| {
+        let mu = pair.sticking_mu(mem.nodes[k].nodal.ever_slid);
+        lambda_t[k].abs() / (mu * lambda[k]).max(f64::MIN_POSITIVE)
+    };
+    let mut held: Vec<usize> = Vec::new();
+    for side in &here.contactor.sides {
+        for w in side.windows(2) {
+            let (k, l) = (w[0], w[1]);
+            if !released(k) || !released(l) || decided[k].sign * decided[l].sign >= 0.0 {
+                continue;
+            }
+            // A node held for one pair is not released by the next.
+            if held.contains(&k) || held.contains(&l) {
+                continue;
+            }
+            held.push(if excess(k) < excess(l) { k } else { l });
+        }
+    }
+    held
 }
 
 /// A node in contact with traction `[lambda, lambda_t]` (frictionless: it

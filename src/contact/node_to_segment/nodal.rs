@@ -301,8 +301,65 @@ fn decisions(view: &PairIterate, mem: &PairMemory, plan: &Plan) -> Vec<Decision>
             }
             kept
         }
-        Plan::Decide => (0..view.x.len()).map(|k| decide_node(k, None)).collect(),
+        Plan::Decide => {
+            let mut decided: Vec<Decision> =
+                (0..view.x.len()).map(|k| decide_node(k, None)).collect();
+            for k in parting(view, mem, &decided) {
+                decided[k] = decide_node(k, Some(Forced::Stick));
+            }
+            decided
+        }
     }
+}
+
+/// Where two neighbouring nodes that stuck are both released, sliding in
+/// opposite directions, the one less far outside its friction cone (`|q|
+/// / (mu p_n)`) sticks for another iteration: the nodes so held. Two neighbours pulled apart (or together) are the last of a
+/// stick zone, round the point where the slip changes sign; released
+/// together, the slip's zero moved past them and back at alternate
+/// iterations without end (a block of nu = 0.45 pressed onto one of nu =
+/// 0.07 with friction: the press failed at its first increment). Held, the
+/// one left decides alone at the next iteration, so a pair that must both
+/// slide costs one iteration more. Not while the iterate settles: a strip
+/// held on the capstan's drum by its end forces alone swings on and off
+/// the drum in its first iterations, and holding nodes there kept it from
+/// the state its fallback converges to (`tests/force_driver.rs`).
+fn parting(view: &PairIterate, mem: &PairMemory, decided: &[Decision]) -> Vec<usize> {
+    let m = decided.len();
+    let released =
+        |k: usize| mem.nodes[k].state == NodeState::Stick && decided[k].state == NodeState::Slip;
+    let excess = |k: usize| {
+        let Some((_, cp)) = decided[k].point.as_ref() else {
+            return 0.0;
+        };
+        let (f, seg) = (view.contact_force(k), cp.segment());
+        let (p_n, q) = (-seg.normal().dot(&f), seg.tangent().dot(&f));
+        q.abs() / (sticking_mu(view.pair, &mem.nodes[k]) * p_n).max(f64::MIN_POSITIVE)
+    };
+    let neighbours = if view.pair.closed {
+        m
+    } else {
+        m.saturating_sub(1)
+    };
+    let mut held: Vec<usize> = Vec::new();
+    if view.settling {
+        return held;
+    }
+    for k in 0..neighbours {
+        let l = (k + 1) % m;
+        if k == l || !released(k) || !released(l) {
+            continue;
+        }
+        if decided[k].slip_sign * decided[l].slip_sign >= 0.0 {
+            continue;
+        }
+        // A node held for one pair is not released by the next.
+        if held.contains(&k) || held.contains(&l) {
+            continue;
+        }
+        held.push(if excess(k) < excess(l) { k } else { l });
+    }
+    held
 }
 
 /// The nodes a fresh decision changes: counted for convergence, and
