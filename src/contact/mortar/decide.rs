@@ -82,9 +82,11 @@ impl Decision {
 /// - a node in contact opens when its traction pulls (kept while the
 ///   iterate settles, counted as pending, with no friction to carry);
 /// - an open node closes, as `closing` decides, when its gap weighted by
-///   its hat function is negative (or zero, when touching closes), or when
-///   it shares a side with a node in contact and its weighted gap is
-///   negative (`enters`);
+///   its hat function is negative (or zero, when touching closes); one that
+///   shares a side with a node in contact (`enters`) decides so on its
+///   weighted gap, its multiplier's conjugate, instead: released there
+///   with a weighted gap of zero or more, it stays open (a strip vertex
+///   under its side can make its hat-weighted gap negative then);
 /// - with friction, a node in contact sticks or slides (`frictional`).
 ///
 /// Changes between open and contact and between stick and slip are
@@ -120,13 +122,20 @@ pub(super) fn decide(
                 out.pending += 1;
             }
             frictional(pair, here, &mem.nodes[j], j, [lambda[j], lambda_t[j]])
-        } else if gap.hat_weighted.0 < 0.0
-            || (gap.hat_weighted.0 == 0.0 && at.start.touching)
-            || (gap.value < 0.0 && enters(here, |k| mem.nodes[k].state, j))
-        {
-            closing(pair, here, &mem.nodes[j], j)
         } else {
-            Decision::OPEN
+            // Next to the zone, the node's own weighted gap (its
+            // multiplier's conjugate) decides; elsewhere the hat-weighted
+            // one.
+            let g = if enters(here, |k| mem.nodes[k].state, j) {
+                gap.value
+            } else {
+                gap.hat_weighted.0
+            };
+            if g < 0.0 || (g == 0.0 && at.start.touching) {
+                closing(pair, here, &mem.nodes[j], j)
+            } else {
+                Decision::OPEN
+            }
         };
         decisions.push(d);
     }
@@ -283,9 +292,10 @@ pub(super) fn forced(
 ///   than the force tolerance opens (not while the iterate settles: it is
 ///   then kept in contact, with no friction to carry);
 /// - an open node whose mean gap where the target covers it (weighted by
-///   its hat function) falls below minus the length tolerance closes, and
-///   so does one next to a node in contact (`enters`) whose weighted gap
-///   falls below minus the length tolerance times its area;
+///   its hat function) falls below minus the length tolerance closes; one
+///   next to a node in contact (`enters`) closes when its weighted gap
+///   falls below minus the length tolerance times its area, and on that
+///   alone;
 /// - with friction, a sticking node whose tangential traction exceeds its
 ///   capacity slides against it, and a sliding node whose weighted slip
 ///   turns back by more than the length tolerance (over its area) sticks.
@@ -324,8 +334,8 @@ pub(super) fn predict(
                 if weighted < -length_tol * a {
                     let overlap = -weighted / a;
                     switched.push((j, Forced::Close { j: 0, overlap }));
-                    continue;
                 }
+                continue;
             }
             let mean = h / w;
             let overlap = -(mean + (moved(dh) - mean * moved(dw)) / w);
@@ -362,13 +372,16 @@ pub(super) fn predict(
 
 /// Whether open node j is where the contact zone grows: it shares a side
 /// with a node in contact (`state` of each) and the target covers some of
-/// its sides. Such a node closes on its weighted gap, the quantity its
-/// condition holds at zero, so that it enters with no traction and the
+/// its sides. Such a node closes on its weighted gap alone, the quantity
+/// its condition holds at zero, so that it enters with no traction and the
 /// forces run on continuously as the zone's edge passes it. On its hat
 /// function's gap alone it closed late, already entered by up to 0.006
 /// (a fortieth of a side) on the ironing block, and took its traction at
 /// once: a force jump of 0.3 % every time the ring's leading edge passed a
-/// node. Elsewhere the hat function's gap decides: the dual basis goes
+/// node. On either gap, a node released with a weighted gap of zero or
+/// more over a target vertex showed a negative hat-weighted one and
+/// closed again at every iteration. Elsewhere the hat function's gap
+/// decides: the dual basis goes
 /// negative where the gap grows across a side (a flank rising away, the
 /// far side of a quadratic side), so a node far from the contact zone may
 /// show a negative weighted gap though clear of the target.
