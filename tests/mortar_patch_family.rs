@@ -528,15 +528,21 @@ fn a_dragged_block_s_trailing_corner_leaves_over_a_strip_vertex() {
 proptest! {
     #![proptest_config(ProptestConfig { cases: 12, ..ProptestConfig::default() })]
 
-    /// Ignored: fails (`-- --ignored`, 2026-11-29) on a case proptest
-    /// reduced (docs/performance-log.md, eighth session): 8-node, block 4
-    /// sides (E 9579, nu 0) over strip 5 sides (E 100, nu 0), heights 1.10
-    /// / 1.78, width 0.5, mu 0.1, plane strain, small strain. Mortar
-    /// bisects once at t = 2.2: the stiff block tilts onto a few nodes of
-    /// the soft strip, and the node at its contact edge pulls in contact
-    /// and is inside the strip when open (frictionless, 4-node, or
-    /// node-to-segment: no bisection). The family's other failures are
-    /// fixed and have tests of their own above.
+    /// Ignored: fails (`-- --ignored`, 2026-11-29) on cases proptest
+    /// reduced (docs/performance-log.md, eighth session), both 8-node
+    /// under mortar; node-to-segment runs them:
+    /// - block 4 sides (E 9579, nu 0) over strip 5 sides (E 100, nu 0),
+    ///   heights 1.10 / 1.78, width 0.5, mu 0.1, plane strain, small
+    ///   strain: bisects once at t = 2.2 (the stiff block tilts onto a few
+    ///   nodes of the soft strip; the node at its contact edge pulls in
+    ///   contact and is inside the strip when open);
+    /// - block 10 sides (E 314, nu 0.44) over strip 7 sides (E 18262, nu
+    ///   0), heights 1.01 / 0.3, width 0.5, mu 0.194, plane strain, small
+    ///   strain: the press fails at its first increment, the sticking
+    ///   nodes' tangential multipliers alternating in sign from node to
+    ///   node at 5 to 21 times their capacity while the iterate settles.
+    /// The family's other failures are fixed and have tests of their own
+    /// above.
     #[test]
     #[ignore]
     fn a_block_dragged_over_any_non_matching_strip_slides_with_coulomb_friction(
