@@ -468,3 +468,87 @@ ux = 0.0
         "mortar on the stiff flat: RMS {rms_mortar}, swing {swing_mortar}"
     );
 }
+
+/// A sphere (axisymmetric, 8-node) pressed with friction onto a block whose
+/// top is the contactor, its sides longer than the contact radius: the
+/// zone lies within the block's first side, whose corner on the axis has no
+/// weight (`int N 2 pi r` vanishes there) and takes the state and the
+/// tractions of the side's mid-side node. It reported the dual basis
+/// field's value there instead, -lambda_mid (tension, -229 against +229).
+#[test]
+fn an_axis_node_of_no_weight_reports_its_side_s_traction() {
+    let text = r#"title = "sphere on a block"
+[analysis]
+kind = "axisymmetric"
+kinematics = "small_strain"
+[[material]]
+name = "a"
+model = "linear_elastic"
+E = 17419.5
+nu = 0.35
+[[material]]
+name = "b"
+model = "linear_elastic"
+E = 21345.2
+nu = 0.21
+[[body]]
+name = "sphere"
+material = "a"
+element = "q8"
+mesh = { generator = "disk", center = [0.0, 13.466], radius = 13.466, divisions = 32, ratio = 4.0, half = false }
+[[body]]
+name = "block"
+material = "b"
+element = "q8"
+mesh = { generator = "rectangle", origin = [0.0, -5.734], size = [14.787, 5.734], divisions = [23, 4] }
+[[function]]
+name = "press"
+points = [[0.0, 0.0], [1.0, 1.0]]
+[[driver]]
+name = "base"
+set = "block.bottom"
+ux = 0.0
+uy = 0.0
+[[driver]]
+name = "axis"
+set = "sphere.axis"
+ux = 0.0
+[[driver]]
+name = "block_axis"
+set = "block.left"
+ux = 0.0
+[[driver]]
+name = "press"
+set = "sphere.top"
+uy = { function = "press", scale = -0.03 }
+[[contact]]
+name = "interface"
+contactor = "block.top"
+target = "sphere.arc"
+mu_s = 0.387
+mu_d = 0.387
+[steps]
+dt = 0.25
+t_end = 1.0
+"#;
+    let problem = contact2d::scene::parse(text, std::path::Path::new("sphere.toml")).unwrap();
+    let times = problem.times.clone();
+    let mut solver = Solver::new(problem).unwrap();
+    for t in times {
+        let step = solver.advance(t, &mut |_, _| {}).unwrap();
+        let nodes = &step.pairs[0].1.nodes;
+        let axis = (0..nodes.x.len()).find(|&k| nodes.x[k] == 0.0).unwrap();
+        let next = (0..nodes.x.len())
+            .filter(|&k| k != axis)
+            .min_by(|&a, &b| nodes.x[a].total_cmp(&nodes.x[b]))
+            .unwrap();
+        assert_ne!(nodes.state[axis], NodeState::Open, "t = {t}");
+        assert_eq!(nodes.state[axis], nodes.state[next], "t = {t}");
+        assert!(nodes.tn[axis] > 0.0, "t = {t}: axis tn {}", nodes.tn[axis]);
+        assert_eq!(
+            (nodes.tn[axis], nodes.tt[axis]),
+            (nodes.tn[next], nodes.tt[next]),
+            "t = {t}"
+        );
+    }
+}

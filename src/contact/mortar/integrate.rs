@@ -410,7 +410,7 @@ fn pieces<const N: usize>(
 ) -> Vec<[Dual<N>; 2]> {
     if cover.whole() || cover.pieces.is_empty() {
         // A side the target does not meet keeps the basis of its whole
-        // range (its nodes' traction field, `field_at_node`).
+        // range.
         return vec![[Dual::c(-1.0), Dual::c(1.0)]];
     }
     let (xs0, ns0) = (plain(xs), plain(ns));
@@ -775,29 +775,6 @@ fn chord_xi(xs: &[V2<0>], y: V2<0>) -> f64 {
 
 #[cfg(test)]
 mod tests;
-
-/// The value at side e's node `l` of the field `sum_k c_k Phi_k` over the
-/// side's dual basis (`c`: per contactor node): the traction a node of no
-/// weight reports (an 8-node side's corner on the axis, where `int N_k 2
-/// pi r` vanishes and with it its basis function).
-pub(super) fn field_at_node(s: &Setting, e: usize, l: usize, c: &[f64]) -> f64 {
-    let side = &s.contactor.sides[e];
-    let at = |k: usize| V2::<0>::c(s.x[k]);
-    let xs: Vec<V2<0>> = side.iter().map(|&k| at(k)).collect();
-    let ns = nodal_normals(s.contactor, e, &at);
-    let target_at = |k: usize| V2::<0>::c(s.y[k]);
-    let pieces = pieces(&cover(s, e), &xs, &ns, &target_at);
-    let measured: Vec<V2<0>> = if s.reference_measure {
-        side.iter().map(|&k| V2::c(s.x_ref[k])).collect()
-    } else {
-        xs
-    };
-    let a = dual_basis(s.geometry, &measured, &pieces);
-    let (n, _) = shape(side.len(), Dual::<0>::c(node_xi(side.len(), l)));
-    (0..side.len())
-        .map(|j| c[side[j]] * (0..side.len()).map(|k| a[j][k].v * n[k].v).sum::<f64>())
-        .sum()
-}
 
 /// The contactor's points less the target's points they met at the start
 /// of the increment, weighted, along node k's unit tangent: `tau_k .

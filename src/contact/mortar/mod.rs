@@ -289,17 +289,35 @@ impl PairAt {
     }
 
     /// A node of no weight takes its side's state: that of a node of
-    /// weight on its side in contact, or open.
+    /// weight on its side in contact (`followed`), or open.
     fn weightless_follow(&self, decisions: &mut [Decision]) {
         for j in (0..decisions.len()).filter(|&j| self.weightless[j]) {
-            let side = &self.contactor.sides[self.contactor.on[j][0].0];
-            let closed = (side.iter())
-                .find(|&&k| !self.weightless[k] && decisions[k].state != NodeState::Open);
-            decisions[j] = closed.map_or(Decision::OPEN, |&k| Decision {
-                sign: 0.0,
-                ..decisions[k]
-            });
+            decisions[j] = self
+                .followed(j, decisions)
+                .map_or(Decision::OPEN, |k| Decision {
+                    sign: 0.0,
+                    ..decisions[k]
+                });
         }
+    }
+
+    /// The node of weight in contact on weightless node j's side, nearest
+    /// to it first: whose state node j takes, and whose tractions it
+    /// reports.
+    fn followed(&self, j: usize, decisions: &[Decision]) -> Option<usize> {
+        let side = &self.contactor.sides[self.contactor.on[j][0].0];
+        let near = |&&k: &&usize| {
+            self.x[k]
+                .iter()
+                .zip(&self.x[j])
+                .map(|(a, b)| (a - b).powi(2))
+                .sum::<f64>()
+        };
+        let mut closed: Vec<&usize> = (side.iter())
+            .filter(|&&k| !self.weightless[k] && decisions[k].state != NodeState::Open)
+            .collect();
+        closed.sort_by(|a, b| near(a).total_cmp(&near(b)));
+        closed.first().map(|&&k| k)
     }
 }
 

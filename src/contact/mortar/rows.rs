@@ -3,7 +3,6 @@
 //! reported results.
 
 use super::decide::Decision;
-use super::integrate::field_at_node;
 use super::{Gradient, PairAt};
 use crate::contact::Entries;
 use crate::contact::report::{Report, node_frame};
@@ -158,12 +157,16 @@ pub(super) fn report(
         }
         report.node(xv[j], state, [lambda[j] * area[j], lambda_t[j] * area[j]]);
     }
-    // A node of no weight reports the traction field's value there.
-    let setting = here.setting(&here.x, &here.y);
+    // A node of no weight (an 8-node side's corner on the axis) reports
+    // the tractions of the node whose state it takes. The dual basis
+    // field's value there, sum_k lambda_k Phi_k, is no traction: with the
+    // side's mid-side node alone in contact it is -lambda_mid (a sphere on
+    // a block whose contact zone lay within the first side: the axis node
+    // reported -229 against its neighbour's +229).
     for j in (0..x.len()).filter(|&j| here.weightless[j] && decisions[j].state != NodeState::Open) {
-        let (e, l) = contactor.on[j][0];
-        tn[j] = field_at_node(&setting, e, l, lambda);
-        tt[j] = field_at_node(&setting, e, l, lambda_t);
+        if let Some(k) = here.followed(j, decisions) {
+            (tn[j], tt[j]) = (lambda[k], lambda_t[k]);
+        }
     }
     let mut result = report.result;
     result.nodes.tn = tn;
