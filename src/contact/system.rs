@@ -279,6 +279,41 @@ pub(super) fn count_change(
 /// oscillating (fail fast; the caller bisects).
 const MAX_SLIPS: usize = 2 * MAX_FLIPS;
 
+/// The nodes that stick one iteration more, as both formulations' stick /
+/// slip decisions have it: of two neighbours (`pairs`) that stuck and are
+/// both released (`released`), sliding in opposite directions (`sign`),
+/// the one less far outside its friction cone (`excess`, the tangential
+/// force over its capacity). Two such neighbours are the last of a stick
+/// zone, round the point where the slip changes sign; released together,
+/// the slip's zero moved past them and back at alternate iterations
+/// without end (a block of nu = 0.45 pressed onto one of nu = 0.07 with
+/// friction: the press failed at its first increment under either
+/// formulation). Held, the one left decides alone at the next iteration,
+/// so a pair that must both slide costs one iteration more. A node held
+/// for one pair is not released by the next. The callers leave it out
+/// while the iterate settles: a strip held on the capstan's drum by its end
+/// forces alone swings on and off the drum in its first iterations, and
+/// holding nodes there kept it from the state its fallback converges to
+/// (`tests/force_driver.rs`).
+pub(super) fn parting(
+    pairs: impl Iterator<Item = (usize, usize)>,
+    released: impl Fn(usize) -> bool,
+    sign: impl Fn(usize) -> f64,
+    excess: impl Fn(usize) -> f64,
+) -> Vec<usize> {
+    let mut held: Vec<usize> = Vec::new();
+    for (k, l) in pairs {
+        if k == l || !released(k) || !released(l) || sign(k) * sign(l) >= 0.0 {
+            continue;
+        }
+        if held.contains(&k) || held.contains(&l) {
+            continue;
+        }
+        held.push(if excess(k) < excess(l) { k } else { l });
+    }
+    held
+}
+
 /// One more change of node `k` between stick and slip (`MAX_SLIPS`).
 pub(super) fn count_slip(pair: &ContactPair, k: usize, slips: &mut [usize]) -> Result<(), String> {
     count_change(pair, k, slips, MAX_SLIPS, "stick and slip")

@@ -7,7 +7,7 @@
 use super::{Decided, PairAt};
 use crate::contact::Prediction;
 use crate::contact::memory::{NodeMemory, PairMemory};
-use crate::contact::system::{ContactSystem, Forced, Iterate, count_flip, count_slip};
+use crate::contact::system::{self, ContactSystem, Forced, Iterate, count_flip, count_slip};
 use crate::problem::{ContactPair, FrictionRule};
 use crate::results::NodeState;
 
@@ -164,17 +164,10 @@ pub(super) fn decide(
     Ok(decisions)
 }
 
-/// Where two nodes on one side that stuck are both released, sliding in
-/// opposite directions, the one less far outside its friction cone
-/// (`|lambda_t| / (mu lambda)`) sticks for another iteration: the nodes so
-/// held. They are the last of a stick zone, round the point where the slip
-/// changes sign; released together, the slip's zero moved past them and
-/// back at alternate iterations without end (a block of nu = 0.45 pressed
-/// onto one of nu = 0.07 with friction: the press failed at its first
-/// increment). Held, the one left decides alone at the next iteration, so
-/// a pair that must both slide costs one iteration more. Not while the
-/// iterate settles (the caller's test). As the nodal decisions of
-/// node-to-segment contact do (`nodal::parting`).
+/// The nodes that stick one iteration more (`system::parting`): of two
+/// nodes next to each other on a side, released from sticking in opposite
+/// directions, the one less far outside its friction cone (`|lambda_t| /
+/// (mu lambda)`). The caller leaves it out while the iterate settles.
 fn parting(
     pair: &ContactPair,
     here: &PairAt,
@@ -182,27 +175,16 @@ fn parting(
     decided: &[Decision],
     [lambda, lambda_t]: [&[f64]; 2],
 ) -> Vec<usize> {
-    let released =
-        |k: usize| mem.nodes[k].state == NodeState::Stick && decided[k].state == NodeState::Slip;
     let excess = |k: usize| {
         let mu = pair.sticking_mu(mem.nodes[k].nodal.ever_slid);
         lambda_t[k].abs() / (mu * lambda[k]).max(f64::MIN_POSITIVE)
     };
-    let mut held: Vec<usize> = Vec::new();
-    for side in &here.contactor.sides {
-        for w in side.windows(2) {
-            let (k, l) = (w[0], w[1]);
-            if !released(k) || !released(l) || decided[k].sign * decided[l].sign >= 0.0 {
-                continue;
-            }
-            // A node held for one pair is not released by the next.
-            if held.contains(&k) || held.contains(&l) {
-                continue;
-            }
-            held.push(if excess(k) < excess(l) { k } else { l });
-        }
-    }
-    held
+    system::parting(
+        (here.contactor.sides.iter()).flat_map(|side| side.windows(2).map(|w| (w[0], w[1]))),
+        |k| mem.nodes[k].state == NodeState::Stick && decided[k].state == NodeState::Slip,
+        |k| decided[k].sign,
+        excess,
+    )
 }
 
 /// A node in contact with traction `[lambda, lambda_t]` (frictionless: it

@@ -306,18 +306,10 @@ impl PairAt {
     /// reports.
     fn followed(&self, j: usize, decisions: &[Decision]) -> Option<usize> {
         let side = &self.contactor.sides[self.contactor.on[j][0].0];
-        let near = |&&k: &&usize| {
-            self.x[k]
-                .iter()
-                .zip(&self.x[j])
-                .map(|(a, b)| (a - b).powi(2))
-                .sum::<f64>()
-        };
-        let mut closed: Vec<&usize> = (side.iter())
-            .filter(|&&k| !self.weightless[k] && decisions[k].state != NodeState::Open)
-            .collect();
-        closed.sort_by(|a, b| near(a).total_cmp(&near(b)));
-        closed.first().map(|&&k| k)
+        let distance = |k: usize| (self.x[k][0] - self.x[j][0]).hypot(self.x[k][1] - self.x[j][1]);
+        (side.iter().copied())
+            .filter(|&k| !self.weightless[k] && decisions[k].state != NodeState::Open)
+            .min_by(|&a, &b| distance(a).total_cmp(&distance(b)))
     }
 }
 

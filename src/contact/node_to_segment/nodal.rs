@@ -20,7 +20,7 @@ use crate::contact::search::{
 };
 use crate::contact::segment::ContactPoint;
 use crate::contact::sensitivity::{At, Linearised};
-use crate::contact::system::{ContactSystem, Forced, Iterate, Kept, count_flip, count_slip};
+use crate::contact::system::{self, ContactSystem, Forced, Iterate, Kept, count_flip, count_slip};
 use crate::problem::{ContactPair, FrictionRule, Recovery};
 use crate::results::{NodeState, PairResult};
 use nalgebra::Vector2;
@@ -312,22 +312,15 @@ fn decisions(view: &PairIterate, mem: &PairMemory, plan: &Plan) -> Vec<Decision>
     }
 }
 
-/// Where two neighbouring nodes that stuck are both released, sliding in
-/// opposite directions, the one less far outside its friction cone (`|q|
-/// / (mu p_n)`) sticks for another iteration: the nodes so held. Two neighbours pulled apart (or together) are the last of a
-/// stick zone, round the point where the slip changes sign; released
-/// together, the slip's zero moved past them and back at alternate
-/// iterations without end (a block of nu = 0.45 pressed onto one of nu =
-/// 0.07 with friction: the press failed at its first increment). Held, the
-/// one left decides alone at the next iteration, so a pair that must both
-/// slide costs one iteration more. Not while the iterate settles: a strip
-/// held on the capstan's drum by its end forces alone swings on and off
-/// the drum in its first iterations, and holding nodes there kept it from
-/// the state its fallback converges to (`tests/force_driver.rs`).
+/// The nodes that stick one iteration more (`system::parting`): of two
+/// neighbouring contactor nodes released from sticking in opposite
+/// directions, the one less far outside its friction cone (`|q| / (mu
+/// p_n)`); none while the iterate settles.
 fn parting(view: &PairIterate, mem: &PairMemory, decided: &[Decision]) -> Vec<usize> {
     let m = decided.len();
-    let released =
-        |k: usize| mem.nodes[k].state == NodeState::Stick && decided[k].state == NodeState::Slip;
+    if view.settling || m < 2 {
+        return Vec::new();
+    }
     let excess = |k: usize| {
         let Some((_, cp)) = decided[k].point.as_ref() else {
             return 0.0;
@@ -336,30 +329,13 @@ fn parting(view: &PairIterate, mem: &PairMemory, decided: &[Decision]) -> Vec<us
         let (p_n, q) = (-seg.normal().dot(&f), seg.tangent().dot(&f));
         q.abs() / (sticking_mu(view.pair, &mem.nodes[k]) * p_n).max(f64::MIN_POSITIVE)
     };
-    let neighbours = if view.pair.closed {
-        m
-    } else {
-        m.saturating_sub(1)
-    };
-    let mut held: Vec<usize> = Vec::new();
-    if view.settling {
-        return held;
-    }
-    for k in 0..neighbours {
-        let l = (k + 1) % m;
-        if k == l || !released(k) || !released(l) {
-            continue;
-        }
-        if decided[k].slip_sign * decided[l].slip_sign >= 0.0 {
-            continue;
-        }
-        // A node held for one pair is not released by the next.
-        if held.contains(&k) || held.contains(&l) {
-            continue;
-        }
-        held.push(if excess(k) < excess(l) { k } else { l });
-    }
-    held
+    let neighbours = if view.pair.closed { m } else { m - 1 };
+    system::parting(
+        (0..neighbours).map(|k| (k, (k + 1) % m)),
+        |k| mem.nodes[k].state == NodeState::Stick && decided[k].state == NodeState::Slip,
+        |k| decided[k].slip_sign,
+        excess,
+    )
 }
 
 /// The nodes a fresh decision changes: counted for convergence, and
