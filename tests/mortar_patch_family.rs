@@ -541,6 +541,9 @@ proptest! {
     ///   strain: the press fails at its first increment, the sticking
     ///   nodes' tangential multipliers alternating in sign from node to
     ///   node at 5 to 21 times their capacity while the iterate settles.
+    ///   It is one cell of a region that node-to-segment fails as well,
+    ///   with 4- and 8-node elements (`scripts/press_sweep.py`: nu >=
+    ///   0.44, mu 0.15-0.3; docs/performance-log.md, ninth session).
     /// The family's other failures are fixed and have tests of their own
     /// above.
     #[test]
