@@ -36,12 +36,18 @@ struct InnerSolves {
     count: usize,
     seen: Vec<u64>,
     flipped: Vec<Vec<usize>>,
+    /// The nodes (pair, node) each inner solve's states changed.
+    changed: Vec<Vec<(usize, usize)>>,
+    /// The states met a second time after changes at every node of a
+    /// pair's contact zone: the decisions wander.
+    wandered: bool,
 }
 
 /// A solve before the decisions the linearised problem took from it: its
 /// solution, the contact memory and rows it was made with, and, when it
 /// was left partial (`Augmented::solve_watching`), its right-hand side and
 /// entries.
+#[derive(Clone)]
 struct KeptSolve {
     full: Vec<f64>,
     memory: Vec<PairMemory>,
@@ -1555,6 +1561,11 @@ impl Solver {
         // The solve before the decisions the linearised problem takes from
         // it, kept until the next solve shows those decisions hold.
         let mut kept: Option<KeptSolve> = None;
+        // The solve of the iterate's own decisions, kept from the first
+        // inner solve on: from the first Newton iterate on, the iteration
+        // goes on from it when the inner solves do not settle
+        // (`unsettled`).
+        let mut first: Option<KeptSolve> = None;
         let full = loop {
             let mut full = self.constraint_system(step, system.as_ref(), &rhs_now, extra);
             *solves += 1;
@@ -1595,11 +1606,20 @@ impl Solver {
             }
             solved?;
             let Some((sys, rhs_base)) = system.as_ref().zip(rhs_base).filter(|_| more) else {
+                if let Some(first) = first
+                    .take()
+                    .filter(|_| inner.count >= MAX_INNER && step.it > 0)
+                {
+                    break self.unsettled(first, step, memory, &mut system, extra, log)?;
+                }
                 break self.finish_inner(partial, full, extra)?;
             };
             let Some(switched) =
                 self.next_inner_states(step, sys, &full, memory, &mut inner, log)?
             else {
+                if let Some(first) = first.take().filter(|_| inner.wandered && step.it > 0) {
+                    break self.unsettled(first, step, memory, &mut system, extra, log)?;
+                }
                 break self.finish_inner(partial, full, extra)?;
             };
             let deferred = b.filter(|_| partial).map(|b| (b, extra.clone()));
@@ -1617,6 +1637,9 @@ impl Solver {
                 system: system.replace(rebuilt),
                 deferred,
             });
+            if first.is_none() {
+                first = kept.clone();
+            }
         };
         Ok((full, system))
     }
@@ -1670,10 +1693,57 @@ impl Solver {
         if !wild {
             return Ok(None);
         }
+        self.restore_solve(previous, memory, system, extra)
+            .map(Some)
+    }
+
+    /// The inner solves of an iteration after the predictor's met the same
+    /// states twice, or `MAX_INNER` of them did not settle: the iteration
+    /// goes on from its first solve, the iterate's own decisions
+    /// (`first`), and the outer iteration decides. Keeping the last inner
+    /// solve instead kept whichever state the wandering stopped at: a block
+    /// of nu = 0.44 pressed with friction onto a stiffer strip moved its
+    /// one-node stick zone four nodes and back at every iteration and
+    /// failed its first increment (`scripts/press_sweep.py`,
+    /// docs/performance-log.md, ninth session). Not at the predictor's
+    /// iteration: there the iterate's decisions are the last increment's,
+    /// which the new load may overturn at every node (the capstan of the
+    /// stress suite, 2x: all 128 nodes alternated between stick and slip
+    /// from iteration to iteration, and the increment bisected), and the
+    /// linearised problem's last states are the better guess.
+    fn unsettled(
+        &mut self,
+        first: KeptSolve,
+        step: &Step,
+        memory: &mut Vec<PairMemory>,
+        system: &mut Option<ContactSystem>,
+        extra: &mut Vec<(usize, usize, f64)>,
+        log: &mut dyn FnMut(LogCategory, &str),
+    ) -> Result<Vec<f64>, String> {
+        let (t, it) = (step.t, step.it);
+        log(
+            LogCategory::Contact,
+            &format!(
+                "t = {t:.6e} it {it}: the inner solves did not settle; the iterate's own \
+                 decisions stand"
+            ),
+        );
+        self.restore_solve(first, memory, system, extra)
+    }
+
+    /// The solve `previous` with its memory and rows restored (solved again
+    /// in full if it was left partial).
+    fn restore_solve(
+        &mut self,
+        previous: KeptSolve,
+        memory: &mut Vec<PairMemory>,
+        system: &mut Option<ContactSystem>,
+        extra: &mut Vec<(usize, usize, f64)>,
+    ) -> Result<Vec<f64>, String> {
         *memory = previous.memory;
         *system = previous.system;
         let Some((rhs_prev, extra_prev)) = previous.deferred else {
-            return Ok(Some(previous.full));
+            return Ok(previous.full);
         };
         // That solve was left partial: solved again in full.
         *extra = extra_prev;
@@ -1681,7 +1751,7 @@ impl Solver {
         let (pattern, k) = (&self.model.pattern, &self.k);
         (self.augmented.solve(pattern, k, extra, &mut x))
             .map_err(|e| format!("constraint system: {e}"))?;
-        Ok(Some(x))
+        Ok(x)
     }
 
     /// The nodes the linearised problem decides otherwise than `sys`'s rows
@@ -1689,8 +1759,9 @@ impl Solver {
     /// solve: None when none changes, when each change would open or close a
     /// node once too often in this iteration (`INNER_FLIPS`; none while the
     /// increment leaves opening and closing to the iterate), or when the
-    /// states were met before in this iteration (the decisions cycle: the
-    /// outer iteration decides then).
+    /// states were met before in this iteration (the decisions cycle:
+    /// `inner.cycled`, and the outer iteration decides from the first
+    /// solve, `unsettled`).
     fn next_inner_states(
         &mut self,
         step: &Step,
@@ -1712,10 +1783,25 @@ impl Solver {
             return Ok(None);
         }
         let key = contact::state_key(memory, &switched);
-        if inner.seen.contains(&key) {
+        let nodes = switched.nodes();
+        if let Some(at) = inner.seen.iter().position(|&k| k == key) {
+            // The changes that lead round the cycle, from the states met
+            // before (reached by `changed[at]`) back to them.
+            let mut round: Vec<(usize, usize)> = inner.changed[at + 1..].concat();
+            round.extend(&nodes);
+            round.sort_unstable();
+            round.dedup();
+            // Every node of a pair's contact zone changed on the way.
+            inner.wandered = memory.iter().enumerate().any(|(p, m)| {
+                let mut zone = (m.nodes.iter().enumerate())
+                    .filter(|(_, n)| n.state != crate::results::NodeState::Open)
+                    .peekable();
+                zone.peek().is_some() && zone.all(|(k, _)| round.binary_search(&(p, k)).is_ok())
+            });
             return Ok(None);
         }
         inner.seen.push(key);
+        inner.changed.push(nodes);
         inner.count += 1;
         let [opened, closed, slips] = switched.counts();
         self.inner_flips += opened + closed;

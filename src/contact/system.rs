@@ -127,6 +127,13 @@ impl Switched {
         self.0.iter().map(Vec::len).sum()
     }
 
+    /// The (pair, contactor node) of every change.
+    pub fn nodes(&self) -> Vec<(usize, usize)> {
+        (self.0.iter().enumerate())
+            .flat_map(|(p, s)| s.iter().map(move |&(k, _)| (p, k)))
+            .collect()
+    }
+
     /// How many nodes open, close, and change between stick and slip.
     pub fn counts(&self) -> [usize; 3] {
         let mut c = [0; 3];
