@@ -1562,8 +1562,8 @@ impl Solver {
         // it, kept until the next solve shows those decisions hold.
         let mut kept: Option<KeptSolve> = None;
         // The solve of the iterate's own decisions, kept from the first
-        // inner solve on: from the first Newton iterate on, the iteration
-        // goes on from it when the inner solves do not settle
+        // inner solve on where they may stand (`iterate_decides`): the
+        // iteration goes on from it when the inner solves do not settle
         // (`unsettled`).
         let mut first: Option<KeptSolve> = None;
         let full = loop {
@@ -1606,10 +1606,7 @@ impl Solver {
             }
             solved?;
             let Some((sys, rhs_base)) = system.as_ref().zip(rhs_base).filter(|_| more) else {
-                if let Some(first) = first
-                    .take()
-                    .filter(|_| inner.count >= MAX_INNER && self.iterate_decides(step))
-                {
+                if let Some(first) = first.take().filter(|_| inner.count >= MAX_INNER) {
                     break self.unsettled(first, step, memory, &mut system, extra, log)?;
                 }
                 break self.finish_inner(partial, full, extra)?;
@@ -1617,10 +1614,7 @@ impl Solver {
             let Some(switched) =
                 self.next_inner_states(step, sys, &full, memory, &mut inner, log)?
             else {
-                if let Some(first) = first
-                    .take()
-                    .filter(|_| inner.wandered && self.iterate_decides(step))
-                {
+                if let Some(first) = first.take().filter(|_| inner.wandered) {
                     break self.unsettled(first, step, memory, &mut system, extra, log)?;
                 }
                 break self.finish_inner(partial, full, extra)?;
@@ -1640,7 +1634,7 @@ impl Solver {
                 system: system.replace(rebuilt),
                 deferred,
             });
-            if first.is_none() {
+            if first.is_none() && self.iterate_decides(step) {
                 first = kept.clone();
             }
         };
@@ -1700,8 +1694,10 @@ impl Solver {
             .map(Some)
     }
 
-    /// The inner solves of an iteration after the predictor's met the same
-    /// states twice, or `MAX_INNER` of them did not settle: the iteration
+    /// The inner solves of an iteration where the iterate's decisions may
+    /// stand (`iterate_decides`) cycled through every node of a pair's
+    /// contact zone (`InnerSolves::wandered`), or `MAX_INNER` of them did
+    /// not settle: the iteration
     /// goes on from its first solve, the iterate's own decisions
     /// (`first`), and the outer iteration decides. Keeping the last inner
     /// solve instead kept whichever state the wandering stopped at: a block
@@ -1775,9 +1771,10 @@ impl Solver {
     /// solve: None when none changes, when each change would open or close a
     /// node once too often in this iteration (`INNER_FLIPS`; none while the
     /// increment leaves opening and closing to the iterate), or when the
-    /// states were met before in this iteration (the decisions cycle:
-    /// `inner.cycled`, and the outer iteration decides from the first
-    /// solve, `unsettled`).
+    /// states were met before in this iteration (the decisions cycle; when
+    /// the cycle changed every node of a pair's contact zone,
+    /// `inner.wandered`, the outer iteration decides from the first solve,
+    /// `unsettled`).
     fn next_inner_states(
         &mut self,
         step: &Step,

@@ -322,6 +322,16 @@ times = [0.5, 1.0, 1.2, 1.4, 1.6, 1.8, 2.0, 2.2, 2.4, 2.6, 2.8, 3.0]
     }
 }
 
+impl Drag {
+    /// `scene` with the pair's `formulation` set.
+    fn scene_as(&self, formulation: &str) -> String {
+        self.scene().replace(
+            "target = \"strip.top\"",
+            &format!("target = \"strip.top\"\nformulation = \"{formulation}\""),
+        )
+    }
+}
+
 fn drag(element: &'static str) -> impl Strategy<Value = Drag> {
     let material = (2.0..5.0f64, 0.0..0.45f64).prop_map(|(lg, nu)| [10f64.powf(lg), nu]);
     (
@@ -447,10 +457,7 @@ fn a_frictional_press_of_unlike_poisson_ratios_settles_its_stick_zone() {
             kinematics: "total_lagrangian",
             mu: 0.1573,
         };
-        let text = case.scene().replace(
-            "target = \"strip.top\"",
-            &format!("target = \"strip.top\"\nformulation = \"{formulation}\""),
-        );
+        let text = case.scene_as(formulation);
         let problem = contact2d::scene::parse(&text, std::path::Path::new("drag.toml")).unwrap();
         let mut solver = Solver::new(problem).unwrap();
         let mut quiet = |_: LogCategory, _: &str| {};
@@ -528,10 +535,7 @@ fn a_frictional_press_of_a_nearly_incompressible_block_settles_when_the_inner_so
                 kinematics: "small_strain",
                 mu,
             };
-            let text = case.scene().replace(
-                "target = \"strip.top\"",
-                &format!("target = \"strip.top\"\nformulation = \"{formulation}\""),
-            );
+            let text = case.scene_as(formulation);
             // Coulomb on the reported tractions: mortar's are its
             // multipliers (round-off); node-to-segment's on 4-node sides
             // each node's out-of-balance force over its length, which
