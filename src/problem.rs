@@ -216,6 +216,11 @@ pub enum Target {
     Body {
         body: usize,
         segments: Vec<[usize; 2]>,
+        /// A smoothed target (`smooth_target`, node-to-segment): each
+        /// segment's outer neighbours `[P, Q]`, the nodes before A and after
+        /// B along the surface (None at an end of the target), through which
+        /// its curve runs (`contact::segment::Segment::smoothed`).
+        smooth: Option<Vec<[Option<usize>; 2]>>,
     },
     /// A rigid target (index into `Problem::rigids`); its segments join
     /// consecutive points.

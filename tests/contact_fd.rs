@@ -154,6 +154,7 @@ fn patch(kind: ElementKind, rigid: bool) -> Patch {
         Target::Body {
             body: 1,
             segments: top.windows(2).map(|w| [w[0], w[1]]).collect(),
+            smooth: None,
         }
     };
     problem.contacts.push(ContactPair {

@@ -20,6 +20,7 @@ const SLIDE_START: f64 = 1.0;
 const CONTACTOR_RING: &str = "contactor = \"ring.outer\"\ntarget = \"block.top\"";
 const CONTACTOR_BLOCK: &str = "contactor = \"block.top\"\ntarget = \"ring.outer\"";
 const NODE_TO_SEGMENT: &str = "formulation = \"node_to_segment\"";
+const SMOOTH: &str = "formulation = \"node_to_segment\"\nsmooth_target = true";
 
 /// One variant of the scene: its formulation and which surface is contactor.
 struct Variant {
@@ -28,6 +29,8 @@ struct Variant {
     ring_contactor: bool,
     /// Coulomb's coefficient (mu_s = mu_d); 0: frictionless, as shipped.
     mu: f64,
+    /// Node-to-segment against the smoothed target (`smooth_target`).
+    smooth: bool,
 }
 
 /// What a run of the variant gave.
@@ -46,6 +49,9 @@ fn run(v: &Variant) -> Run {
     }
     if v.mortar {
         edits.push((NODE_TO_SEGMENT, "formulation = \"mortar\""));
+    }
+    if v.smooth {
+        edits.push((NODE_TO_SEGMENT, SMOOTH));
     }
     if v.ring_contactor {
         edits.push((CONTACTOR_BLOCK, CONTACTOR_RING));
@@ -162,10 +168,15 @@ fn check(v: &Variant) -> [f64; 2] {
 // - frictionless, block as contactor: node-to-segment 0.0173 / 0.0079
 //   (3 / 9), mortar 0.0025 / 0.0013 (3 / 5);
 // - frictionless, ring as contactor: mortar 0.0020 / 0.0013 (3 / 5);
-//   node-to-segment fails at t = 1.07 (below);
+//   node-to-segment fails at t = 1.07 against the block's facets (below),
+//   and runs against its smoothed top (`smooth_target`): 0.0032 / 0.0023
+//   (4 / 5);
+// - frictionless, block as contactor against the ring smoothed:
+//   node-to-segment 0.0026 / 0.0016 (3 / 5);
 // - mu = 0.3, block as contactor: node-to-segment 0.0332 / 0.0130 (4 /
 //   10), mortar 0.0059 / 0.0028 (3 / 5); ring as contactor: mortar 0.0056
-//   / 0.0009 (3 / 6).
+//   / 0.0009 (3 / 6), node-to-segment against the smoothed top 0.0060 /
+//   0.0019 (3 / 7).
 // Node-to-segment's jumps come where a block node crosses a vertex of the
 // ring's facets (the normal it is held along turns by 5.6 degrees);
 // mortar's are those of a rigid circle of 960 sides slid the same way
@@ -180,6 +191,7 @@ fn node_to_segment_block_contactor() {
         mortar: false,
         ring_contactor: false,
         mu: 0.0,
+        smooth: false,
     });
     assert!(jump[0] < 0.02 && jump[1] < 0.009, "{jump:?}");
 }
@@ -191,6 +203,7 @@ fn mortar_block_contactor() {
         mortar: true,
         ring_contactor: false,
         mu: 0.0,
+        smooth: false,
     });
     assert!(jump[0] < 0.003 && jump[1] < 0.0015, "{jump:?}");
 }
@@ -210,6 +223,7 @@ fn mortar_jumps_are_a_fraction_of_node_to_segments() {
                     mortar,
                     ring_contactor: false,
                     mu,
+                    smooth: false,
                 })
                 .steps,
             )
@@ -225,22 +239,64 @@ fn mortar_jumps_are_a_fraction_of_node_to_segments() {
     }
 }
 
-// With the ring's surface as contactor, node-to-segment fails at t = 1.07,
-// frictionless and with mu = 0.3: Newton falls into a two-iterate cycle
-// (|r|/F alternating 2.2e-3 / 3.2e-3, no contact state changing) as ring
-// nodes switch between the block's segments; it states the target, run it
-// with `-- --ignored`. (On the ring's 48 sides with these increments it
-// ran with no bisection, 19 iterations at most.)
+// With the ring's surface as contactor against the block's faceted top,
+// node-to-segment fails at t = 1.08, frictionless and with mu = 0.3: the
+// soft block's vertices rise between the stiff ring's nodes, ring nodes
+// lodge in the valleys between its facets and are held there at the
+// vertex, and near-converged iterates are thrown back each time one steps
+// past a vertex (docs/performance-log.md, eighth and ninth sessions).
+// Against the smoothed top (`smooth_target`, the tests above) it runs.
+// This one states what the facets do; run it with `-- --ignored`.
 
 #[test]
-#[ignore = "node-to-segment with the ring as contactor fails at t = 1.07 (segment switching)"]
+#[ignore = "node-to-segment, ring contactor, faceted target: fails at t = 1.08 (smooth_target runs it)"]
 fn node_to_segment_ring_contactor() {
     check(&Variant {
         name: "node_to_segment, ring contactor",
         mortar: false,
         ring_contactor: true,
         mu: 0.0,
+        smooth: false,
     });
+}
+
+/// Node-to-segment with the ring as contactor, against the block's top
+/// smoothed (`smooth_target`): no corner for a ring node to lodge in, and
+/// the slide runs whole.
+#[test]
+fn node_to_segment_ring_contactor_smoothed_target() {
+    let jump = check(&Variant {
+        name: "node_to_segment, ring contactor, smoothed target",
+        mortar: false,
+        ring_contactor: true,
+        mu: 0.0,
+        smooth: true,
+    });
+    assert!(jump[0] < 0.004 && jump[1] < 0.003, "{jump:?}");
+}
+
+#[test]
+fn node_to_segment_ring_contactor_smoothed_target_with_friction() {
+    let jump = check(&Variant {
+        name: "node_to_segment, ring contactor, smoothed target, mu = 0.3",
+        mortar: false,
+        ring_contactor: true,
+        mu: 0.3,
+        smooth: true,
+    });
+    assert!(jump[0] < 0.007 && jump[1] < 0.0025, "{jump:?}");
+}
+
+#[test]
+fn node_to_segment_block_contactor_smoothed_target() {
+    let jump = check(&Variant {
+        name: "node_to_segment, block contactor, smoothed target",
+        mortar: false,
+        ring_contactor: false,
+        mu: 0.0,
+        smooth: true,
+    });
+    assert!(jump[0] < 0.003 && jump[1] < 0.002, "{jump:?}");
 }
 
 #[test]
@@ -250,6 +306,7 @@ fn mortar_ring_contactor() {
         mortar: true,
         ring_contactor: true,
         mu: 0.0,
+        smooth: false,
     });
     assert!(jump[0] < 0.0025 && jump[1] < 0.0015, "{jump:?}");
 }
@@ -261,6 +318,7 @@ fn node_to_segment_block_contactor_with_friction() {
         mortar: false,
         ring_contactor: false,
         mu: 0.3,
+        smooth: false,
     });
     assert!(jump[0] < 0.035 && jump[1] < 0.014, "{jump:?}");
 }
@@ -272,6 +330,7 @@ fn mortar_block_contactor_with_friction() {
         mortar: true,
         ring_contactor: false,
         mu: 0.3,
+        smooth: false,
     });
     assert!(jump[0] < 0.0065 && jump[1] < 0.003, "{jump:?}");
 }
@@ -283,6 +342,7 @@ fn mortar_ring_contactor_with_friction() {
         mortar: true,
         ring_contactor: true,
         mu: 0.3,
+        smooth: false,
     });
     assert!(jump[0] < 0.0065 && jump[1] < 0.0015, "{jump:?}");
 }

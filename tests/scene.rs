@@ -1496,7 +1496,8 @@ fn contact_pairs_and_rigids_resolve() {
         wheel_on_block.target,
         Target::Body {
             body: 0,
-            segments: vec![[5, 4], [4, 3]]
+            segments: vec![[5, 4], [4, 3]],
+            smooth: None,
         }
     );
     assert_eq!((x(5), x(4), x(3)), ([2.0, 1.0], [1.0, 1.0], [0.0, 1.0]));
@@ -1522,7 +1523,7 @@ fn contact_pairs_and_rigids_resolve() {
         (block_under_wheel.mu_s, block_under_wheel.mu_d),
         (0.25, 0.25)
     );
-    let Target::Body { body, segments } = &block_under_wheel.target else {
+    let Target::Body { body, segments, .. } = &block_under_wheel.target else {
         panic!("a body target")
     };
     assert_eq!(*body, 1);

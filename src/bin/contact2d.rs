@@ -873,7 +873,7 @@ fn describe_contacts(o: &mut String, p: &Problem) {
     let body_name = |i: usize| p.bodies.get(i).map_or("?", |b| b.name.as_str());
     for c in &p.contacts {
         let target = match &c.target {
-            Target::Body { body, segments } => {
+            Target::Body { body, segments, .. } => {
                 format!(
                     "body {} ({})",
                     body_name(*body),

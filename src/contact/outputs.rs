@@ -197,7 +197,7 @@ fn nearest_of<'a>(
             best = d;
             found = Some(Nearest {
                 gap: if raw.gap() < 0.0 { -d } else { d },
-                normal: s.seg.normal(),
+                normal: s.seg.frame_at(beta).0,
                 segment: j,
                 beta,
             });

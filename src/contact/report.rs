@@ -43,7 +43,7 @@ impl Report {
         cp: &ContactPoint,
         rigid: &mut [[f64; 3]],
     ) -> [f64; 2] {
-        let (normal, tangent) = (cp.segment().normal(), cp.segment().tangent());
+        let (normal, tangent) = (cp.normal(), cp.tangent());
         let result = &mut self.result;
         result.fx += f.x;
         result.fy += f.y;

@@ -16,11 +16,14 @@ use std::sync::{Arc, Mutex};
 pub(crate) const BETA_TOLERANCE: f64 = 1e-6;
 
 /// A target segment at the current time: end points and node numbers
-/// (None for a rigid target).
+/// (None for a rigid target), and on a smoothed target the outer
+/// neighbours' node numbers `[P, Q]` (None at an end of the target, where
+/// the curve mirrors the end node).
 #[derive(Clone)]
 pub(crate) struct TargetSegment {
     pub(crate) seg: Segment,
     pub(crate) nodes: Option<[usize; 2]>,
+    pub(crate) around: [Option<usize>; 2],
     lo: [f64; 2],
     hi: [f64; 2],
 }
@@ -34,13 +37,28 @@ impl TargetSegment {
             || x.y > self.hi[1] + reach)
     }
 
+    /// The segment's box: its ends', or a smoothed segment's Bezier control
+    /// points' (the curve lies in their hull).
     pub(crate) fn new(seg: Segment, nodes: Option<[usize; 2]>) -> Self {
         let (xa, xb) = (seg.xa(), seg.xb());
+        let mut points = vec![xa, xb];
+        if seg.is_smooth() {
+            let (d0, d1) = (seg.curve(0.0), seg.curve(1.0));
+            if let (Some(d0), Some(d1)) = (d0, d1) {
+                points.extend([xa + d0.d1 / 3.0, xb - d1.d1 / 3.0]);
+            }
+        }
+        let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+        for p in points {
+            lo = [lo[0].min(p.x), lo[1].min(p.y)];
+            hi = [hi[0].max(p.x), hi[1].max(p.y)];
+        }
         TargetSegment {
             seg,
             nodes,
-            lo: [xa.x.min(xb.x), xa.y.min(xb.y)],
-            hi: [xa.x.max(xb.x), xa.y.max(xb.y)],
+            around: [None; 2],
+            lo,
+            hi,
         }
     }
 }
@@ -377,14 +395,22 @@ pub(crate) fn target_segments(
         Ok(TargetSegment::new(seg, nodes))
     };
     match &pair.target {
-        Target::Body { segments, .. } => segments
-            .iter()
-            .map(|&[a, b]| {
-                make(
-                    position(problem, u, a),
-                    position(problem, u, b),
-                    Some([a, b]),
-                )
+        Target::Body {
+            segments, smooth, ..
+        } => (segments.iter().enumerate())
+            .map(|(j, &[a, b])| {
+                let (xa, xb) = (position(problem, u, a), position(problem, u, b));
+                let Some(around) = smooth.as_ref().and_then(|s| s.get(j)) else {
+                    return make(xa, xb, Some([a, b]));
+                };
+                // At an end of the target the end node is mirrored.
+                let [p, q] = *around;
+                let xp = p.map_or(2.0 * xa - xb, |p| position(problem, u, p));
+                let xq = q.map_or(2.0 * xb - xa, |q| position(problem, u, q));
+                let seg = Segment::new(xa, xb).map_err(|e| format!("pair '{}': {e}", pair.name))?;
+                let mut s = TargetSegment::new(seg.smoothed([xp, xq]), Some([a, b]));
+                s.around = [p, q];
+                Ok(s)
             })
             .collect::<Result<Vec<_>, String>>()
             .map(|list| Arc::new(TargetSet::new(list))),
@@ -513,6 +539,10 @@ fn search_among(
             continue;
         }
         let Some(cp) = on_segment(&s.seg, x) else {
+            // A smoothed target has no corners, and so no wedge.
+            if s.seg.is_smooth() {
+                continue;
+            }
             let raw = s.seg.project(x);
             let d = raw.normal_overlap();
             let miss = (-raw.beta()).max(raw.beta() - 1.0) * s.seg.length();
@@ -604,6 +634,10 @@ pub(crate) fn at_end(beta: f64, end: f64, tol: f64) -> bool {
 /// walking along the surface a reflex corner turns right.
 pub(crate) fn reflex(segments: &[TargetSegment], j: usize, end_j: f64) -> Option<(usize, f64)> {
     let s = &segments[j].seg;
+    // A smoothed target turns smoothly at its nodes: no corner.
+    if s.is_smooth() {
+        return None;
+    }
     let (at, end_i) = if end_j == 1.0 {
         (s.xb(), 0.0)
     } else {

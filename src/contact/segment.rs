@@ -22,6 +22,9 @@ pub type NodeVec = SVector<f64, 6>;
 pub type NodeMat = SMatrix<f64, 6, 6>;
 
 /// Target segment j from node A to node B, at the current positions (after iteration i-1).
+/// A smoothed target's segment (`smoothed`) is the Catmull-Rom curve from A to B through
+/// its outer neighbours P (before A) and Q (after B), `x(beta) = sum N_i(beta) x_i` over
+/// `[P, A, B, Q]`: the surface is C1 at its nodes (docs/contact.md, "Smoothed target").
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Segment {
     xa: Vector2<f64>,
@@ -29,7 +32,49 @@ pub struct Segment {
     length: f64,
     tangent: Vector2<f64>,
     normal: Vector2<f64>,
+    /// `[x_P, x_Q]` of a smoothed segment; None: straight.
+    around: Option<[Vector2<f64>; 2]>,
 }
+
+/// A smoothed segment's curve at `beta`: the shape functions over `[P, A, B, Q]`, their
+/// first derivatives, and the curve's point, first and second derivatives.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Curve {
+    pub weights: [f64; 4],
+    pub slopes: [f64; 4],
+    pub point: Vector2<f64>,
+    pub d1: Vector2<f64>,
+    pub d2: Vector2<f64>,
+}
+
+/// The uniform Catmull-Rom shape functions over `[P, A, B, Q]` at `t`, with their first
+/// and second derivatives.
+fn catmull_rom(t: f64) -> [[f64; 4]; 3] {
+    let (t2, t3) = (t * t, t * t * t);
+    [
+        [
+            0.5 * (-t + 2.0 * t2 - t3),
+            0.5 * (2.0 - 5.0 * t2 + 3.0 * t3),
+            0.5 * (t + 4.0 * t2 - 3.0 * t3),
+            0.5 * (-t2 + t3),
+        ],
+        [
+            0.5 * (-1.0 + 4.0 * t - 3.0 * t2),
+            0.5 * (-10.0 * t + 9.0 * t2),
+            0.5 * (1.0 + 8.0 * t - 9.0 * t2),
+            0.5 * (-2.0 * t + 3.0 * t2),
+        ],
+        [
+            0.5 * (4.0 - 6.0 * t),
+            0.5 * (-10.0 + 18.0 * t),
+            0.5 * (8.0 - 18.0 * t),
+            0.5 * (-2.0 + 6.0 * t),
+        ],
+    ]
+}
+
+/// Newton steps of the projection on a smoothed segment (it converges in 2 to 4).
+const PROJECTION_STEPS: usize = 30;
 
 impl Segment {
     /// The segment from `xa` to `xb`, with the target body to the left of A->B.
@@ -49,7 +94,46 @@ impl Segment {
             length,
             tangent,
             normal: Vector2::new(-tangent.y, tangent.x),
+            around: None,
         })
+    }
+
+    /// The segment smoothed through its outer neighbours `[x_P, x_Q]` (at an end of the
+    /// target, the end node mirrored: `x_P = 2 x_A - x_B`).
+    pub fn smoothed(mut self, around: [Vector2<f64>; 2]) -> Self {
+        self.around = Some(around);
+        self
+    }
+
+    /// Whether the segment is a smoothed target's curve.
+    pub fn is_smooth(&self) -> bool {
+        self.around.is_some()
+    }
+
+    /// The curve at `beta` (None for a straight segment).
+    pub fn curve(&self, beta: f64) -> Option<Curve> {
+        let [xp, xq] = self.around?;
+        let [n, dn, ddn] = catmull_rom(beta);
+        let sum = |w: [f64; 4]| w[0] * xp + w[1] * self.xa + w[2] * self.xb + w[3] * xq;
+        Some(Curve {
+            weights: n,
+            slopes: dn,
+            point: sum(n),
+            d1: sum(dn),
+            d2: sum(ddn),
+        })
+    }
+
+    /// Unit normal and tangent where the target is at `beta`: the segment's, or the
+    /// smoothed curve's there.
+    pub fn frame_at(&self, beta: f64) -> (Vector2<f64>, Vector2<f64>) {
+        match self.curve(beta) {
+            Some(c) => {
+                let t = c.d1 / c.d1.norm();
+                (Vector2::new(-t.y, t.x), t)
+            }
+            None => (self.normal, self.tangent),
+        }
     }
 
     pub fn xa(&self) -> Vector2<f64> {
@@ -75,15 +159,37 @@ impl Segment {
         self.normal
     }
 
-    /// The point `(1 - beta) x_A + beta x_B`.
+    /// The point `(1 - beta) x_A + beta x_B`, or the smoothed curve's at `beta`.
     pub fn point_at(&self, beta: f64) -> Vector2<f64> {
-        self.xa + beta * (self.xb - self.xa)
+        match self.curve(beta) {
+            Some(c) => c.point,
+            None => self.xa + beta * (self.xb - self.xa),
+        }
     }
 
     /// Contact point at the foot of the normal from `xk` (Eq. 5 with `Delta_k` along `n_s`):
-    /// the point a sliding node, or a node new to contact, is referred to.
+    /// the point a sliding node, or a node new to contact, is referred to. On a smoothed
+    /// segment, Newton's iteration on `(x_k - x(beta)) . x'(beta) = 0` from the chord's foot
+    /// (each step kept within half a segment beyond the ends).
     pub fn project(&self, xk: Vector2<f64>) -> ContactPoint {
-        let beta = self.tangent.dot(&(xk - self.xa)) / self.length;
+        let mut beta = self.tangent.dot(&(xk - self.xa)) / self.length;
+        if self.is_smooth() {
+            beta = beta.clamp(-0.5, 1.5);
+            for _ in 0..PROJECTION_STEPS {
+                let Some(c) = self.curve(beta) else { break };
+                let d = xk - c.point;
+                let slope = -c.d1.norm_squared() + d.dot(&c.d2);
+                if slope >= 0.0 || slope.is_nan() {
+                    break;
+                }
+                let next = (beta - d.dot(&c.d1) / slope).clamp(-0.5, 1.5);
+                let done = (next - beta).abs() <= 1e-14;
+                beta = next;
+                if done {
+                    break;
+                }
+            }
+        }
         self.contact_at(xk, beta)
     }
 
@@ -91,11 +197,14 @@ impl Segment {
     /// stays attached to (Section 2.1, `beta(i) = beta(i-1)`).
     pub fn contact_at(&self, xk: Vector2<f64>, beta: f64) -> ContactPoint {
         let x_c = self.point_at(beta);
+        let (normal, tangent) = self.frame_at(beta);
         ContactPoint {
             segment: *self,
             beta,
             x_c,
             overlap: xk - x_c,
+            normal,
+            tangent,
         }
     }
 }
@@ -107,6 +216,8 @@ pub struct ContactPoint {
     beta: f64,
     x_c: Vector2<f64>,
     overlap: Vector2<f64>,
+    normal: Vector2<f64>,
+    tangent: Vector2<f64>,
 }
 
 impl ContactPoint {
@@ -129,9 +240,20 @@ impl ContactPoint {
         self.overlap
     }
 
+    /// Unit normal `n_s` of the target at C, into the target (the segment's, or the
+    /// smoothed curve's at C).
+    pub fn normal(&self) -> Vector2<f64> {
+        self.normal
+    }
+
+    /// Unit tangent `n_r` of the target at C, from A toward B.
+    pub fn tangent(&self) -> Vector2<f64> {
+        self.tangent
+    }
+
     /// Normal overlap `n_s . Delta_k`: positive when k has penetrated the target.
     pub fn normal_overlap(&self) -> f64 {
-        self.segment.normal.dot(&self.overlap)
+        self.normal.dot(&self.overlap)
     }
 
     /// Normal gap, `-normal_overlap()`: positive when k is clear of the target.

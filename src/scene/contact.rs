@@ -193,7 +193,7 @@ impl Resolver<'_> {
             let edges = self.edge_set(&c.contactor, &contactor_key)?;
             let body = self.set_body(&c.contactor, &contactor_key)?;
             let (contactor, closed) = self.contactor_chain(&edges, &c.contactor, &contactor_key)?;
-            let target = self.target(&c.target, &key("target"), body, rigids)?;
+            let mut target = self.target(&c.target, &key("target"), body, rigids)?;
             let coefficient = |value: &Spanned<f64>, k: &str| {
                 let v = *value.get_ref();
                 if v >= 0.0 {
@@ -226,6 +226,7 @@ impl Resolver<'_> {
                 }
             };
             let formulation = self.formulation(c, &target, &key("formulation"))?;
+            self.smooth_target(c, &mut target, formulation, &key("smooth_target"))?;
             pairs.push(ContactPair {
                 name: c.name.get_ref().clone(),
                 body,
@@ -283,6 +284,53 @@ impl Resolver<'_> {
         Ok(ContactFormulation::Mortar)
     }
 
+    /// `smooth_target = true`: the target's surface smoothed through its
+    /// nodes (each segment a Catmull-Rom curve through its outer
+    /// neighbours). Node-to-segment against a body's edge set under the
+    /// nodal decisions only.
+    fn smooth_target(
+        &self,
+        c: &raw::Contact,
+        target: &mut Target,
+        formulation: ContactFormulation,
+        key: &str,
+    ) -> Result<(), SceneError> {
+        let Some(flag) = &c.smooth_target else {
+            return Ok(());
+        };
+        if !*flag.get_ref() {
+            return Ok(());
+        }
+        let refuse = |why: &str| Err(self.invalid(flag.span(), key, why.to_string()));
+        if formulation != ContactFormulation::NodeToSegment {
+            return refuse(
+                "smooth_target smooths node-to-segment's target; mortar's normals are \
+                 already continuous (set formulation = \"node_to_segment\")",
+            );
+        }
+        if matches!(c.decisions, Some(DecisionsName::Paper)) {
+            return refuse("smooth_target needs the nodal decisions (decisions = \"nodal\")");
+        }
+        let Target::Body {
+            segments, smooth, ..
+        } = target
+        else {
+            return refuse("smooth_target needs a body's edge set as target, not a rigid");
+        };
+        let mut before = HashMap::new();
+        let mut after = HashMap::new();
+        for &[a, b] in segments.iter() {
+            before.insert(b, a);
+            after.insert(a, b);
+        }
+        *smooth = Some(
+            (segments.iter())
+                .map(|[a, b]| [before.get(a).copied(), after.get(b).copied()])
+                .collect(),
+        );
+        Ok(())
+    }
+
     /// The index of the body a set reference `<body>.<set>` names.
     pub(super) fn set_body(&self, set: &Spanned<String>, key: &str) -> Result<usize, SceneError> {
         let (name, _) = self.set_ref(set, key)?;
@@ -325,7 +373,11 @@ impl Resolver<'_> {
                         .collect::<Vec<_>>()
                 })
                 .collect();
-            return Ok(Target::Body { body, segments });
+            return Ok(Target::Body {
+                body,
+                segments,
+                smooth: None,
+            });
         }
         if let Some(r) = rigids.iter().position(|r| &r.name == name) {
             return Ok(Target::Rigid(r));

@@ -278,6 +278,7 @@ pub(super) struct Contact {
     pub recovery: Option<RecoveryName>,
     pub decisions: Option<DecisionsName>,
     pub formulation: Option<Spanned<FormulationName>>,
+    pub smooth_target: Option<Spanned<bool>>,
 }
 
 #[derive(Deserialize, Clone, Copy, PartialEq)]

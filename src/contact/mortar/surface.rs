@@ -124,7 +124,7 @@ impl Surface {
     /// its segments joined in sides, two by two on a body of 8-node
     /// elements (corner to mid-side, mid-side to corner).
     pub fn target(problem: &Problem, pair: &ContactPair) -> Result<Option<Self>, String> {
-        let Target::Body { body, segments } = &pair.target else {
+        let Target::Body { body, segments, .. } = &pair.target else {
             return Ok(None);
         };
         let quadratic = body_kind(problem, *body) == Some(ElementKind::Q8);

@@ -21,7 +21,7 @@ use crate::contact::search::{
 use crate::contact::segment::ContactPoint;
 use crate::contact::sensitivity::{At, Linearised};
 use crate::contact::system::{self, ContactSystem, Forced, Iterate, Kept, count_flip, count_slip};
-use crate::problem::{ContactPair, FrictionRule, Recovery};
+use crate::problem::{ContactPair, FrictionRule, Recovery, Target};
 use crate::results::{NodeState, PairResult};
 use nalgebra::Vector2;
 
@@ -144,8 +144,15 @@ impl Formulation for Nodal {
         predict_pair(at, pair, mem, kept, cache).map(Some)
     }
 
-    fn sensitivities(&self, _pair: &ContactPair) -> bool {
-        true
+    /// None on a smoothed target (its curve's linearisation is not written).
+    fn sensitivities(&self, pair: &ContactPair) -> bool {
+        !matches!(
+            pair.target,
+            Target::Body {
+                smooth: Some(_),
+                ..
+            }
+        )
     }
 
     fn linearise(
@@ -325,8 +332,8 @@ fn parting(view: &PairIterate, mem: &PairMemory, decided: &[Decision]) -> Vec<us
         let Some((_, cp)) = decided[k].point.as_ref() else {
             return 0.0;
         };
-        let (f, seg) = (view.contact_force(k), cp.segment());
-        let (p_n, q) = (-seg.normal().dot(&f), seg.tangent().dot(&f));
+        let f = view.contact_force(k);
+        let (p_n, q) = (-cp.normal().dot(&f), cp.tangent().dot(&f));
         q.abs() / (sticking_mu(view.pair, &mem.nodes[k]) * p_n).max(f64::MIN_POSITIVE)
     };
     let neighbours = if view.pair.closed { m } else { m - 1 };
@@ -397,15 +404,7 @@ fn rows_and_results(
             let held = d.state == NodeState::Stick || d.corner;
             let friction = if held { 0.0 } else { d.slip_sign * pair.mu_d };
             let n = pair.contactor[k];
-            add_rows(
-                view.segments[*j].nodes,
-                n,
-                cp,
-                held,
-                d.lambda,
-                friction,
-                out,
-            );
+            add_rows(&view.segments[*j], n, cp, held, d.lambda, friction, out);
             if report_results {
                 let f = view.contact_force(k);
                 node_force = report.contact(at, pair, k, f, cp, &mut out.rigid);
@@ -533,8 +532,7 @@ fn decide(view: &PairIterate, k: usize, old: &NodeMemory, forced: Option<Forced>
         return Decision::open(0.0);
     };
     let f = view.contact_force(k);
-    let seg = cp.segment();
-    let (n_s, n_r) = (seg.normal(), seg.tangent());
+    let (n_s, n_r) = (cp.normal(), cp.tangent());
     // Normal force (compression positive) and tangential force on the node.
     let (p_n, q) = (-n_s.dot(&f), n_r.dot(&f));
     let overlap = cp.normal_overlap();
@@ -607,7 +605,7 @@ fn frictionless_decision(view: &PairIterate, old: &NodeMemory, touch: &Touch) ->
     Decision {
         state: NodeState::Slip,
         point: Some(point),
-        lambda: -touch.p_n * touch.cp.segment().normal(),
+        lambda: -touch.p_n * touch.cp.normal(),
         p_n: touch.p_n,
         slip_sign: 0.0,
         anchor: old.anchor,
@@ -629,7 +627,6 @@ fn frictional_decision(
     let (k, j, p_n, q) = (touch.k, touch.j, touch.p_n, touch.q);
     let (x, reach) = (view.x[k], view.reach(k));
     let seg = touch.cp.segment();
-    let (n_s, n_r) = (seg.normal(), seg.tangent());
     // Where the node was on the target when the increment began (the
     // target's material point under it then): its slip is measured from
     // there, so a converged node either sticks there or slides against its
@@ -640,7 +637,8 @@ fn frictional_decision(
     let anchor = segments
         .get(ja)
         .map_or(touch.cp.point(), |s| s.seg.point_at(beta_a));
-    let slip = n_r.dot(&(seg.project(x).point() - anchor));
+    let foot = seg.project(x);
+    let slip = foot.tangent().dot(&(foot.point() - anchor));
     let mu_stick = sticking_mu(pair, old);
     let slip_tolerance = 1e-10 * view.h;
     // A sliding node slides on while its slip from the anchor runs along
@@ -682,15 +680,19 @@ fn frictional_decision(
         }
         _ => (!holds(segments, (j, touch.cp.beta()), touch.f, mu_stick)).then(|| -q.signum()),
     };
-    let slide = |s: f64| Decision {
-        state: NodeState::Slip,
-        point: Some(touch.projection(x)),
-        lambda: p_n * (-n_s - s * pair.mu_d * n_r),
-        p_n,
-        slip_sign: s,
-        anchor: Some((ja, beta_a)),
-        corner: false,
-        held_back: false,
+    let slide = |s: f64| {
+        let point = touch.projection(x);
+        let (n_s, n_r) = (point.1.normal(), point.1.tangent());
+        Decision {
+            state: NodeState::Slip,
+            point: Some(point),
+            lambda: p_n * (-n_s - s * pair.mu_d * n_r),
+            p_n,
+            slip_sign: s,
+            anchor: Some((ja, beta_a)),
+            corner: false,
+            held_back: false,
+        }
     };
     let Some(s) = s else {
         let at = segments
@@ -730,12 +732,12 @@ fn sticking_mu(pair: &ContactPair, node: &NodeMemory) -> f64 {
 /// across slid and slid back over the vertex at every inner solve (the
 /// pipe's first increment, 25 iterations at |r|/F = 4.8e-4).
 fn holds(segments: &[TargetSegment], (j, beta): (usize, f64), f: Vector2<f64>, mu: f64) -> bool {
-    let within = |i: usize| {
-        let seg = &segments[i].seg;
-        let p_n = -seg.normal().dot(&f);
-        seg.tangent().dot(&f).abs() <= mu * p_n.max(0.0)
+    let within = |i: usize, beta: f64| {
+        let (n, t) = segments[i].seg.frame_at(beta);
+        let p_n = -n.dot(&f);
+        t.dot(&f).abs() <= mu * p_n.max(0.0)
     };
-    if within(j) {
+    if within(j, beta) {
         return true;
     }
     let end = if beta >= 1.0 - search::BETA_TOLERANCE {
@@ -745,10 +747,10 @@ fn holds(segments: &[TargetSegment], (j, beta): (usize, f64), f: Vector2<f64>, m
     } else {
         return false;
     };
-    let Some((i, _)) = search::reflex(segments, j, end) else {
+    let Some((i, end_i)) = search::reflex(segments, j, end) else {
         return false;
     };
-    if within(i) {
+    if within(i, end_i) {
         return true;
     }
     let (a, b) = normals_weights(segments[j].seg.normal(), segments[i].seg.normal(), f);
@@ -830,7 +832,7 @@ fn predict_pair(
         }
         let node = &mem.nodes[k];
         let f = force_new(pair.contactor[k]);
-        let (n_s, n_r) = (cp.segment().normal(), cp.segment().tangent());
+        let (n_s, n_r) = (cp.normal(), cp.tangent());
         let (p_n, q) = (-n_s.dot(&f), n_r.dot(&f));
         if p_n < -force_tolerance {
             // While the iterate settles a node in contact at the iterate
@@ -862,9 +864,8 @@ fn predict_pair(
                 let (Some(seg), Some(anchor)) = (segments.get(*j), segments.get(ja)) else {
                     continue;
                 };
-                let t = seg.seg.tangent();
-                let slip =
-                    t.dot(&(seg.seg.project(x_new[k]).point() - anchor.seg.point_at(beta_a)));
+                let foot = seg.seg.project(x_new[k]);
+                let slip = (foot.tangent()).dot(&(foot.point() - anchor.seg.point_at(beta_a)));
                 if d.slip_sign * slip < -length_tolerance {
                     out.push((k, Forced::Stick));
                 }

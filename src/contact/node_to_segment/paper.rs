@@ -635,7 +635,7 @@ fn node_rows(
         // The paper's friction is held over the iteration: no
         // friction in the multiplier's column.
         let n = view.pair.contactor[k];
-        add_rows(view.segments[j].nodes, n, &cp, held, lambda, 0.0, out);
+        add_rows(&view.segments[j], n, &cp, held, lambda, 0.0, out);
         report.contact(view.at, view.pair, k, rec.reported(k), &cp, &mut out.rigid);
     }
     // The paper's decisions read tractions: its nodes' forces are taken

@@ -1,11 +1,14 @@
 //! The rows of Eq. (18) one contactor node in contact on a target segment
 //! adds, one kind a file: two for a node held in both directions
 //! (`stick`: sticking, Eqs. 19-21, or at a reflex corner), one for a sliding
-//! node (`slide`: Eqs. 22-24).
+//! node (`slide`: Eqs. 22-24); on a smoothed target's curve, both kinds
+//! over the curve's four nodes (`smooth`).
 
 mod slide;
+mod smooth;
 mod stick;
 
+use crate::contact::search::TargetSegment;
 use crate::contact::segment::ContactPoint;
 use crate::contact::system::{ContactSystem, Entries};
 use nalgebra::Vector2;
@@ -28,12 +31,12 @@ fn entries(dofs: &Dofs, v: &dyn Fn(usize) -> f64) -> Entries {
     e
 }
 
-/// The rows of Eq. (18) for one node `n` in contact at `cp` on a target
-/// segment with nodes `target` (None: rigid), with `lambda` its contact
+/// The rows of Eq. (18) for one node `n` in contact at `cp` on the target
+/// segment `segment` (its nodes None: rigid), with `lambda` its contact
 /// force: held in both directions (`held`: sticking, or at a corner) or
 /// sliding with `friction` (`s mu_d`, or 0) along its slip.
 pub(super) fn add_rows(
-    target: Option<[usize; 2]>,
+    segment: &TargetSegment,
     n: usize,
     cp: &ContactPoint,
     held: bool,
@@ -41,11 +44,17 @@ pub(super) fn add_rows(
     friction: f64,
     out: &mut ContactSystem,
 ) {
+    let first_row = out.rows.len();
+    if cp.segment().is_smooth() {
+        smooth::rows(n, segment, cp, held, lambda, friction, out);
+        out.groups.push((n, first_row..out.rows.len()));
+        return;
+    }
+    let target = segment.nodes;
     let mut dofs = [Some(2 * n), Some(2 * n + 1), None, None, None, None];
     if let Some([a, b]) = target {
         dofs[2..].copy_from_slice(&[Some(2 * a), Some(2 * a + 1), Some(2 * b), Some(2 * b + 1)]);
     }
-    let first_row = out.rows.len();
     if held {
         stick::rows(&dofs, cp, lambda, out);
     } else {
