@@ -1752,7 +1752,7 @@ fn friction_coefficients_and_words() {
         &e,
         SceneErrorKind::UnknownKey,
         "scenes/t.toml:57: contact[0].friction = 0.3: unknown key; \
-         allowed keys: name, contactor, target, mu_s, mu_d, rule, recovery, decisions, formulation",
+         allowed keys: name, contactor, target, mu_s, mu_d, rule, recovery, decisions, formulation, smooth_target",
     );
     let e = pair_with("formulation = \"mortar\"\n").unwrap_err();
     assert_error(
@@ -1773,6 +1773,65 @@ fn friction_coefficients_and_words() {
         &e,
         SceneErrorKind::MissingKey,
         "scenes/t.toml:49: contact[0].target = (missing): required key is missing",
+    );
+}
+
+/// `smooth_target = true` smooths a node-to-segment pair's body target
+/// (each segment's outer neighbours along the surface; none at its ends),
+/// and is refused with mortar, a rigid target or the paper's decisions.
+#[test]
+fn smooth_target_is_node_to_segment_s_against_a_body() {
+    let pair = "[[contact]]\nname = \"c\"\ncontactor = \"wheel.arc\"\ntarget = \"block.top\"\n";
+    let p = with(&format!(
+        "{pair}formulation = \"node_to_segment\"\nsmooth_target = true\n"
+    ))
+    .unwrap();
+    let Target::Body {
+        segments, smooth, ..
+    } = &p.contacts[0].target
+    else {
+        panic!("a body target");
+    };
+    let smooth = smooth.as_ref().expect("smoothed");
+    assert_eq!(smooth.len(), segments.len());
+    let last = segments.len() - 1;
+    assert_eq!(smooth[0][0], None);
+    assert_eq!(smooth[last][1], None);
+    for j in 0..last {
+        assert_eq!(smooth[j][1], Some(segments[j + 1][1]));
+        assert_eq!(smooth[j + 1][0], Some(segments[j][0]));
+    }
+    assert!(!contact2d::contact::sensitivities(&p));
+    let p = with(&format!(
+        "{pair}formulation = \"node_to_segment\"\nsmooth_target = false\n"
+    ))
+    .unwrap();
+    assert!(matches!(
+        p.contacts[0].target,
+        Target::Body { smooth: None, .. }
+    ));
+    assert!(contact2d::contact::sensitivities(&p));
+
+    let e = with(&format!("{pair}smooth_target = true\n")).unwrap_err();
+    assert_error(
+        &e,
+        SceneErrorKind::InvalidValue,
+        r#"scenes/t.toml:53: contact[0].smooth_target = true: smooth_target smooths node-to-segment's target; mortar's normals are already continuous (set formulation = "node_to_segment")"#,
+    );
+    let e = with(&format!(
+        "{pair}decisions = \"paper\"\nsmooth_target = true\n"
+    ))
+    .unwrap_err();
+    assert_error(
+        &e,
+        SceneErrorKind::InvalidValue,
+        r#"scenes/t.toml:54: contact[0].smooth_target = true: smooth_target needs the nodal decisions (decisions = "nodal")"#,
+    );
+    let e = pair_with("smooth_target = true\n").unwrap_err();
+    assert_error(
+        &e,
+        SceneErrorKind::InvalidValue,
+        "scenes/t.toml:57: contact[0].smooth_target = true: smooth_target needs a body's edge set as target, not a rigid",
     );
 }
 

@@ -162,6 +162,13 @@ impl Formulation for Nodal {
         kept: &Kept,
         out: &mut Linearised,
     ) -> Result<(), String> {
+        if !self.sensitivities(pair.1) {
+            return Err(format!(
+                "contact pair '{}' has a smoothed target (smooth_target = true): the \
+                 linearisation of its curve's rows is not written",
+                pair.1.name
+            ));
+        }
         let kept =
             (kept.get::<Decided>()).ok_or("linearisation without nodal decisions (internal)")?;
         linearise::linearise_pair(at, pair, &kept.decisions, out)

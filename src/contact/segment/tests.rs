@@ -483,3 +483,60 @@ fn sliding_constraint_removes_the_normal_overlap() {
         assert!(cp.segment().normal().dot(&rel).abs() < 1e-14, "{s:?}");
     }
 }
+
+/// Four surface points P, A, B, Q and the next one R: two neighbouring
+/// smoothed segments A -> B (through P, Q) and B -> Q (through A, R).
+fn smoothed_pair() -> (Segment, Segment) {
+    let [p, a, b, q, r] = [[2.1, 0.4], [1.0, 0.1], [0.0, 0.0], [-1.2, 0.2], [-2.0, 0.7]].map(v2);
+    let first = Segment::new(a, b).unwrap().smoothed([p, q]);
+    let second = Segment::new(b, q).unwrap().smoothed([a, r]);
+    (first, second)
+}
+
+/// The smoothed curve passes through A and B, and two neighbouring
+/// segments meet at their shared node with one tangent (C1): a node sliding
+/// over it meets no corner.
+#[test]
+fn smoothed_segments_meet_with_one_tangent() {
+    let (first, second) = smoothed_pair();
+    assert!((first.point_at(0.0) - first.xa()).norm() < 1e-15);
+    assert!((first.point_at(1.0) - first.xb()).norm() < 1e-15);
+    let (c1, c0) = (first.curve(1.0).unwrap(), second.curve(0.0).unwrap());
+    assert!((c1.d1 - c0.d1).norm() < 1e-15, "{:?} {:?}", c1.d1, c0.d1);
+    let (n1, t1) = first.frame_at(1.0);
+    let (n0, t0) = second.frame_at(0.0);
+    assert!((n1 - n0).norm() < 1e-15 && (t1 - t0).norm() < 1e-15);
+    // The normal is the tangent turned +90 degrees, as a straight segment's.
+    assert!((n1 - Vector2::new(-t1.y, t1.x)).norm() < 1e-15);
+}
+
+/// On nodes evenly spaced along a line the smoothed curve is the line
+/// itself, traced at constant speed: the curve reduces to the paper's
+/// segment there.
+#[test]
+fn a_smoothed_segment_on_a_line_is_the_straight_segment() {
+    let [p, a, b, q] = [[-2.0, -1.0], [0.0, 0.0], [2.0, 1.0], [4.0, 2.0]].map(v2);
+    let curved = Segment::new(a, b).unwrap().smoothed([p, q]);
+    let straight = Segment::new(a, b).unwrap();
+    let x = v2([1.3, 1.9]);
+    let (cs, ss) = (curved.project(x), straight.project(x));
+    assert!((cs.beta() - ss.beta()).abs() < 1e-14);
+    assert!((cs.point() - ss.point()).norm() < 1e-14);
+    assert!((cs.normal() - straight.normal()).norm() < 1e-15);
+    assert!((cs.normal_overlap() - ss.normal_overlap()).abs() < 1e-14);
+}
+
+/// The projection on a smoothed segment is the foot of the normal: the
+/// overlap lies along the curve's normal there, from either side and from
+/// a node that has passed an end.
+#[test]
+fn the_projection_on_a_smoothed_segment_is_the_foot_of_the_normal() {
+    let (first, _) = smoothed_pair();
+    for x in [[0.4, -0.3], [0.4, 0.3], [0.95, 0.0], [-0.1, 0.05]].map(v2) {
+        let cp = first.project(x);
+        let along = cp.overlap().dot(&cp.tangent());
+        assert!(along.abs() < 1e-14, "{x:?}: {along:e}");
+        let (n, t) = first.frame_at(cp.beta());
+        assert_eq!((cp.normal(), cp.tangent()), (n, t));
+    }
+}
