@@ -173,8 +173,8 @@ fn check(v: &Variant) -> [f64; 2] {
 //   (4 / 5);
 // - frictionless, block as contactor against the ring smoothed:
 //   node-to-segment 0.0026 / 0.0016 (3 / 5);
-// - mu = 0.3, block as contactor: node-to-segment 0.0332 / 0.0130 (4 /
-//   10), mortar 0.0059 / 0.0028 (3 / 5); ring as contactor: mortar 0.0056
+// - mu = 0.3, block as contactor: node-to-segment 0.0332 / 0.0130 (3 /
+//   9), mortar 0.0059 / 0.0028 (3 / 5); ring as contactor: mortar 0.0056
 //   / 0.0009 (3 / 6), node-to-segment against the smoothed top 0.0060 /
 //   0.0019 (3 / 7).
 // Node-to-segment's jumps come where a block node crosses a vertex of the

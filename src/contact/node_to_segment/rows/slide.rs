@@ -7,8 +7,8 @@
 
 use super::{Dofs, entries};
 use crate::contact::segment::ContactPoint;
-use crate::contact::system::{ContactSystem, Entries, Row};
 use crate::contact::segment::{NodeMat, NodeVec};
+use crate::contact::system::{ContactSystem, Entries, Row};
 use nalgebra::Vector2;
 
 /// The node's contact force, gradient entries (`flexible`: a target body)
@@ -122,7 +122,12 @@ mod tests {
                 for e in 0..6 {
                     let derivative = (f1[e] - f0[e]) / (2.0 * h);
                     let err = (k[e][d] + derivative).abs();
-                    assert!(err < 1e-7, "friction {friction} k[{e}][{d}] {} {}", k[e][d], -derivative);
+                    assert!(
+                        err < 1e-7,
+                        "friction {friction} k[{e}][{d}] {} {}",
+                        k[e][d],
+                        -derivative
+                    );
                 }
             }
         }
