@@ -252,6 +252,42 @@ fn assert_coulomb(pair: &contact2d::results::PairResult, [mu_s, mu_d]: [f64; 2])
     }
 }
 
+/// The shipped 8-node cylinder pressed with friction (mu = 0.3), as
+/// reported at every increment: every node within Coulomb and none in
+/// tension, and each sliding node's tangential traction its law's, mu tn.
+/// The quadratic fit of 8-node sides spreads each node's force over its
+/// sides; its t_t at sliding nodes came out up to 1.054 mu t_n, and below it
+/// elsewhere (2 to 8 nodes over mu tn per increment, measured before the
+/// reported traction followed the law).
+#[test]
+fn an_8_node_cylinder_pressed_with_friction_reports_coulomb_at_every_node() {
+    let mu = 0.3;
+    let problem = common::shipped_scene("hertz_plane_strain.toml", &[("mu_s = 0.0", "mu_s = 0.3")]);
+    let times = problem.times.clone();
+    let mut solver = Solver::new(problem).unwrap();
+    for t in times {
+        let step = solver.advance(t, &mut |_, _| {}).unwrap();
+        assert!(step.converged, "t = {t}");
+        let pairs = solver.last_pairs().unwrap();
+        let pair = &pairs[0].1;
+        assert!(pair.n_stick > 0 && pair.n_slip > 0, "t = {t}");
+        assert_coulomb(pair, [mu, mu]);
+        let n = &pair.nodes;
+        for k in 0..n.tn.len() {
+            if n.state[k] == contact2d::results::NodeState::Slip {
+                // Round-off of one product: 1e-12 of tn.
+                let off = (n.tt[k].abs() - mu * n.tn[k]).abs();
+                assert!(
+                    off <= 1e-12 * n.tn[k],
+                    "t = {t} node {k}: tt {}, tn {}",
+                    n.tt[k],
+                    n.tn[k]
+                );
+            }
+        }
+    }
+}
+
 /// The frictional cylinder pressed in one increment: the predictor's
 /// factor holds two slots per node within the press's motion of the flat,
 /// and one with an empty key for the node on the symmetry plane (its

@@ -424,6 +424,15 @@ fn rows_and_results(
     if !report_results {
         return Ok(PairResult::default());
     }
+    // A sliding node's reported friction is its law's; not a driven node's,
+    // whose force at its prescribed dof is partly its driver's reaction (a
+    // node on a symmetry plane, where the friction along the target is the
+    // plane's).
+    let sliding: Vec<Option<f64>> = (decisions.iter().enumerate())
+        .map(|(k, d)| {
+            (d.state == NodeState::Slip && !d.corner && !view.driven[k]).then_some(pair.mu_d)
+        })
+        .collect();
     // Lumped: each node's traction has the sign of its own force, which the
     // decisions above read (the consistent recovery of Eq. 26 spreads a
     // force over its neighbours and shows a pressed node next to an open one
@@ -436,6 +445,7 @@ fn rows_and_results(
         &view.force,
         &report.frames,
         Recovery::Lumped,
+        &sliding,
     )?;
     let mut result = report.result;
     result.nodes.tn = tn;
