@@ -103,7 +103,6 @@ pub(super) fn geometry(problem: &Problem) -> Geometry {
 /// sliding node next to sticking ones (or where the frames turn along a
 /// curved surface) is not `mu_d` times the fitted `t_n` (up to 1.74 times
 /// it, measured).
-#[allow(clippy::too_many_arguments)]
 pub(super) fn reported_tractions(
     problem: &Problem,
     pair: &ContactPair,

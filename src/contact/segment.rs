@@ -127,13 +127,21 @@ impl Segment {
     /// Unit normal and tangent where the target is at `beta`: the segment's, or the
     /// smoothed curve's there.
     pub fn frame_at(&self, beta: f64) -> (Vector2<f64>, Vector2<f64>) {
-        match self.curve(beta) {
-            Some(c) => {
-                let t = c.d1 / c.d1.norm();
-                (Vector2::new(-t.y, t.x), t)
-            }
-            None => (self.normal, self.tangent),
+        if self.around.is_none() {
+            return (self.normal, self.tangent);
         }
+        self.curve_frame(beta)
+    }
+
+    /// `frame_at` on the curve (out of line: the straight segments' callers
+    /// stay as small as they were).
+    #[inline(never)]
+    fn curve_frame(&self, beta: f64) -> (Vector2<f64>, Vector2<f64>) {
+        let Some(c) = self.curve(beta) else {
+            return (self.normal, self.tangent);
+        };
+        let t = c.d1 / c.d1.norm();
+        (Vector2::new(-t.y, t.x), t)
     }
 
     pub fn xa(&self) -> Vector2<f64> {
@@ -161,10 +169,16 @@ impl Segment {
 
     /// The point `(1 - beta) x_A + beta x_B`, or the smoothed curve's at `beta`.
     pub fn point_at(&self, beta: f64) -> Vector2<f64> {
-        match self.curve(beta) {
-            Some(c) => c.point,
-            None => self.xa + beta * (self.xb - self.xa),
+        if self.around.is_none() {
+            return self.xa + beta * (self.xb - self.xa);
         }
+        self.curve_point(beta)
+    }
+
+    #[inline(never)]
+    fn curve_point(&self, beta: f64) -> Vector2<f64> {
+        self.curve(beta)
+            .map_or(self.xa + beta * (self.xb - self.xa), |c| c.point)
     }
 
     /// Contact point at the foot of the normal from `xk` (Eq. 5 with `Delta_k` along `n_s`):
@@ -174,23 +188,30 @@ impl Segment {
     pub fn project(&self, xk: Vector2<f64>) -> ContactPoint {
         let mut beta = self.tangent.dot(&(xk - self.xa)) / self.length;
         if self.is_smooth() {
-            beta = beta.clamp(-0.5, 1.5);
-            for _ in 0..PROJECTION_STEPS {
-                let Some(c) = self.curve(beta) else { break };
-                let d = xk - c.point;
-                let slope = -c.d1.norm_squared() + d.dot(&c.d2);
-                if slope >= 0.0 || slope.is_nan() {
-                    break;
-                }
-                let next = (beta - d.dot(&c.d1) / slope).clamp(-0.5, 1.5);
-                let done = (next - beta).abs() <= 1e-14;
-                beta = next;
-                if done {
-                    break;
-                }
-            }
+            beta = self.foot_on_curve(xk, beta);
         }
         self.contact_at(xk, beta)
+    }
+
+    /// The foot of the normal from `xk` on the curve, by Newton from `beta`.
+    #[inline(never)]
+    fn foot_on_curve(&self, xk: Vector2<f64>, beta: f64) -> f64 {
+        let mut beta = beta.clamp(-0.5, 1.5);
+        for _ in 0..PROJECTION_STEPS {
+            let Some(c) = self.curve(beta) else { break };
+            let d = xk - c.point;
+            let slope = -c.d1.norm_squared() + d.dot(&c.d2);
+            if slope >= 0.0 || slope.is_nan() {
+                break;
+            }
+            let next = (beta - d.dot(&c.d1) / slope).clamp(-0.5, 1.5);
+            let done = (next - beta).abs() <= 1e-14;
+            beta = next;
+            if done {
+                break;
+            }
+        }
+        beta
     }
 
     /// Contact point at the fixed location `beta`: the material point a sticking node

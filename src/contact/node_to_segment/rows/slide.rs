@@ -66,6 +66,7 @@ pub(super) fn row(
 /// length (rows/smooth.rs on a straight segment). Frictionless it is
 /// Eq. (24)'s `-(a b^T + b a^T)`; with friction Eq. (24)'s symmetric form
 /// leaves Newton a linear rate.
+#[inline(never)]
 fn full_gradient(cp: &ContactPoint, lambda: Vector2<f64>, friction: f64) -> NodeMat {
     let seg = cp.segment();
     let (n_s, n_r, d) = (seg.normal(), seg.tangent(), seg.length());

@@ -55,7 +55,9 @@ fn spread(stencil: &[(usize, f64, f64)], v: Vector2<f64>) -> Entries {
 
 /// The rows of node `n` at `cp` on the smoothed segment `target`: held
 /// (two rows, the overlap in both directions) or sliding (one row, the
-/// normal gap, with `friction` along the slip in its column).
+/// normal gap, with `friction` along the slip in its column). Out of line:
+/// the straight segments' callers stay as small as they were.
+#[inline(never)]
 pub(super) fn rows(
     n: usize,
     target: &TargetSegment,
