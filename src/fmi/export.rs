@@ -151,8 +151,12 @@ pub fn export_version(
     }
     let file = std::fs::File::create(out).map_err(|e| Output(format!("{}: {e}", out.display())))?;
     let mut zip = zip::ZipWriter::new(file);
+    // Deflate's best level: the library is most of the FMU, and level 9
+    // packs it some 13 kB (0.7 %) tighter than the default 6, at export
+    // time only (issue 15: the Hertz FMU under 2 MB).
     let options = zip::write::SimpleFileOptions::default()
         .compression_method(zip::CompressionMethod::Deflated)
+        .compression_level(Some(9))
         .unix_permissions(0o644);
     let fail = |e: &dyn std::fmt::Display| Output(format!("{}: {e}", out.display()));
     for (name, bytes) in &files {
