@@ -41,17 +41,13 @@ impl TargetSegment {
     /// points' (the curve lies in their hull).
     pub(crate) fn new(seg: Segment, nodes: Option<[usize; 2]>) -> Self {
         let (xa, xb) = (seg.xa(), seg.xb());
-        let mut points = vec![xa, xb];
-        if seg.is_smooth() {
-            let (d0, d1) = (seg.curve(0.0), seg.curve(1.0));
-            if let (Some(d0), Some(d1)) = (d0, d1) {
-                points.extend([xa + d0.d1 / 3.0, xb - d1.d1 / 3.0]);
+        let mut lo = [xa.x.min(xb.x), xa.y.min(xb.y)];
+        let mut hi = [xa.x.max(xb.x), xa.y.max(xb.y)];
+        if let (Some(c0), Some(c1)) = (seg.curve(0.0), seg.curve(1.0)) {
+            for p in [xa + c0.d1 / 3.0, xb - c1.d1 / 3.0] {
+                lo = [lo[0].min(p.x), lo[1].min(p.y)];
+                hi = [hi[0].max(p.x), hi[1].max(p.y)];
             }
-        }
-        let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
-        for p in points {
-            lo = [lo[0].min(p.x), lo[1].min(p.y)];
-            hi = [hi[0].max(p.x), hi[1].max(p.y)];
         }
         TargetSegment {
             seg,

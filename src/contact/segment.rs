@@ -218,14 +218,11 @@ impl Segment {
     /// stays attached to (Section 2.1, `beta(i) = beta(i-1)`).
     pub fn contact_at(&self, xk: Vector2<f64>, beta: f64) -> ContactPoint {
         let x_c = self.point_at(beta);
-        let (normal, tangent) = self.frame_at(beta);
         ContactPoint {
             segment: *self,
             beta,
             x_c,
             overlap: xk - x_c,
-            normal,
-            tangent,
         }
     }
 }
@@ -237,8 +234,6 @@ pub struct ContactPoint {
     beta: f64,
     x_c: Vector2<f64>,
     overlap: Vector2<f64>,
-    normal: Vector2<f64>,
-    tangent: Vector2<f64>,
 }
 
 impl ContactPoint {
@@ -264,17 +259,17 @@ impl ContactPoint {
     /// Unit normal `n_s` of the target at C, into the target (the segment's, or the
     /// smoothed curve's at C).
     pub fn normal(&self) -> Vector2<f64> {
-        self.normal
+        self.segment.frame_at(self.beta).0
     }
 
     /// Unit tangent `n_r` of the target at C, from A toward B.
     pub fn tangent(&self) -> Vector2<f64> {
-        self.tangent
+        self.segment.frame_at(self.beta).1
     }
 
     /// Normal overlap `n_s . Delta_k`: positive when k has penetrated the target.
     pub fn normal_overlap(&self) -> f64 {
-        self.normal.dot(&self.overlap)
+        self.normal().dot(&self.overlap)
     }
 
     /// Normal gap, `-normal_overlap()`: positive when k is clear of the target.
