@@ -652,11 +652,31 @@ impl Augmented {
             );
             let same =
                 kept.is_some_and(|a| a.mat.col_ptr() == col_ptr && a.mat.row_idx() == row_idx);
-            // Without slots, the kept analysis holds while the pattern does.
+            // Without slots, the kept analysis holds while its pattern holds
+            // the system's (zeros where the system has no entry).
             let unslotted = keys.is_none() && kept.is_some();
             if (reuse || unslotted) && same {
                 self.spare = [col_ptr, row_idx];
                 return slot_of;
+            }
+            let held = kept.filter(|a| unslotted && a.mat.nrows() == order);
+            if let Some(a) = held
+                && scatter_into(a.mat.as_ref(), &col_ptr, &row_idx, &mut self.values)
+            {
+                self.spare = [col_ptr, row_idx];
+                return slot_of;
+            }
+            // A new pattern without slots takes in the kept one's entries
+            // while they are few beside the system's own (`merge_pattern`):
+            // a contact set that moves back and forth between side pairs
+            // (a contactor node over a target node) keeps one analysis.
+            if let Some(a) = held {
+                merge_pattern(
+                    a.mat.as_ref(),
+                    [&mut col_ptr, &mut row_idx],
+                    &mut self.values,
+                    extra_now.len(),
+                );
             }
             if reuse {
                 // The slots fit but the displacement block changed.
@@ -1423,6 +1443,101 @@ fn values_in_pattern(
         terms[q] += 1;
     }
     covered == nnz
+}
+
+/// The values of a system (pattern `col_ptr`, `row_idx`; values in
+/// `values`) rewritten over the pattern `a`, zero at `a`'s other entries:
+/// false, `values` unchanged, when `a` does not hold every entry of it.
+fn scatter_into(
+    a: SymbolicSparseColMatRef<'_, usize>,
+    col_ptr: &[usize],
+    row_idx: &[usize],
+    values: &mut Vec<f64>,
+) -> bool {
+    let (a_ptr, a_rows) = (a.col_ptr(), a.row_idx());
+    let mut out = vec![0.0; a_rows.len()];
+    for c in 0..a.ncols() {
+        let mut q = a_ptr[c];
+        for p in col_ptr[c]..col_ptr[c + 1] {
+            while q < a_ptr[c + 1] && a_rows[q] < row_idx[p] {
+                q += 1;
+            }
+            if q == a_ptr[c + 1] || a_rows[q] != row_idx[p] {
+                return false;
+            }
+            out[q] = values[p];
+        }
+    }
+    *values = out;
+    true
+}
+
+/// The pattern `col_ptr`, `row_idx` (values `values`) with `a`'s entries
+/// added as zeros, when `a` has at most `limit` entries it lacks (so that
+/// a kept pattern does not grow without end: past the limit, the system's
+/// own). Both are of the same order.
+fn merge_pattern(
+    a: SymbolicSparseColMatRef<'_, usize>,
+    [col_ptr, row_idx]: [&mut Vec<usize>; 2],
+    values: &mut Vec<f64>,
+    limit: usize,
+) {
+    let (a_ptr, a_rows) = (a.col_ptr(), a.row_idx());
+    let n = a.ncols();
+    let mut missing = 0;
+    for c in 0..n {
+        let rows = &row_idx[col_ptr[c]..col_ptr[c + 1]];
+        missing += (a_ptr[c]..a_ptr[c + 1])
+            .filter(|&q| rows.binary_search(&a_rows[q]).is_err())
+            .count();
+        if missing > limit {
+            return;
+        }
+    }
+    if missing == 0 {
+        return;
+    }
+    let (mut ptr, mut rows, mut vals) = (
+        Vec::with_capacity(n + 1),
+        Vec::with_capacity(row_idx.len() + missing),
+        Vec::with_capacity(row_idx.len() + missing),
+    );
+    ptr.push(0);
+    for c in 0..n {
+        let (mut p, p_end) = (col_ptr[c], col_ptr[c + 1]);
+        let (mut q, q_end) = (a_ptr[c], a_ptr[c + 1]);
+        while p < p_end || q < q_end {
+            let (rp, rq) = (
+                row_idx.get(p).filter(|_| p < p_end),
+                a_rows.get(q).filter(|_| q < q_end),
+            );
+            match (rp, rq) {
+                (Some(&r), Some(&s)) if r == s => {
+                    rows.push(r);
+                    vals.push(values[p]);
+                    (p, q) = (p + 1, q + 1);
+                }
+                (Some(&r), Some(&s)) if s < r => {
+                    rows.push(s);
+                    vals.push(0.0);
+                    q += 1;
+                }
+                (Some(&r), _) => {
+                    rows.push(r);
+                    vals.push(values[p]);
+                    p += 1;
+                }
+                (None, Some(&s)) => {
+                    rows.push(s);
+                    vals.push(0.0);
+                    q += 1;
+                }
+                (None, None) => unreachable!("the loop's condition"),
+            }
+        }
+        ptr.push(rows.len());
+    }
+    (*col_ptr, *row_idx, *values) = (ptr, rows, vals);
 }
 
 /// Multiply-adds per factor entry above which the LDU leaves a pattern to

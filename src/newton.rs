@@ -417,6 +417,9 @@ pub struct Solver {
     /// The free nodes' search candidates of the inner solves' decisions
     /// (`contact::SearchCache`), for the increment.
     search_cache: contact::SearchCache,
+    /// What the contact formulations derive from an increment's start
+    /// (`contact::StartCache`).
+    start_cache: contact::StartCache,
     /// The rigid targets' segments, built once per pose
     /// (`contact::RigidSegments`).
     targets: contact::RigidSegments,
@@ -497,6 +500,7 @@ impl Solver {
             iterate_opens: false,
             inner_flips: 0,
             search_cache: contact::SearchCache::default(),
+            start_cache: contact::StartCache::default(),
             targets: contact::RigidSegments::default(),
             times: SolverTimes::default(),
             close_touching: false,
@@ -1911,6 +1915,7 @@ impl Solver {
             poses: &self.state.rigid,
             settling: step.settling,
             touching: self.close_touching,
+            cache: &self.start_cache,
         };
         let clock = Instant::now();
         let updated = contact::update(

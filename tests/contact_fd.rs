@@ -498,6 +498,7 @@ fn check(kind: ElementKind, rigid: bool, wanted: &[NodeState], r_nodes: &[V2], s
         poses: &poses,
         settling: false,
         touching: false,
+        cache: &contact::StartCache::default(),
     };
     let sys = contact::update(
         &p.problem,

@@ -42,6 +42,7 @@ fn a_node_flipping_open_and_closed_is_reported() {
         poses: &poses,
         settling: false,
         touching: false,
+        cache: &contact::StartCache::default(),
     };
     let error = loop {
         match contact::update(

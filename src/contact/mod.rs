@@ -28,7 +28,7 @@ pub use search::{
 };
 pub use segment::{ContactPoint, NodeMat, NodeVec, Segment, Sliding, Sticking};
 pub use system::{
-    ContactSystem, Entries, Flips, Row, Start, Switched, state_key, touches_prescribed,
+    ContactSystem, Entries, Flips, Row, Start, StartCache, Switched, state_key, touches_prescribed,
 };
 
 use crate::problem::{ContactFormulation, ContactPair, Decisions, Problem};

@@ -381,6 +381,41 @@ pub struct Start<'a> {
     /// penetrated ones (`Solver::advance`'s retry of an increment whose
     /// first solve found a body held by nothing).
     pub touching: bool,
+    /// What a formulation derives from the start alone, kept for the
+    /// increment's other iterates (`StartCache`).
+    pub cache: &'a StartCache,
+}
+
+/// Per pair, what a formulation computes from an increment's start alone
+/// (mortar's couplings where the increment started, `mortar::PairAt`),
+/// with the key it was computed from (the start's positions): taken again
+/// while the key is equal, made anew otherwise. Keyed by its content, it
+/// needs no invalidation: a rolled-back, bisected or restored increment
+/// whose start differs makes its own.
+#[derive(Default)]
+pub struct StartCache(
+    std::sync::Mutex<std::collections::HashMap<String, Arc<dyn Any + Send + Sync>>>,
+);
+
+impl StartCache {
+    /// The value for pair `name` made from `key` (`make`), kept from an
+    /// earlier call with an equal key or made now and kept.
+    pub(super) fn get_or<K, V>(&self, name: &str, key: K, make: impl FnOnce() -> V) -> Arc<V>
+    where
+        K: PartialEq + Send + Sync + 'static,
+        V: Send + Sync + 'static,
+    {
+        let lock = || self.0.lock().unwrap_or_else(|e| e.into_inner());
+        let kept = lock().get(name).cloned();
+        if let Some(entry) = kept.as_ref().and_then(|e| e.downcast_ref::<(K, Arc<V>)>())
+            && entry.0 == key
+        {
+            return entry.1.clone();
+        }
+        let value = Arc::new(make());
+        lock().insert(name.to_string(), Arc::new((key, value.clone())));
+        value
+    }
 }
 
 /// Whether any dof of `rows` is prescribed in `eq`.

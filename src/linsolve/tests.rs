@@ -484,6 +484,53 @@ fn symbolic_analysis_reused_while_the_pattern_holds() {
     assert_eq!(n, p.n + 5);
 }
 
+/// Without slots, systems of one order whose entries move back and forth
+/// (a mortar side pair met and missed as a contactor node passes over a
+/// target node) keep one analysis after the first change: the new pattern
+/// takes in the kept one's entries, and either system is held by it, every
+/// solve exact against its dense system. Entries of the kept pattern that
+/// outnumber the system's own beside the tangent are not taken in.
+#[test]
+fn an_unslotted_pattern_takes_in_the_last_one_s_entries() {
+    let mut rng = Rng(13);
+    let (p, k) = q4(9, 8, true);
+    let rows = contact_rows(9, 8, 5, &mut rng);
+    let mut moved = rows.clone();
+    moved[4] = vec![(p.n - 1, 1.0), (p.n - 3, -1.0)];
+    // A coupling beside the tangent that moves with the row (a side pair's
+    // Hessian), between dofs the tangent does not couple.
+    let (near, far) = (
+        [(0, p.n - 1, 0.2), (p.n - 1, 0, 0.2)],
+        [(1, p.n - 3, 0.2), (p.n - 3, 1, 0.2)],
+    );
+    assert!(!(p.col_ptr[p.n - 1]..p.col_ptr[p.n]).any(|q| p.row_idx[q] == 0));
+    let mut aug = Augmented::default();
+    let mut check = |rows: &[Vec<(usize, f64)>], beside: &[(usize, usize, f64)]| {
+        let n = p.n + rows.len();
+        let mut extra = border(p.n, rows);
+        extra.extend_from_slice(beside);
+        let b = rhs(n, &mut Rng(n as u64 + 5));
+        let a = dense(&p, &k, &extra, n);
+        let mut x = b.clone();
+        aug.solve(&p, &k, &mut extra, &mut x).unwrap();
+        let r = residual(&a, &x, &b);
+        assert!(r < 1e-10, "residual {r:e}");
+        aug.analyses
+    };
+    assert_eq!(check(&rows, &near), 1);
+    assert_eq!(check(&moved, &far), 2);
+    assert_eq!(check(&rows, &near), 2);
+    assert_eq!(check(&moved, &far), 2);
+    assert_eq!(check(&rows, &[]), 2);
+    // Five rows elsewhere, of one dof each: the kept pattern's entries
+    // outnumber the system's own beside the tangent, and its pattern is
+    // its own (a third analysis); back to the first rows, whose entries
+    // outnumber those, the new pattern takes them in (a fourth).
+    let single: Rows = (0..5).map(|i| vec![(2 * i + 1, 1.0)]).collect();
+    assert_eq!(check(&single, &[]), 3);
+    assert_eq!(check(&rows, &[]), 4);
+}
+
 /// With slots, a contact set that loses rows, or comes back to rows it
 /// had, keeps the pattern: one analysis while the keys fit, every solve
 /// exact against the dense system.

@@ -162,6 +162,7 @@ impl Solver {
                 poses: start_poses,
                 settling: false,
                 touching: false,
+                cache: &contact::StartCache::default(),
             };
             let system = contact::update(
                 &self.problem,

@@ -197,6 +197,27 @@ impl<const N: usize> Dual<N> {
         }
     }
 
+    /// `self += k a b` in the value and gradient alone, as `add_product`
+    /// forms them: the Hessian is left undefined, for a sum whose Hessian
+    /// is never read (`hessian` on it is meaningless).
+    pub fn add_product_first_order(&mut self, k: f64, a: &Self, b: &Self) {
+        let (av, bv) = (k * a.v, k * b.v);
+        self.v += av * b.v;
+        let ab = union(a.span(), b.span());
+        if ab.0 == ab.1 {
+            return;
+        }
+        let (lo, hi) = ab;
+        for ((g, ag), bg) in self.g[lo..hi]
+            .iter_mut()
+            .zip(&a.g[lo..hi])
+            .zip(&b.g[lo..hi])
+        {
+            *g += av * bg + bv * ag;
+        }
+        (self.lo, self.hi) = union(self.span(), ab);
+    }
+
     /// `self *= k` for a plain number `k`; by zero, a constant.
     fn scale_in_place(&mut self, k: f64) {
         self.v *= k;
@@ -761,6 +782,13 @@ mod reference {
                 for b in &values {
                     let mut fused = *acc;
                     fused.add_product(-0.8, a, b);
+                    // The first-order form: the same value and gradient,
+                    // bit for bit.
+                    let mut first = *acc;
+                    first.add_product_first_order(-0.8, a, b);
+                    assert_eq!(first.v.to_bits(), fused.v.to_bits());
+                    assert!((0..12).all(|i| first.g[i].to_bits() == fused.g[i].to_bits()
+                        || first.g[i] == 0.0 && fused.g[i] == 0.0));
                     let plain = *acc + *a * *b * -0.8;
                     assert!((fused.v - plain.v).abs() <= 1e-12 * plain.v.abs().max(1.0));
                     let scale = (0..12)

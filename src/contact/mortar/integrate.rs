@@ -166,8 +166,14 @@ fn cover(s: &Setting, e: usize) -> Cover {
     let ns = nodal_normals(s.contactor, e, &at);
     let mut met = Vec::new();
     let mut pieces: Vec<[Cut; 2]> = Vec::new();
+    let bound = ProjectionBound::of(&xs, &ns);
     for m in (0..s.target.sides.len()).filter(|&m| near(s, e, m)) {
         let target = &s.target.sides[m];
+        if bound.is_some_and(|b| {
+            b.beyond_one_end([target[0], target[target.len() - 1]].map(|k| s.y[k]))
+        }) {
+            continue;
+        }
         let ys: Vec<V2<0>> = target.iter().map(|&k| V2::c(s.y[k])).collect();
         let Some(ends) = overlap(&xs, &ns, &ys, s.reach) else {
             continue;
@@ -193,6 +199,92 @@ fn cover(s: &Setting, e: usize) -> Cover {
     Cover {
         met,
         pieces: merged,
+    }
+}
+
+/// Where a point's projection onto a contactor side along its normal
+/// field can lie, from the point's projection onto the side's chord,
+/// without the projection's iteration (`cover` skips the side pairs it
+/// rules out: in a scene of 160 contactor and 90 target sides, 8,000 pairs
+/// lie within reach and 220 meet). The bound: the normal field's tilt
+/// against the chord's normal (its nodal normals' largest, `tan`, widened
+/// for a 3-node side's interpolation, whose shape functions reach -1/8)
+/// moves a point at distance d from the chord by at most `tan (d + sag)`
+/// along it, `sag` the side's mid node's distance from the chord; and a
+/// 3-node side's parameter lies within `off` (its mid node's offset along
+/// the chord from the middle) of the chord's.
+#[derive(Clone, Copy)]
+struct ProjectionBound {
+    a: [f64; 2],
+    /// Unit chord and its length.
+    u: [f64; 2],
+    length: f64,
+    tan: f64,
+    sag: f64,
+    off: f64,
+}
+
+impl ProjectionBound {
+    /// None where the bound does not serve: a degenerate chord, or a
+    /// normal tilted by more than 60 degrees from the chord's (a surface
+    /// corner's node).
+    fn of(xs: &[V2<0>], ns: &[V2<0>]) -> Option<Self> {
+        let (a, b) = (xs[0].value(), xs[xs.len() - 1].value());
+        let d = [b[0] - a[0], b[1] - a[1]];
+        let length = d[0].hypot(d[1]);
+        if length.is_nan() || length <= 0.0 {
+            return None;
+        }
+        let u = [d[0] / length, d[1] / length];
+        let (mut along, mut across) = (0.0f64, 1.0f64);
+        for n in ns {
+            let n = n.value();
+            let size = n[0].hypot(n[1]);
+            let t = (n[0] * u[0] + n[1] * u[1]) / size;
+            along = along.max(t.abs());
+            across = across.min((1.0 - t * t).max(0.0).sqrt());
+        }
+        if across < 0.5 {
+            return None;
+        }
+        let (sag, off) = if xs.len() == 3 {
+            let m = xs[1].value();
+            let r = [m[0] - 0.5 * (a[0] + b[0]), m[1] - 0.5 * (a[1] + b[1])];
+            (
+                (r[0] * u[1] - r[1] * u[0]).abs(),
+                (r[0] * u[0] + r[1] * u[1]).abs(),
+            )
+        } else {
+            (0.0, 0.0)
+        };
+        Some(ProjectionBound {
+            a,
+            u,
+            length,
+            tan: 1.25 * along / (across - 0.125),
+            sag,
+            off,
+        })
+    }
+
+    /// The range of the side's parameter in which point `y`'s projections
+    /// within the side lie (beyond its ends the normal field is
+    /// extrapolated, and the bound does not hold).
+    fn range(&self, y: [f64; 2]) -> (f64, f64) {
+        let r = [y[0] - self.a[0], y[1] - self.a[1]];
+        let s = r[0] * self.u[0] + r[1] * self.u[1];
+        let d = (r[0] * self.u[1] - r[1] * self.u[0]).abs();
+        let spread = self.tan * (d + self.sag) + self.off;
+        let xi = |s: f64| 2.0 * s / self.length - 1.0;
+        (xi(s - spread), xi(s + spread))
+    }
+
+    /// Whether points `ys` have no projection within the side and their
+    /// chord projections lie beyond the same end, by more than a quarter
+    /// of its length: no overlap.
+    fn beyond_one_end(&self, ys: [[f64; 2]; 2]) -> bool {
+        let [(lo0, hi0), (lo1, hi1)] = ys.map(|y| self.range(y));
+        (lo0 > 1.5 && lo1 > 1.5) || (hi0 < -1.5 && hi1 < -1.5)
     }
 }
 
@@ -572,8 +664,9 @@ fn side_pair<const N: usize>(s: &Setting, e: usize, m: usize, cover: &Cover) -> 
             }
             gap.add_product(1.0, &phi, &gds);
             let hat_j = hat(side.len(), j, point.xi);
-            hat_weighted[j].add_product(1.0, &hat_j, &gds);
-            covered[j].add_product(1.0, &hat_j, &point.ds);
+            // Their values and gradients alone are read (`Part`).
+            hat_weighted[j].add_product_first_order(1.0, &hat_j, &gds);
+            covered[j].add_product_first_order(1.0, &hat_j, &point.ds);
             if let Some(v) = apart.get_mut(j) {
                 *v = *v + (point.x - point.y).scale(phi * point.ds);
             }
@@ -620,11 +713,11 @@ fn side_pair<const N: usize>(s: &Setting, e: usize, m: usize, cover: &Cover) -> 
 /// functions there, and the point's weight in the pair's measure.
 struct Point<const N: usize> {
     xi: Dual<N>,
-    sh: Vec<Dual<N>>,
+    sh: [Dual<N>; 3],
     x: V2<N>,
     n: V2<N>,
     y: V2<N>,
-    wt: Vec<Dual<N>>,
+    wt: [Dual<N>; 3],
     ds: Dual<N>,
 }
 

@@ -165,11 +165,27 @@ impl PairAt {
         if pair_at.friction {
             // Where the contactor's points met the target at the start of
             // the increment: the weighted slips are measured from there.
-            let (x0, y0) = (
+            // They depend on the start alone: made at the increment's first
+            // iterate, kept for the others (`StartCache`).
+            let (x0, y0): (Vec<[f64; 2]>, Vec<[f64; 2]>) = (
                 positions(&pair_at.contactor, Some(at.start.u)),
                 positions(&pair_at.target, Some(at.start.u)),
             );
-            let start = couplings(&pair_at.setting(&x0, &y0));
+            let key = (
+                pair_at.contactor.nodes.clone(),
+                pair_at.target.nodes.clone(),
+                x0.clone(),
+                y0.clone(),
+            );
+            let start = (at.start.cache).get_or(&pair.name, key, || {
+                // Their reach is the start's own (`PairAt::h` there).
+                let h0 =
+                    longest_side(&pair_at.contactor, &x0).max(longest_side(&pair_at.target, &y0));
+                couplings(&Setting {
+                    reach: 2.0 * h0,
+                    ..pair_at.setting(&x0, &y0)
+                })
+            });
             pair_at.add_slips(&mut gaps, &parts, &start);
         }
         // A node of no weight (an 8-node side's corner on the axis) has no

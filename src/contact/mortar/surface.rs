@@ -184,8 +184,10 @@ fn body_kind(problem: &Problem, body: usize) -> Option<ElementKind> {
 }
 
 /// Shape functions of a side of `n` nodes (2 or 3) at `xi` in [-1, 1] and
-/// their derivatives, generic over the number type.
-pub(super) fn shape<T>(n: usize, xi: T) -> (Vec<T>, Vec<T>)
+/// their derivatives, generic over the number type: the first `n` entries
+/// of each array (a 2-node side's third is zero), on the stack (the
+/// projections call this at every step of their iterations).
+pub(super) fn shape<T>(n: usize, xi: T) -> ([T; 3], [T; 3])
 where
     T: Copy
         + std::ops::Add<Output = T>
@@ -195,18 +197,19 @@ where
         + std::ops::Mul<f64, Output = T>,
 {
     if n == 2 {
+        let zero = xi * 0.0;
         (
-            vec![xi * -0.5 + 0.5, xi * 0.5 + 0.5],
-            vec![xi * 0.0 + -0.5, xi * 0.0 + 0.5],
+            [xi * -0.5 + 0.5, xi * 0.5 + 0.5, zero],
+            [zero + -0.5, zero + 0.5, zero],
         )
     } else {
         (
-            vec![
+            [
                 (xi * xi - xi) * 0.5,
                 xi * xi * -1.0 + 1.0,
                 (xi * xi + xi) * 0.5,
             ],
-            vec![xi + -0.5, xi * -2.0, xi + 0.5],
+            [xi + -0.5, xi * -2.0, xi + 0.5],
         )
     }
 }

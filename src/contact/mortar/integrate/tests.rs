@@ -284,3 +284,62 @@ fn slip_derivatives_match_differences() {
         check_differences(&format!("order {order}"), (&x, &y), &total, &grad, &hess);
     }
 }
+
+/// `ProjectionBound`: every projection of a point onto a contactor side
+/// along its normal field within the side (every root of `onto_contactor`
+/// in [-1, 1], found by sampling) lies in the range the bound gives from
+/// the chord, for 2- and 3-node sides, straight and curved,
+/// their mid node off the middle, nodal normals tilted up to 55 degrees,
+/// and points up to five side lengths away on either side.
+#[test]
+fn projections_lie_within_the_chord_s_bound() {
+    let mut seed = 7u64;
+    let mut next = move || {
+        seed ^= seed << 13;
+        seed ^= seed >> 7;
+        seed ^= seed << 17;
+        (seed % 1_000_000) as f64 / 1e6
+    };
+    let mut checked = 0;
+    for case in 0..100 {
+        let nodes = 2 + case % 2;
+        let (a, b) = ([0.3, -0.2], [1.1 + next(), 0.4 * next()]);
+        let mut xs = vec![V2::<0>::c(a)];
+        if nodes == 3 {
+            let m = [0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])];
+            xs.push(V2::c([
+                m[0] + 0.3 * (next() - 0.5),
+                m[1] + 0.6 * (next() - 0.5),
+            ]));
+        }
+        xs.push(V2::c(b));
+        let chord = (b[1] - a[1]).atan2(b[0] - a[0]) + std::f64::consts::FRAC_PI_2;
+        let ns: Vec<V2<0>> = (0..nodes)
+            .map(|_| {
+                let tilt = (next() - 0.5) * 2.0 * 55f64.to_radians();
+                V2::c([(chord + tilt).cos(), (chord + tilt).sin()])
+            })
+            .collect();
+        let bound = ProjectionBound::of(&xs, &ns).expect("tilts under 60 degrees");
+        for _ in 0..10 {
+            let y = [-4.0 + 10.0 * next(), -5.0 + 10.0 * next()];
+            let (lo, hi) = bound.range(y);
+            let f = |xi: f64| onto_contactor(&xs, &ns, V2::c(y), Dual::c(xi)).0.v;
+            let step = 2e-4;
+            let mut last = f(-1.0);
+            for i in 1..=10_000 {
+                let xi = -1.0 + step * i as f64;
+                let now = f(xi);
+                if last.signum() != now.signum() {
+                    assert!(
+                        xi - step >= lo - step && xi <= hi + step,
+                        "case {case}: root near {xi} outside [{lo}, {hi}] for {y:?}"
+                    );
+                    checked += 1;
+                }
+                last = now;
+            }
+        }
+    }
+    assert!(checked > 100, "{checked} roots");
+}
