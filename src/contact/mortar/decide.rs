@@ -326,7 +326,8 @@ pub(super) fn predict(
             }
             continue;
         }
-        if lambda[j] * a < -force_tol && !at.settling {
+        let pulls = lambda[j] * a < -force_tol;
+        if pulls && !at.settling {
             switched.push((j, Forced::Open));
             continue;
         }
@@ -340,7 +341,12 @@ pub(super) fn predict(
                     switched.push((j, Forced::Slip(-lambda_t[j].signum())));
                 }
             }
-            _ if d.sign != 0.0 => {
+            // A node kept in contact while the iterate settles though it
+            // pulls has no friction to carry: it slides on (sticking again,
+            // it slid at once on its traction, and six such nodes switched
+            // back and forth at every inner solve of Cattaneo-Mindlin's
+            // first iteration).
+            _ if d.sign != 0.0 && !pulls => {
                 let u = gap.slip.0 + moved(&gap.slip.1);
                 if d.sign * u < -length_tol * a {
                     switched.push((j, Forced::Stick));
