@@ -188,6 +188,27 @@ fn rhs(n: usize, rng: &mut Rng) -> Vec<f64> {
     (0..n).map(|_| rng.next()).collect()
 }
 
+/// Solves by `aug` the tangent `k` bordered by `rows` and the entries
+/// `beside` it, against a right-hand side seeded by the order plus `seed`,
+/// and checks the solution against the dense system.
+fn solve_bordered(
+    aug: &mut Augmented,
+    (p, k): (&Pattern, &[f64]),
+    rows: &[Vec<(usize, f64)>],
+    beside: &[(usize, usize, f64)],
+    seed: u64,
+) {
+    let n = p.n + rows.len();
+    let mut extra = border(p.n, rows);
+    extra.extend_from_slice(beside);
+    let b = rhs(n, &mut Rng(n as u64 + seed));
+    let a = dense(p, k, &extra, n);
+    let mut x = b.clone();
+    aug.solve(p, k, &mut extra, &mut x).unwrap();
+    let r = residual(&a, &x, &b);
+    assert!(r < 1e-10, "residual {r:e}");
+}
+
 /// Solve with a fresh `Augmented` (LDLT allowed or not); the solution and
 /// the solver.
 fn solve(
@@ -415,15 +436,7 @@ fn symbolic_analysis_reused_while_the_pattern_holds() {
     let n = p.n + rows.len();
     let mut aug = Augmented::default();
     let check = |aug: &mut Augmented, k: &[f64], rows: &[Vec<(usize, f64)>], extra_k: &[_]| {
-        let n = p.n + rows.len();
-        let mut extra = border(p.n, rows);
-        extra.extend_from_slice(extra_k);
-        let b = rhs(n, &mut Rng(n as u64 + 3));
-        let a = dense(&p, k, &extra, n);
-        let mut x = b.clone();
-        aug.solve(&p, k, &mut extra, &mut x).unwrap();
-        let r = residual(&a, &x, &b);
-        assert!(r < 1e-10, "residual {r:e}");
+        solve_bordered(aug, (&p, k), rows, extra_k, 3);
     };
     check(&mut aug, &k, &rows, &[]);
     assert_eq!(
@@ -506,15 +519,7 @@ fn an_unslotted_pattern_takes_in_the_last_one_s_entries() {
     assert!(!(p.col_ptr[p.n - 1]..p.col_ptr[p.n]).any(|q| p.row_idx[q] == 0));
     let mut aug = Augmented::default();
     let mut check = |rows: &[Vec<(usize, f64)>], beside: &[(usize, usize, f64)]| {
-        let n = p.n + rows.len();
-        let mut extra = border(p.n, rows);
-        extra.extend_from_slice(beside);
-        let b = rhs(n, &mut Rng(n as u64 + 5));
-        let a = dense(&p, &k, &extra, n);
-        let mut x = b.clone();
-        aug.solve(&p, &k, &mut extra, &mut x).unwrap();
-        let r = residual(&a, &x, &b);
-        assert!(r < 1e-10, "residual {r:e}");
+        solve_bordered(&mut aug, (&p, &k), rows, beside, 5);
         aug.analyses
     };
     assert_eq!(check(&rows, &near), 1);
@@ -541,15 +546,7 @@ fn multipliers_in_slots_keep_the_analysis() {
     let rows = contact_rows(9, 8, 5, &mut rng);
     let mut aug = Augmented::with_slots(true);
     let check = |aug: &mut Augmented, rows: &[Vec<(usize, f64)>], extra_k: &[_]| {
-        let n = p.n + rows.len();
-        let mut extra = border(p.n, rows);
-        extra.extend_from_slice(extra_k);
-        let b = rhs(n, &mut Rng(n as u64 + 3));
-        let a = dense(&p, &k, &extra, n);
-        let mut x = b.clone();
-        aug.solve(&p, &k, &mut extra, &mut x).unwrap();
-        let r = residual(&a, &x, &b);
-        assert!(r < 1e-10, "residual {r:e}");
+        solve_bordered(aug, (&p, &k), rows, extra_k, 3);
         (aug.analyses, aug.ldlt, aug.lu + aug.ldu)
     };
     assert_eq!(check(&mut aug, &rows, &[]), (1, 1, 0));

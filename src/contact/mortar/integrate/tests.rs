@@ -330,9 +330,10 @@ fn projections_lie_within_the_chord_s_bound() {
             for i in 1..=10_000 {
                 let xi = -1.0 + step * i as f64;
                 let now = f(xi);
+                // A root in [xi - step, xi]: that interval meets the range.
                 if last.signum() != now.signum() {
                     assert!(
-                        xi - step >= lo - step && xi <= hi + step,
+                        xi >= lo && xi - step <= hi,
                         "case {case}: root near {xi} outside [{lo}, {hi}] for {y:?}"
                     );
                     checked += 1;
