@@ -360,19 +360,23 @@ fn measure<const N: usize>(
 }
 
 /// The values of `v` with their derivatives dropped, for the plain
-/// iterations of a projection.
-fn plain<const N: usize>(v: &[V2<N>]) -> Vec<V2<0>> {
+/// iterations of a projection (over one unknown, the parameter itself:
+/// `root` reads the residual's second derivative in it).
+fn plain<const N: usize>(v: &[V2<N>]) -> Vec<V2<1>> {
     v.iter().map(|p| V2::c(p.value())).collect()
 }
 
-/// The root of `f` (value and derivative) near `start`: iterated in plain
-/// numbers (`f0`) to round-off, then two Newton steps in dual numbers,
-/// which make its first and second derivatives exact (the first step's
-/// are exact to first order, the second's to second). None if the plain
-/// iteration does not converge.
+/// The root of `f` (value and derivative) near `start`, with its first
+/// and second derivatives in the `N` unknowns. Iterated in plain numbers
+/// (`f0`) to round-off; then, by the implicit function theorem at the
+/// root `r` of `f(r, p) = 0`, `r_p = -f_p / f_r` and `r_pp = -(f_pp + f_rp
+/// r_p^T + r_p f_rp^T + f_rr r_p r_p^T) / f_r`: one Newton step in dual
+/// numbers from the plain root (its value `r - f / f_r`, the first three
+/// terms) and the last term added (`f_rr` from `f0` with the parameter as
+/// its unknown). None if the plain iteration does not converge.
 fn root<const N: usize>(
     f: impl Fn(Dual<N>) -> (Dual<N>, Dual<N>),
-    f0: impl Fn(Dual<0>) -> (Dual<0>, Dual<0>),
+    f0: impl Fn(Dual<1>) -> (Dual<1>, Dual<1>),
     start: f64,
 ) -> Option<Dual<N>> {
     let mut xi = start;
@@ -397,11 +401,12 @@ fn root<const N: usize>(
     if !converged {
         return None;
     }
-    let mut x = Dual::c(xi);
-    for _ in 0..2 {
-        let (v, d) = f(x);
-        x = x - v / d;
-    }
+    let (v, d) = f(Dual::c(xi));
+    let mut x = Dual::c(xi) - v / d;
+    let (_, d0) = f0(Dual::var(xi, 0));
+    let curvature = d0.g[0] / d.v;
+    let first = x - Dual::c(x.v);
+    x.add_product(-0.5 * curvature, &first, &first);
     Some(x)
 }
 
@@ -414,6 +419,13 @@ fn contactor_at<const N: usize>(
 ) -> (V2<N>, V2<N>, V2<N>, V2<N>) {
     let (n, dn) = shape(xs.len(), xi);
     (sum(&n, xs), sum(&dn, xs), sum(&n, ns), sum(&dn, ns))
+}
+
+/// The contactor side's point at `xi` and its normal field there (not
+/// unit): `contactor_at`'s first and third.
+fn point_and_normal<const N: usize>(xs: &[V2<N>], ns: &[V2<N>], xi: Dual<N>) -> (V2<N>, V2<N>) {
+    let (n, _) = shape(xs.len(), xi);
+    (sum(&n, xs), sum(&n, ns))
 }
 
 /// Where point `y` lies on the contactor side along its normal field:
@@ -433,12 +445,12 @@ fn onto_contactor<const N: usize>(
 /// `(y(eta) - p) x n` and its derivative in eta.
 fn onto_target<const N: usize>(
     ys: &[V2<N>],
-    p: V2<N>,
-    n: V2<N>,
+    p: &V2<N>,
+    n: &V2<N>,
     eta: Dual<N>,
 ) -> (Dual<N>, Dual<N>) {
     let (w, dw) = shape(ys.len(), eta);
-    ((sum(&w, ys) - p).cross(&n), sum(&dw, ys).cross(&n))
+    ((sum(&w, ys) - *p).cross(n), sum(&dw, ys).cross(n))
 }
 
 /// The outward unit normals at side e's nodes: the average of the unit
@@ -562,7 +574,7 @@ fn overlap<const N: usize>(
     let (xs0, ns0, ys0) = (plain(xs), plain(ns), plain(ys));
     let ends = [ys[0], ys[ys.len() - 1]].map(|y| {
         let y0 = V2::c(y.value());
-        let start = chord_xi(&xs0, y0);
+        let start = chord_xi(&xs0, y.value());
         root(
             |xi| onto_contactor(xs, ns, y, xi),
             |xi| onto_contactor(&xs0, &ns0, y0, xi),
@@ -597,11 +609,11 @@ fn overlap<const N: usize>(
     if hi.0.v <= lo.0.v {
         return None;
     }
-    let (p, _, n, _) = contactor_at(&xs0, &ns0, Dual::c(0.5 * (lo.0.v + hi.0.v)));
+    let (p, n) = point_and_normal(&xs0, &ns0, Dual::c(0.5 * (lo.0.v + hi.0.v)));
     let n = n.unit();
     let eta = root(
-        |eta| onto_target(&ys0, p, n, eta),
-        |eta| onto_target(&ys0, p, n, eta),
+        |eta| onto_target(&ys0, &p, &n, eta),
+        |eta| onto_target(&ys0, &p, &n, eta),
         0.0,
     )?;
     let (w, dw) = shape(ys0.len(), eta);
@@ -737,12 +749,12 @@ fn points<const N: usize>(
     let mut out = Vec::with_capacity(GAUSS.len());
     for &(z, w) in &GAUSS {
         let xi = mid + half * z;
-        let (x, _, n, _) = contactor_at(xs, ns, xi);
+        let (x, n) = point_and_normal(xs, ns, xi);
         let n = n.unit();
         let (x0, n0) = (V2::c(x.value()), V2::c(n.value()));
         let eta = root(
-            |eta| onto_target(ys, x, n, eta),
-            |eta| onto_target(&ys0, x0, n0, eta),
+            |eta| onto_target(ys, &x, &n, eta),
+            |eta| onto_target(&ys0, &x0, &n0, eta),
             0.0,
         )?;
         let (wt, _) = shape(ys.len(), eta);
@@ -858,11 +870,10 @@ fn hat<const N: usize>(n: usize, j: usize, xi: Dual<N>) -> Dual<N> {
 
 /// Where `y` projects on the chord of the contactor side, in its parameter:
 /// the start of the projection along the normal field.
-fn chord_xi(xs: &[V2<0>], y: V2<0>) -> f64 {
+fn chord_xi<const N: usize>(xs: &[V2<N>], y: [f64; 2]) -> f64 {
     let (a, b) = (xs[0].value(), xs[xs.len() - 1].value());
     let d = [b[0] - a[0], b[1] - a[1]];
-    let t =
-        ((y.value()[0] - a[0]) * d[0] + (y.value()[1] - a[1]) * d[1]) / (d[0] * d[0] + d[1] * d[1]);
+    let t = ((y[0] - a[0]) * d[0] + (y[1] - a[1]) * d[1]) / (d[0] * d[0] + d[1] * d[1]);
     2.0 * t - 1.0
 }
 
