@@ -367,20 +367,20 @@ fn plain<const N: usize>(v: &[V2<N>]) -> Vec<V2<1>> {
 }
 
 /// The root of `f` (value and derivative) near `start`, with its first
-/// and second derivatives in the `N` unknowns. Iterated in plain numbers
-/// (`f0`) to round-off; then, by the implicit function theorem at the
-/// root `r` of `f(r, p) = 0`, `r_p = -f_p / f_r` and `r_pp = -(f_pp + f_rp
-/// r_p^T + r_p f_rp^T + f_rr r_p r_p^T) / f_r`: one Newton step in dual
-/// numbers from the plain root (its value `r - f / f_r`, the first three
-/// terms) and the last term added (`f_rr` from `f0` with the parameter as
-/// its unknown). None if the plain iteration does not converge.
+/// and second derivatives in the `N` unknowns: `plain_root`, then
+/// `dual_root`. None if the plain iteration does not converge.
 fn root<const N: usize>(
     f: impl Fn(Dual<N>) -> (Dual<N>, Dual<N>),
     f0: impl Fn(Dual<1>) -> (Dual<1>, Dual<1>),
     start: f64,
 ) -> Option<Dual<N>> {
+    plain_root(&f0, start).map(|xi| dual_root(f, f0, xi))
+}
+
+/// The root of `f0` near `start`, iterated in plain numbers to round-off;
+/// None if the iteration does not converge.
+fn plain_root(f0: impl Fn(Dual<1>) -> (Dual<1>, Dual<1>), start: f64) -> Option<f64> {
     let mut xi = start;
-    let mut converged = false;
     for _ in 0..30 {
         let (v, d) = f0(Dual::c(xi));
         let step = v.v / d.v;
@@ -394,20 +394,35 @@ fn root<const N: usize>(
         // Parameters are of order 1: 1e-12 is round-off's reach after
         // the cancellation in the residual.
         if step.abs() <= 1e-12 * (1.0 + xi.abs()) {
-            converged = true;
-            break;
+            return Some(xi);
         }
     }
-    if !converged {
-        return None;
-    }
+    None
+}
+
+/// The root `r` of `f` at its plain value `xi` (`plain_root`) with its
+/// first and second derivatives in the `N` unknowns. By the implicit
+/// function theorem at `f(r, p) = 0`, `r_p = -f_p / f_r` and `r_pp =
+/// -(f_pp + f_rp r_p^T + r_p f_rp^T + f_rr r_p r_p^T) / f_r`: one Newton
+/// step in dual numbers from `xi` (its value `r - f / f_r`, the first three
+/// terms) and the last term added (`f_rr` from `f0` with the parameter as
+/// its unknown); its value `xi`.
+fn dual_root<const N: usize>(
+    f: impl Fn(Dual<N>) -> (Dual<N>, Dual<N>),
+    f0: impl Fn(Dual<1>) -> (Dual<1>, Dual<1>),
+    xi: f64,
+) -> Dual<N> {
     let (v, d) = f(Dual::c(xi));
     let mut x = Dual::c(xi) - v / d;
     let (_, d0) = f0(Dual::var(xi, 0));
     let curvature = d0.g[0] / d.v;
     let first = x - Dual::c(x.v);
     x.add_product(-0.5 * curvature, &first, &first);
-    Some(x)
+    // Its value is the plain root's, which decided where the root lies
+    // (`overlap`: a target node that projects onto a contactor node cuts
+    // one of its two sides, whose pairs read the same number).
+    x.v = xi;
+    x
 }
 
 /// The contactor side at `xi`: its point, tangent, and the normal field
@@ -572,34 +587,36 @@ fn overlap<const N: usize>(
     reach: f64,
 ) -> Option<[(Dual<N>, Option<usize>); 2]> {
     let (xs0, ns0, ys0) = (plain(xs), plain(ns), plain(ys));
-    let ends = [ys[0], ys[ys.len() - 1]].map(|y| {
-        let y0 = V2::c(y.value());
-        let start = chord_xi(&xs0, y.value());
-        root(
-            |xi| onto_contactor(xs, ns, y, xi),
-            |xi| onto_contactor(&xs0, &ns0, y0, xi),
-            start,
+    let last = ys.len() - 1;
+    // The ends' projections in plain numbers; in dual numbers only where
+    // they cut the side (an end beyond it clips at the side's end).
+    let [Some(a), Some(b)] = [0, last].map(|i| {
+        plain_root(
+            |xi| onto_contactor(&xs0, &ns0, ys0[i], xi),
+            chord_xi(&xs0, ys0[i].value()),
         )
-    });
-    let [Some(a), Some(b)] = ends else {
+    }) else {
         return None;
     };
-    let last = ys.len() - 1;
-    let (lo, hi) = if a.v <= b.v {
+    let (lo, hi) = if a <= b {
         ((a, 0), (b, last))
     } else {
         ((b, last), (a, 0))
     };
-    let lo = if lo.0.v > -1.0 {
-        (lo.0, Some(lo.1))
-    } else {
-        (Dual::c(-1.0), None)
+    let cut = |(xi, i): (f64, usize), inside: bool, side_end: f64| {
+        if inside {
+            let root = dual_root(
+                |xi| onto_contactor(xs, ns, ys[i], xi),
+                |xi| onto_contactor(&xs0, &ns0, ys0[i], xi),
+                xi,
+            );
+            (root, Some(i))
+        } else {
+            (Dual::c(side_end), None)
+        }
     };
-    let hi = if hi.0.v < 1.0 {
-        (hi.0, Some(hi.1))
-    } else {
-        (Dual::c(1.0), None)
-    };
+    let lo = cut(lo, lo.0 > -1.0, -1.0);
+    let hi = cut(hi, hi.0 < 1.0, 1.0);
     // However short, an overlap counts: its value vanishes with its length
     // but not its derivative, the motion of its cut, which cancels the
     // neighbouring piece's (a target node projecting just past a contactor
@@ -611,15 +628,11 @@ fn overlap<const N: usize>(
     }
     let (p, n) = point_and_normal(&xs0, &ns0, Dual::c(0.5 * (lo.0.v + hi.0.v)));
     let n = n.unit();
-    let eta = root(
-        |eta| onto_target(&ys0, &p, &n, eta),
-        |eta| onto_target(&ys0, &p, &n, eta),
-        0.0,
-    )?;
-    let (w, dw) = shape(ys0.len(), eta);
+    let eta = plain_root(|eta| onto_target(&ys0, &p, &n, eta), 0.0)?;
+    let (w, dw) = shape(ys0.len(), Dual::c(eta));
     let gap = (sum(&w, &ys0) - p).dot(&n).v;
     let facing = sum(&dw, &ys0).right().dot(&n).v < 0.0;
-    (facing && gap >= -reach && eta.v.abs() <= 1.0 + 1e-6).then_some([lo, hi])
+    (facing && gap >= -reach && eta.abs() <= 1.0 + 1e-6).then_some([lo, hi])
 }
 
 /// The part of side pair (e, m) in the contactor nodes' weighted gaps, in
