@@ -969,7 +969,10 @@ impl Solver {
             }
             self.correction(&mut inc, it, eval, log)?;
         }
-        Err(format!("no convergence in {max_iterations} iterations"))
+        Err(format!(
+            "no convergence in {max_iterations} iterations{}",
+            contact::failure_hints(&self.problem, &inc.memory)
+        ))
     }
 
     /// The predictor: the increment's loads, pressures and rigid target

@@ -115,6 +115,13 @@ pub(crate) trait Formulation: Sync {
         kept: &Kept,
         out: &mut sensitivity::Linearised,
     ) -> Result<(), String>;
+
+    /// What the pair's memory `mem` at an increment that did not converge
+    /// says a user could change (appended to the failure's reason); None
+    /// by default.
+    fn failure_hint(&self, _pair: &ContactPair, _mem: &PairMemory) -> Option<String> {
+        None
+    }
 }
 
 /// The formulation a pair uses: the registration of every formulation.
@@ -234,4 +241,14 @@ pub fn predict(
     }
     let switched = Switched(out);
     Ok((switched.count() > 0).then_some(switched))
+}
+
+/// The pairs' hints on an increment that did not converge
+/// (`Formulation::failure_hint`), from their memory at its last iterate:
+/// empty, or "; " and the hints.
+pub fn failure_hints(problem: &Problem, memory: &[PairMemory]) -> String {
+    (problem.contacts.iter().zip(memory))
+        .filter_map(|(pair, mem)| formulation(pair).failure_hint(pair, mem))
+        .map(|hint| format!("; {hint}"))
+        .collect()
 }

@@ -173,6 +173,23 @@ impl Formulation for Nodal {
             (kept.get::<Decided>()).ok_or("linearisation without nodal decisions (internal)")?;
         linearise::linearise_pair(at, pair, &kept.decisions, out)
     }
+
+    /// Against a body's faceted surface, the nodes that went from one
+    /// target segment to another in the increment: a node can lodge at a
+    /// facet's corner and be thrown back each time it steps past it (the
+    /// ironing with the ring's surface as contactor, tests/ironing.rs).
+    fn failure_hint(&self, pair: &ContactPair, mem: &PairMemory) -> Option<String> {
+        let faceted = matches!(pair.target, Target::Body { smooth: None, .. });
+        let crossed = mem.nodes.iter().filter(|n| n.crossed.is_some()).count();
+        (faceted && crossed > 0).then(|| {
+            format!(
+                "pair '{}': {crossed} contactor node(s) moved between segments of its faceted \
+                 target, where a node can lodge at a corner; `smooth_target = true` or \
+                 `formulation = \"mortar\"` on the pair may converge",
+                pair.name
+            )
+        })
+    }
 }
 
 /// One pair at the iterate, as its nodes' decisions read it: the target now
