@@ -404,9 +404,9 @@ fn plain_root(f0: impl Fn(Dual<1>) -> (Dual<1>, Dual<1>), start: f64) -> Option<
 /// first and second derivatives in the `N` unknowns. By the implicit
 /// function theorem at `f(r, p) = 0`, `r_p = -f_p / f_r` and `r_pp =
 /// -(f_pp + f_rp r_p^T + r_p f_rp^T + f_rr r_p r_p^T) / f_r`: one Newton
-/// step in dual numbers from `xi` (its value `r - f / f_r`, the first three
-/// terms) and the last term added (`f_rr` from `f0` with the parameter as
-/// its unknown); its value `xi`.
+/// step in dual numbers from `xi` (`xi - f / f_r`, whose derivatives are
+/// `r_p` and the first three terms of `r_pp`) and the last term added
+/// (`f_rr` from `f0` with the parameter as its unknown). Its value is `xi`.
 fn dual_root<const N: usize>(
     f: impl Fn(Dual<N>) -> (Dual<N>, Dual<N>),
     f0: impl Fn(Dual<1>) -> (Dual<1>, Dual<1>),
