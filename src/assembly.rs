@@ -152,6 +152,16 @@ impl Model {
         }
     }
 
+    /// Where element `e`'s material history lies in `State::history`.
+    pub fn history_range(&self, e: usize) -> std::ops::Range<usize> {
+        let end = self
+            .history_offset
+            .get(e + 1)
+            .copied()
+            .unwrap_or(self.history_len);
+        self.history_offset[e]..end
+    }
+
     /// Element `e`'s kept reference geometry (`kind` its kind).
     fn geometry_of(&self, e: usize, kind: ElementKind) -> Option<&[f64]> {
         let start = self.geometry_offset[e];

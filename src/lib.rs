@@ -15,8 +15,10 @@ pub mod newton;
 pub mod output;
 pub mod problem;
 pub mod results;
+pub mod running;
 pub mod scene;
 pub mod state;
+pub mod strip;
 
 /// Crate version and source revision of this build.
 pub fn build_id() -> String {

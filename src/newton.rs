@@ -426,6 +426,8 @@ pub struct Solver {
     /// Nodes the inner solves opened or closed since `advance` last reset
     /// it (an increment they did not touch gains nothing from the fallback).
     inner_flips: usize,
+    /// The running strips (`crate::running`), in body order.
+    running: Vec<crate::running::Strip>,
 }
 
 impl Solver {
@@ -456,7 +458,7 @@ impl Solver {
         let nnz = model.pattern.row_idx.len();
         let state = State {
             time: 0.0,
-            u: vec![0.0; ndof],
+            u: problem.initial_u(),
             history: vec![0.0; model.history_len],
             step_start_history: Vec::new(),
             step_start_u: Vec::new(),
@@ -466,7 +468,14 @@ impl Solver {
             ties: vec![0.0; problem.ties.iter().map(|t| t.rows.len()).sum()],
             driver_forces: scene_forces(&problem, 0.0),
             pressures: scene_pressures(&problem, 0.0),
+            running: Vec::new(),
         };
+        let running: Vec<crate::running::Strip> = (0..problem.bodies.len())
+            .filter(|&b| problem.bodies[b].running)
+            .map(|b| crate::running::Strip::new(&problem, b))
+            .collect();
+        let mut state = state;
+        state.running = vec![Default::default(); running.len()];
         let size = model_size(&problem);
         let diagonal_at = diagonal_positions(&model.pattern)?;
         let inputs = Inputs {
@@ -505,6 +514,7 @@ impl Solver {
             times: SolverTimes::default(),
             close_touching: false,
             free_at_first_solve: false,
+            running,
         })
     }
 
@@ -676,6 +686,10 @@ impl Solver {
                 "step end time {t_end} must be finite and after t = {t0}"
             )));
         }
+        // A running strip's state shifts by whole elements before the
+        // step; a step that fails leaves the state as it was before that.
+        let unshifted = (!self.running.is_empty()).then(|| self.state.clone());
+        self.recycle();
         let start = self.state.clone();
         let u0 = start.u.clone();
         let factorizations = self.factorizations();
@@ -709,7 +723,7 @@ impl Solver {
                     let mid = 0.5 * (self.state.time + t);
                     let halvable = mid > self.state.time && mid < t;
                     if bisections >= self.problem.solver.max_bisections || !halvable {
-                        self.state = start;
+                        self.state = unshifted.unwrap_or(start);
                         let why = if halvable {
                             format!("after {bisections} bisections")
                         } else {
@@ -736,6 +750,10 @@ impl Solver {
                 }
             }
         }
+        for (k, strip) in self.running.iter().enumerate() {
+            self.state.running[k].speed =
+                strip.speeds(&self.problem, &start.u, &self.state.u, t_end - t0);
+        }
         Ok(StepResult {
             time: t_end,
             converged: true,
@@ -749,7 +767,25 @@ impl Solver {
             drivers: self.driver_results(),
             pairs: self.pair_results(Some(&start.contact))?,
             ties: self.tie_results(),
+            running: self.running_results(),
         })
+    }
+
+    /// Shifts each running strip's state by whole elements, so that its
+    /// supply end lies within half an element of its home.
+    fn recycle(&mut self) {
+        for (k, strip) in self.running.iter().enumerate() {
+            if strip.recycle(&self.problem, &self.model, &mut self.state, k) != 0 {
+                self.linearization = None;
+            }
+        }
+    }
+
+    /// Each running strip's figures in the converged state, by body name.
+    pub fn running_results(&self) -> Vec<(String, crate::results::RunningResult)> {
+        (self.running.iter().enumerate())
+            .map(|(k, s)| (s.name.clone(), s.result(&self.problem, &self.state, k)))
+            .collect()
     }
 
     /// One increment to t (`increment`) and, if it fails, its fallbacks

@@ -62,6 +62,12 @@ pub struct Body {
     pub material: usize,
     pub elements: std::ops::Range<usize>,
     pub nodes: std::ops::Range<usize>,
+    /// A strip's path: its reference mesh is straight and it starts laid
+    /// along this path (`Problem::initial_u`).
+    pub strip: Option<crate::strip::StripPath>,
+    /// Material runs through the strip from its supply end to its take-up
+    /// end (`crate::running`, docs/contact.md section 12).
+    pub running: bool,
 }
 
 /// Piecewise linear time function; constant beyond its ends.
@@ -619,6 +625,22 @@ impl Material {
 }
 
 impl Problem {
+    /// Nodal displacements at t = 0: zero, but a strip's nodes start laid
+    /// along its path (its reference mesh is straight).
+    pub fn initial_u(&self) -> Vec<f64> {
+        let mut u = vec![0.0; 2 * self.mesh.nodes.len()];
+        for b in &self.bodies {
+            let Some(path) = &b.strip else { continue };
+            for n in b.nodes.clone() {
+                let x = self.mesh.nodes[n];
+                let q = path.place(x);
+                u[2 * n] = q[0] - x[0];
+                u[2 * n + 1] = q[1] - x[1];
+            }
+        }
+        u
+    }
+
     /// Range checks of the values an FMU may override: material constants,
     /// friction coefficients, Newton control. The error names the value.
     pub fn check_parameters(&self) -> Result<(), String> {

@@ -137,6 +137,20 @@ impl PairResult {
     }
 }
 
+/// What a running strip reports after a step.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct RunningResult {
+    /// Reference length of strip that has run in at the supply end.
+    pub fed: f64,
+    /// Material speed along the path at the supply and take-up ends over
+    /// the last step (lab frame).
+    pub speed_in: f64,
+    pub speed_out: f64,
+    /// Strain of the mid-line at the supply and take-up ends.
+    pub strain_in: f64,
+    pub strain_out: f64,
+}
+
 /// One converged (or failed) increment.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct StepResult {
@@ -173,6 +187,9 @@ pub struct StepResult {
     /// Per tie, by name, in scene order: its forces on the tied nodes.
     #[serde(default)]
     pub ties: Vec<(String, crate::constraint::TieResult)>,
+    /// Per running strip, by body name, in body order.
+    #[serde(default)]
+    pub running: Vec<(String, RunningResult)>,
 }
 
 /// Log categories; they are the FMU logger's categories.

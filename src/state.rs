@@ -40,6 +40,18 @@ pub struct State {
     /// Value of each edge pressure at `time`, in scene order.
     #[serde(default)]
     pub pressures: Vec<f64>,
+    /// What each running strip carries (`crate::running`), in body order.
+    #[serde(default)]
+    pub running: Vec<RunningMemory>,
+}
+
+/// What a running strip carries from step to step.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct RunningMemory {
+    /// Elements shifted in at the supply end, less those shifted back.
+    pub shifts: i64,
+    /// Material speed at the supply and take-up ends over the last step.
+    pub speed: [f64; 2],
 }
 
 impl State {

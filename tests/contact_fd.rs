@@ -112,12 +112,16 @@ fn patch(kind: ElementKind, rigid: bool) -> Patch {
             material: 0,
             elements: 0..nec,
             nodes: 0..nc,
+            strip: None,
+            running: false,
         },
         Body {
             name: "target".into(),
             material: 0,
             elements: nec..ne,
             nodes: nc..nn,
+            strip: None,
+            running: false,
         },
     ];
     // A generic displacement field, then the contactor's bottom nodes put

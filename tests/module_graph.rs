@@ -8,17 +8,19 @@
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
-/// Bottom to top: the problem's data, the element and material laws above
-/// it, assembly, then contact and the linear solver side by side, the
-/// solver's state, Newton and the readers and writers around it, the FMU.
+/// Bottom to top: the problem's data (with a strip's path, pure geometry),
+/// the element and material laws above it, assembly, then contact and the
+/// linear solver side by side, the solver's state, the running strips'
+/// shifts of it, Newton and the readers and writers around it, the FMU.
 const LAYERS: &[&[&str]] = &[
-    &["mesh", "constraint"],
+    &["mesh", "constraint", "strip"],
     &["element", "problem"],
     &["material", "results"],
     &["kinematics"],
     &["assembly"],
     &["contact", "linsolve"],
     &["state"],
+    &["running"],
     &["newton", "output", "scene"],
     &["fmi"],
 ];

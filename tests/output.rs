@@ -303,6 +303,7 @@ fn converged_step() -> StepResult {
         ],
         pairs: vec![],
         ties: vec![],
+        running: vec![],
     }
 }
 
@@ -503,6 +504,7 @@ fn summary_of_a_step_with_a_pair_and_a_rigid_target() {
             },
         )],
         ties: vec![],
+        running: vec![],
     });
     let expected = r#"{
   "scene": "scenes/punch.toml",

@@ -1031,6 +1031,7 @@ mod tests {
                 },
             )],
             ties: vec![],
+            running: vec![],
         };
         assert_eq!(
             step_line(1, 2, &step),

@@ -27,7 +27,7 @@ const TOUCH: f64 = 1e-4;
 /// target's normal into it, at the nearest target segment), and how deep its
 /// nodes start inside the target.
 pub fn at_rest(problem: &Problem, pair: &ContactPair) -> Result<AtRest, String> {
-    let u = vec![0.0; 2 * problem.mesh.nodes.len()];
+    let u = problem.initial_u();
     let poses = search::scene_poses(problem, 0.0);
     let segments = search::target_segments(&RigidSegments::default(), problem, pair, &u, &poses)?;
     let x: Vec<Vector2<f64>> = (pair.contactor.iter())

@@ -119,7 +119,7 @@ impl Instance {
         let vars = variables(&problem);
         let by_vr = vars.iter().enumerate().map(|(i, v)| (v.vr, i)).collect();
         let n = vars.len();
-        let last = rest_step(&problem, 0.0, &vec![0.0; 2 * problem.mesh.nodes.len()]);
+        let last = rest_step(&problem, 0.0, &problem.initial_u());
         let mut instance = Instance {
             name: name.to_string(),
             guid,
@@ -374,7 +374,7 @@ impl Instance {
         self.steps = 0;
         self.start_time = 0.0;
         self.load_starts();
-        self.last = rest_step(&self.base, 0.0, &vec![0.0; 2 * self.base.mesh.nodes.len()]);
+        self.last = rest_step(&self.base, 0.0, &self.base.initial_u());
         self.mode = Mode::Instantiated;
         Status::Ok
     }

@@ -56,6 +56,49 @@ pub fn rectangle(
     Ok(mesh)
 }
 
+/// The straight reference of a strip laid along a path
+/// (`crate::strip::StripPath`): [0, length] x [-t/2, t/2], divisions
+/// [along, across], uniform. Edge and node sets "inner" (the face at
+/// y = t/2 when `inner_on_top`, else at -t/2), "outer" (the other),
+/// "supply" (x = 0) and "takeup" (x = length); element set "all".
+pub fn strip(
+    kind: ElementKind,
+    length: f64,
+    thickness: f64,
+    inner_on_top: bool,
+    divisions: [usize; 2],
+) -> Result<Mesh, MeshError> {
+    let mut mesh = rectangle(
+        kind,
+        [0.0, -0.5 * thickness],
+        [length, thickness],
+        divisions,
+        [1.0, 1.0],
+    )?;
+    let (inner, outer) = if inner_on_top {
+        ("top", "bottom")
+    } else {
+        ("bottom", "top")
+    };
+    for (from, to) in [
+        (inner, "inner"),
+        (outer, "outer"),
+        ("left", "supply"),
+        ("right", "takeup"),
+    ] {
+        if let Some(edges) = mesh.edge_sets.remove(from) {
+            mesh.edge_sets.insert(to.into(), edges);
+        }
+        if let Some(nodes) = mesh.node_sets.remove(from) {
+            mesh.node_sets.insert(to.into(), nodes);
+        }
+    }
+    for corner in ["bottom_left", "bottom_right", "top_right", "top_left"] {
+        mesh.node_sets.remove(corner);
+    }
+    Ok(mesh)
+}
+
 /// Lower part of a disk of radius `radius` centred at `center`, touching
 /// y = cy - radius at the contact point (cx, cy - radius): the quarter x >= cx
 /// (`half` = false) or the whole lower half (`half` = true).

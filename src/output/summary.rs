@@ -95,6 +95,7 @@ impl Summary {
             drivers,
             pairs,
             ties: Vec::new(),
+            running: Vec::new(),
         }
     }
 
@@ -132,6 +133,9 @@ impl Serialize for StepJson<'_> {
         st.serialize_field("pairs", &Named(&r.pairs, PairJson))?;
         if !r.ties.is_empty() {
             st.serialize_field("ties", &Named(&r.ties, TieJson))?;
+        }
+        if !r.running.is_empty() {
+            st.serialize_field("running", &Named(&r.running, |r| r))?;
         }
         st.end()
     }

@@ -364,6 +364,16 @@ impl Resolver<'_> {
                     ),
                 ));
             }
+            if self.bodies[body].running {
+                return Err(self.invalid(
+                    target.span(),
+                    key,
+                    format!(
+                        "body `{}` runs: it can be a contactor, not a target",
+                        self.bodies[body].name
+                    ),
+                ));
+            }
             let segments = edges
                 .iter()
                 .flat_map(|e| {

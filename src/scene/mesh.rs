@@ -5,6 +5,7 @@
 use super::raw::{self, GeneratorName, Pair};
 use super::{Resolver, SceneError, SceneErrorKind};
 use crate::mesh::{ElementKind, Mesh, generators, gmsh};
+use crate::strip::StripPath;
 use toml::Spanned;
 
 const DIVISIONS: &str = "divisions must be at least 1";
@@ -15,19 +16,26 @@ fn product(d: [usize; 2], factor: usize) -> Option<usize> {
 }
 
 impl Resolver<'_> {
-    pub(super) fn body_mesh(&self, i: usize, body: &raw::Body) -> Result<Mesh, SceneError> {
+    /// The body's reference mesh, and the path it is laid along (a
+    /// `strip` mesh only).
+    pub(super) fn body_mesh(
+        &self,
+        i: usize,
+        body: &raw::Body,
+    ) -> Result<(Mesh, Option<StripPath>), SceneError> {
         let index = i.to_string();
-        let path = ["body", index.as_str(), "mesh"];
+        let path_key = ["body", index.as_str(), "mesh"];
         let key = |k: &str| format!("body[{i}].mesh.{k}");
-        let head: raw::MeshHead = self.table_at(&path)?;
+        let head: raw::MeshHead = self.table_at(&path_key)?;
         let kind = body
             .element
             .as_ref()
             .map_or(ElementKind::Q4, |e| *e.get_ref());
+        let mut path = None;
         let generated = match (head.generator, head.file) {
             (Some(generator), _) => match generator.get_ref() {
                 GeneratorName::Rectangle => {
-                    let r: raw::Rectangle = self.table_at(&path)?;
+                    let r: raw::Rectangle = self.table_at(&path_key)?;
                     let size = self.positive_pair(&r.size, key("size"), "size")?;
                     let divisions = self.divisions(&r.divisions, key("divisions"))?;
                     self.budget(product(divisions, 1), r.divisions.span(), key("divisions"))?;
@@ -38,7 +46,7 @@ impl Resolver<'_> {
                     generators::rectangle(kind, r.origin.0, size, divisions, ratio)
                 }
                 GeneratorName::Disk => {
-                    let d: raw::Disk = self.table_at(&path)?;
+                    let d: raw::Disk = self.table_at(&path_key)?;
                     let radius = self.positive(&d.radius, key("radius"), "radius")?;
                     let divisions = *d.divisions.get_ref();
                     if divisions == 0 {
@@ -58,7 +66,7 @@ impl Resolver<'_> {
                     )
                 }
                 GeneratorName::Ring => {
-                    let r: raw::Ring = self.table_at(&path)?;
+                    let r: raw::Ring = self.table_at(&path_key)?;
                     let inner = self.positive(&r.r_inner, key("r_inner"), "r_inner")?;
                     let outer = self.exceeding(&r.r_outer, inner, key("r_outer"), "r_inner")?;
                     let angles = self.increasing_pair(&r.angles, key("angles"))?;
@@ -67,8 +75,37 @@ impl Resolver<'_> {
                     let ratio = self.ratio(r.ratio.as_ref(), key("ratio"))?;
                     generators::ring(kind, r.center.0, inner, outer, angles, divisions, ratio)
                 }
+                GeneratorName::Strip => {
+                    let r: raw::Strip = self.table_at(&path_key)?;
+                    let planar =
+                        !matches!(self.analysis, crate::problem::AnalysisKind::Axisymmetric);
+                    if !planar || self.kinematics != crate::problem::Kinematics::TotalLagrangian {
+                        return Err(self.invalid(
+                            generator.span(),
+                            key("generator"),
+                            "a strip is bent onto its path from a straight reference: it needs \
+                             a planar analysis with `kinematics = \"total_lagrangian\"`",
+                        ));
+                    }
+                    let (p, divisions) = self.strip_path(&r, &key)?;
+                    let along = divisions[1]
+                        .checked_add(r.spans.get_ref().0[0])
+                        .and_then(|n| n.checked_add(r.spans.get_ref().0[1]));
+                    let count = along.and_then(|n| product([n, divisions[0]], 1));
+                    self.budget(count, r.divisions.span(), key("divisions"))?;
+                    let along = along.unwrap_or(usize::MAX);
+                    let made = generators::strip(
+                        kind,
+                        p.length(),
+                        p.thickness,
+                        p.inner_y() > 0.0,
+                        [along, divisions[0]],
+                    );
+                    path = Some(p);
+                    made
+                }
                 GeneratorName::PlateWithHole => {
-                    let p: raw::PlateWithHole = self.table_at(&path)?;
+                    let p: raw::PlateWithHole = self.table_at(&path_key)?;
                     let hole = self.positive(&p.hole_radius, key("hole_radius"), "hole_radius")?;
                     let width = self.exceeding(&p.width, hole, key("width"), "hole_radius")?;
                     let y_range = self.increasing_pair(&p.y_range, key("y_range"))?;
@@ -88,14 +125,14 @@ impl Resolver<'_> {
                         "a mesh file brings its own element kind; remove `element`",
                     ));
                 }
-                let f: raw::MeshFile = self.table_at(&path)?;
-                return self.mesh_file(&f, i);
+                let f: raw::MeshFile = self.table_at(&path_key)?;
+                return Ok((self.mesh_file(&f, i)?, None));
             }
             (None, None) => {
                 return Err(self.src.missing(
                     body.mesh.span(),
                     key("generator"),
-                    "a mesh needs `generator` (rectangle, disk, ring, plate_with_hole) or `file`",
+                    "a mesh needs `generator` (rectangle, disk, ring, plate_with_hole, strip) or `file`",
                 ));
             }
         };
@@ -109,7 +146,56 @@ impl Resolver<'_> {
         })?;
         let made = Some(mesh.elements.len());
         self.budget(made, body.mesh.span(), format!("body[{i}].mesh"))?;
-        Ok(mesh)
+        Ok((mesh, path))
+    }
+
+    /// A `strip` mesh's path and divisions [across, along the wrap]: the
+    /// elements are alike along the whole strip, each spanning 1 / n of
+    /// the wrap's mid-line.
+    fn strip_path(
+        &self,
+        r: &raw::Strip,
+        key: &dyn Fn(&str) -> String,
+    ) -> Result<(StripPath, [usize; 2]), SceneError> {
+        let radius = self.positive(&r.radius, key("radius"), "radius")?;
+        let thickness = self.positive(&r.thickness, key("thickness"), "thickness")?;
+        let [a0, a1] = r.angles.get_ref().0;
+        let wrap = a1 - a0;
+        if wrap == 0.0 || wrap.abs() >= 360.0 {
+            return Err(self.invalid(
+                r.angles.span(),
+                key("angles"),
+                "the wrap a1 - a0 must be nonzero and less than 360 degrees in size",
+            ));
+        }
+        let divisions = self.divisions(&r.divisions, key("divisions"))?;
+        let spans = self.divisions(&r.spans, key("spans"))?;
+        let strain = match &r.strain {
+            Some(e) if !(*e.get_ref() > -0.5 && *e.get_ref() < 1.0) => {
+                return Err(self.invalid(
+                    e.span(),
+                    key("strain"),
+                    "the strain the strip is laid at must lie between -0.5 and 1",
+                ));
+            }
+            Some(e) => *e.get_ref(),
+            None => 0.0,
+        };
+        let mut p = StripPath {
+            center: r.center.0,
+            radius,
+            thickness,
+            start_angle: a0.to_radians(),
+            wrap: wrap.to_radians(),
+            spans: [0.0; 2],
+            strain,
+            element: 0.0,
+        };
+        // Along the path each element spans 1 / n of the wrap.
+        let h = p.wrap_length() / divisions[1] as f64;
+        p.spans = [spans[0] as f64 * h, spans[1] as f64 * h];
+        p.element = h / (1.0 + strain);
+        Ok((p, divisions))
     }
 
     /// Refuses a body of `elements` (None: beyond counting) when the scene's

@@ -177,6 +177,7 @@ fn check_pairs(
 struct Resolver<'a> {
     src: Source<'a>,
     analysis: AnalysisKind,
+    kinematics: Kinematics,
     materials: Vec<Material>,
     functions: Vec<TimeFunction>,
     bodies: Vec<Body>,
@@ -192,6 +193,7 @@ impl<'a> Resolver<'a> {
             src,
             // Set first of all, by `analysis`.
             analysis: AnalysisKind::Axisymmetric,
+            kinematics: Kinematics::SmallStrain,
             materials: Vec::new(),
             functions: Vec::new(),
             bodies: Vec::new(),
@@ -203,6 +205,7 @@ impl<'a> Resolver<'a> {
 
     fn resolve(mut self, scene: &raw::Scene) -> Result<Problem, SceneError> {
         let kinematics = self.analysis(scene.analysis.get_ref())?;
+        self.kinematics = kinematics;
         self.materials(&scene.material, kinematics)?;
         self.functions(&scene.function)?;
         if let Some(n) = scene.solver.as_ref().and_then(|s| s.max_elements.as_ref()) {
@@ -560,7 +563,8 @@ impl<'a> Resolver<'a> {
                     format!("no material of that name; materials: {}", names.join(", ")),
                 ));
             };
-            let body_mesh = self.body_mesh(i, b)?;
+            let (body_mesh, strip) = self.body_mesh(i, b)?;
+            let running = self.running(i, b, strip.as_ref())?;
             let (nodes0, elements0) = (self.mesh.nodes.len(), self.mesh.elements.len());
             self.mesh
                 .append(&body_mesh, &format!("{}.", b.name.get_ref()));
@@ -579,9 +583,46 @@ impl<'a> Resolver<'a> {
                 material,
                 elements: elements0..self.mesh.elements.len(),
                 nodes: nodes0..self.mesh.nodes.len(),
+                strip,
+                running,
             });
         }
         Ok(())
+    }
+
+    /// Whether body `i` runs: only a strip, laid along its path in total
+    /// Lagrangian kinematics, with free spans of at least two elements
+    /// (its end columns stay off the drum).
+    fn running(
+        &self,
+        i: usize,
+        b: &raw::Body,
+        strip: Option<&crate::strip::StripPath>,
+    ) -> Result<bool, SceneError> {
+        let Some(flag) = &b.running else {
+            return Ok(false);
+        };
+        if !*flag.get_ref() {
+            return Ok(false);
+        }
+        let key = format!("body[{i}].running");
+        let Some(path) = strip else {
+            return Err(self.invalid(
+                flag.span(),
+                key,
+                "only a body meshed with `generator = \"strip\"` can run",
+            ));
+        };
+        if path.spans[0].min(path.spans[1])
+            < 2.0 * path.element * (1.0 + path.strain) * (1.0 - 1e-9)
+        {
+            return Err(self.invalid(
+                flag.span(),
+                key,
+                "a running strip needs free spans (`spans`) of at least 2 elements each",
+            ));
+        }
+        Ok(true)
     }
 
     /// The body a `name` refers to.
@@ -766,6 +807,10 @@ impl<'a> Resolver<'a> {
                     raw::DistributionName::Rigid => Distribution::Rigid,
                 },
             };
+            let rigid = matches!(distribution, Distribution::Rigid);
+            if ux.is_some() || uy.is_some() || rigid {
+                self.off_strips(&nodes, span, i)?;
+            }
             drivers.push(Driver {
                 name: d.name.get_ref().clone(),
                 nodes,
@@ -778,6 +823,27 @@ impl<'a> Resolver<'a> {
         }
         self.rigid_sets_apart(list, &drivers)?;
         Ok(drivers)
+    }
+
+    /// A strip starts laid along its path by a displacement from its
+    /// straight reference, which a prescribed displacement or a rigid set
+    /// (its nodes one unknown) would undo: driver `i` on `nodes` may only
+    /// apply forces shared equally there.
+    fn off_strips(&self, nodes: &[usize], span: Range<usize>, i: usize) -> Result<(), SceneError> {
+        for b in self.bodies.iter().filter(|b| b.strip.is_some()) {
+            if nodes.iter().any(|n| b.nodes.contains(n)) {
+                return Err(self.invalid(
+                    span,
+                    format!("driver[{i}].set"),
+                    format!(
+                        "body `{}` is a strip, laid along its path from a straight reference: \
+                         drive it by forces (`fx`, `fy`) with `distribution = \"equal\"`",
+                        b.name
+                    ),
+                ));
+            }
+        }
+        Ok(())
     }
 
     /// A rigid force component makes its set's nodes one unknown: none of

@@ -143,6 +143,8 @@ pub(super) struct Body {
     pub element: Option<Spanned<ElementKind>>,
     /// Read by `MeshHead` and the generator's own table.
     pub mesh: Spanned<IgnoredAny>,
+    /// Material runs through the body (a `strip` mesh only).
+    pub running: Option<Spanned<bool>>,
 }
 
 /// The tag of a body's mesh table: a generator, or a file.
@@ -159,6 +161,7 @@ pub(super) enum GeneratorName {
     Disk,
     Ring,
     PlateWithHole,
+    Strip,
 }
 
 #[derive(Deserialize)]
@@ -195,6 +198,20 @@ pub(super) struct Ring {
     pub angles: Spanned<Pair<f64>>,
     pub divisions: Spanned<Pair<usize>>,
     pub ratio: Option<Spanned<f64>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct Strip {
+    #[serde(rename = "generator")]
+    _generator: IgnoredAny,
+    pub center: Pair<f64>,
+    pub radius: Spanned<f64>,
+    pub thickness: Spanned<f64>,
+    pub angles: Spanned<Pair<f64>>,
+    pub spans: Spanned<Pair<usize>>,
+    pub divisions: Spanned<Pair<usize>>,
+    pub strain: Option<Spanned<f64>>,
 }
 
 #[derive(Deserialize)]

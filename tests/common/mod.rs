@@ -56,6 +56,8 @@ pub fn problem(
             material: 0,
             elements: 0..ne,
             nodes: 0..nn,
+            strip: None,
+            running: false,
         }],
         functions: vec![TimeFunction {
             name: "ramp".into(),
