@@ -965,6 +965,8 @@ impl Solver {
                 )
                 .map_err(SolveError::Invalid)?;
                 (result.nodes.gap, result.nodes.slip) = (gap, slip);
+                result.nodes.angle =
+                    contact::outputs::angles(&self.problem, p, &result.nodes.x, &result.nodes.y);
                 Ok((p.name.clone(), result))
             })
             .collect()

@@ -625,6 +625,13 @@ impl Material {
 }
 
 impl Problem {
+    /// The path of the strip a pair's contactor lies on, if it does.
+    pub fn contactor_strip(&self, pair: &ContactPair) -> Option<&crate::strip::StripPath> {
+        let first = *pair.contactor.first()?;
+        let body = self.bodies.iter().find(|b| b.nodes.contains(&first))?;
+        body.strip.as_ref()
+    }
+
     /// Nodal displacements at t = 0: zero, but a strip's nodes start laid
     /// along its path (its reference mesh is straight).
     pub fn initial_u(&self) -> Vec<f64> {

@@ -74,6 +74,11 @@ pub struct PairNodes {
     /// contact at both ends of the step.
     #[serde(default)]
     pub slip: Vec<f64>,
+    /// On a strip's contactor: each node's angle along the wrap from the
+    /// take-up side's tangent point (`StripPath::angle_from_exit`); empty
+    /// elsewhere.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub angle: Vec<f64>,
     /// The normal contact force on each node (compression positive): the
     /// multiplier the contact conditions hold on, whose sign the reported
     /// traction of an 8-node side (a quadratic fit of these forces) need

@@ -14,7 +14,7 @@ use crate::assembly::Model;
 use crate::contact::{NodeMemory, PairMemory, SegmentMemory};
 use crate::problem::Problem;
 use crate::results::RunningResult;
-use crate::state::State;
+use crate::state::{RunningMemory, State};
 use crate::strip::StripPath;
 use std::collections::HashMap;
 
@@ -266,13 +266,17 @@ impl Strip {
 
     /// The strip's figures in `state`, with the speeds it holds.
     pub fn result(&self, problem: &Problem, state: &State, k: usize) -> RunningResult {
-        let h = self.path.element;
-        let (d, l_in) = self.supply_travel(problem, &state.u);
-        let t_out = self.path.tangent_out();
-        let end = mean(problem, &state.u, &self.takeup[0]);
-        let before = mean(problem, &state.u, &self.takeup[1]);
-        let l_out = along(before, end, t_out);
         let memory = state.running.get(k).cloned().unwrap_or_default();
+        self.figures(problem, &state.u, &memory)
+    }
+
+    fn figures(&self, problem: &Problem, u: &[f64], memory: &RunningMemory) -> RunningResult {
+        let h = self.path.element;
+        let (d, l_in) = self.supply_travel(problem, u);
+        let t_out = self.path.tangent_out();
+        let end = mean(problem, u, &self.takeup[0]);
+        let before = mean(problem, u, &self.takeup[1]);
+        let l_out = along(before, end, t_out);
         RunningResult {
             fed: memory.shifts as f64 * h + d * h / l_in,
             speed_in: memory.speed[0],
@@ -293,4 +297,18 @@ impl Strip {
             v(&self.takeup[0], self.path.tangent_out()),
         ]
     }
+}
+
+/// Each running strip's figures at rest (laid along its path, nothing fed
+/// yet), by body name: what a step reports before the first.
+pub fn at_rest(problem: &Problem) -> Vec<(String, RunningResult)> {
+    let u = problem.initial_u();
+    (0..problem.bodies.len())
+        .filter(|&b| problem.bodies[b].running)
+        .map(|b| {
+            let strip = Strip::new(problem, b);
+            let r = strip.figures(problem, &u, &RunningMemory::default());
+            (strip.name, r)
+        })
+        .collect()
 }

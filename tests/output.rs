@@ -498,6 +498,7 @@ fn summary_of_a_step_with_a_pair_and_a_rigid_target() {
                     state: vec![NodeState::Stick, NodeState::Slip],
                     gap: vec![0.0, -2.5e-10],
                     slip: vec![0.0, 0.375],
+                    angle: Vec::new(),
                     pn: Vec::new(),
                     pt: Vec::new(),
                 },

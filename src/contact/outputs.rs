@@ -45,9 +45,12 @@ pub fn rest_step(problem: &Problem, time: f64, u: &[f64]) -> StepResult {
                 state: vec![NodeState::Open; m],
                 gap,
                 slip: vec![0.0; m],
+                angle: Vec::new(),
                 pn: vec![0.0; m],
                 pt: vec![0.0; m],
             };
+            let mut nodes = nodes;
+            nodes.angle = angles(problem, c, &nodes.x, &nodes.y);
             let result = PairResult {
                 n_open: m,
                 nodes,
@@ -63,6 +66,16 @@ pub fn rest_step(problem: &Problem, time: f64, u: &[f64]) -> StepResult {
         pairs,
         ..Default::default()
     }
+}
+
+/// Each node's angle along the wrap, for a contactor on a strip (else
+/// none), from its current position (`x`, `y`).
+pub fn angles(problem: &Problem, pair: &ContactPair, x: &[f64], y: &[f64]) -> Vec<f64> {
+    problem.contactor_strip(pair).map_or_else(Vec::new, |path| {
+        (x.iter().zip(y))
+            .map(|(&x, &y)| path.angle_from_exit([x, y]))
+            .collect()
+    })
 }
 
 /// The gap and slip of every contactor node of `pair` in the state `u`,

@@ -119,7 +119,8 @@ impl Instance {
         let vars = variables(&problem);
         let by_vr = vars.iter().enumerate().map(|(i, v)| (v.vr, i)).collect();
         let n = vars.len();
-        let last = rest_step(&problem, 0.0, &problem.initial_u());
+        let mut last = rest_step(&problem, 0.0, &problem.initial_u());
+        last.running = crate::running::at_rest(&problem);
         let mut instance = Instance {
             name: name.to_string(),
             guid,
@@ -290,6 +291,7 @@ impl Instance {
         state.time = self.start_time;
         solver.restore(state);
         self.last = rest_step(solver.problem(), self.start_time, &solver.state().u);
+        self.last.running = solver.running_results();
         self.solver = Some(solver);
         self.stepped.clone_from(&self.reals);
         self.mode = Mode::StepComplete;
@@ -375,6 +377,7 @@ impl Instance {
         self.start_time = 0.0;
         self.load_starts();
         self.last = rest_step(&self.base, 0.0, &self.base.initial_u());
+        self.last.running = crate::running::at_rest(&self.base);
         self.mode = Mode::Instantiated;
         Status::Ok
     }

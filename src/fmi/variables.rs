@@ -28,6 +28,7 @@ pub enum Quantity {
     Force,
     Moment,
     Stress,
+    Speed,
     None,
 }
 
@@ -55,6 +56,18 @@ pub enum NodeField {
     Y,
     Gap,
     Slip,
+    /// A node's angle along a strip's wrap (contactors on strips only).
+    Angle,
+}
+
+/// A running strip's output.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum RunningField {
+    Fed,
+    SpeedIn,
+    SpeedOut,
+    StrainIn,
+    StrainOut,
 }
 
 /// Where a variable's value lives.
@@ -94,6 +107,11 @@ pub enum Binding {
         pair: usize,
         field: NodeField,
         k: usize,
+    },
+    /// Entry `index` of `StepResult::running`.
+    Running {
+        index: usize,
+        field: RunningField,
     },
     MaterialConstant {
         material: usize,
@@ -436,6 +454,7 @@ fn outputs(list: &mut List, problem: &Problem) {
         }
     }
     pair_outputs(list, problem);
+    running_outputs(list, problem);
     list.add(
         "solver.iterations".into(),
         Type::Integer,
@@ -576,6 +595,66 @@ const NODE_OUTPUTS: [(NodeField, &str, Type, Quantity, &str); 7] = [
     ),
 ];
 
+/// Per contactor node on a strip: its place along the wrap.
+const NODE_ANGLE: (NodeField, &str, Type, Quantity, &str) = (
+    NodeField::Angle,
+    "angle",
+    Type::Real,
+    Quantity::Angle,
+    "angle along the strip's wrap from the take-up side's tangent point (0 where the strip leaves the drum, the wrap angle where it meets it; beyond, the free spans' lengths at the mid-line's radius)",
+);
+
+/// Per running strip: its outputs (`<body>.<key>`).
+const RUNNING_OUTPUTS: [(RunningField, &str, Quantity, &str); 5] = [
+    (
+        RunningField::Fed,
+        "fed",
+        Quantity::Length,
+        "reference length of strip that has run in at the supply end",
+    ),
+    (
+        RunningField::SpeedIn,
+        "speed_in",
+        Quantity::Speed,
+        "material speed along the path at the supply end over the last step",
+    ),
+    (
+        RunningField::SpeedOut,
+        "speed_out",
+        Quantity::Speed,
+        "material speed along the path at the take-up end over the last step",
+    ),
+    (
+        RunningField::StrainIn,
+        "strain_in",
+        Quantity::None,
+        "strain of the mid-line at the supply end",
+    ),
+    (
+        RunningField::StrainOut,
+        "strain_out",
+        Quantity::None,
+        "strain of the mid-line at the take-up end",
+    ),
+];
+
+fn running_outputs(list: &mut List, problem: &Problem) {
+    let running = problem.bodies.iter().filter(|b| b.running);
+    for (index, body) in running.enumerate() {
+        for (field, key, quantity, what) in RUNNING_OUTPUTS {
+            list.add(
+                format!("{}.{key}", body.name),
+                Type::Real,
+                Causality::Output,
+                quantity,
+                format!("{what} (running strip '{}')", body.name),
+                None,
+                Binding::Running { index, field },
+            );
+        }
+    }
+}
+
 fn pair_outputs(list: &mut List, problem: &Problem) {
     use Causality::*;
     for (p, pair) in problem.contacts.iter().enumerate() {
@@ -590,7 +669,9 @@ fn pair_outputs(list: &mut List, problem: &Problem) {
                 Binding::Pair { pair: p, field },
             );
         }
-        for (field, key, ty, quantity, what) in NODE_OUTPUTS {
+        let on_strip = problem.contactor_strip(pair).is_some();
+        let angle = on_strip.then_some(NODE_ANGLE);
+        for (field, key, ty, quantity, what) in NODE_OUTPUTS.into_iter().chain(angle) {
             for k in 0..pair.contactor.len() {
                 list.add(
                     format!("{}.{key}[{}]", pair.name, k + 1),
@@ -619,6 +700,8 @@ pub fn unit(quantity: Quantity, length: LengthUnit, force: ForceUnit) -> Option<
         (Quantity::Angle, _, _) => "rad",
         (Quantity::Length, Metre, _) => "m",
         (Quantity::Length, Millimetre, _) => "mm",
+        (Quantity::Speed, Metre, _) => "m/s",
+        (Quantity::Speed, Millimetre, _) => "mm/s",
         (Quantity::Force, _, Newton) => "N",
         (Quantity::Force, _, Kilonewton) => "kN",
         (Quantity::Moment, Metre, Newton) => "N.m",
@@ -637,6 +720,8 @@ pub fn base_unit(unit: &str) -> ([i32; 4], f64) {
     match unit {
         "m" => ([0, 1, 0, 0], 1.0),
         "mm" => ([0, 1, 0, 0], 1e-3),
+        "m/s" => ([0, 1, -1, 0], 1.0),
+        "mm/s" => ([0, 1, -1, 0], 1e-3),
         "rad" => ([0, 0, 0, 1], 1.0),
         "s" => ([0, 0, 1, 0], 1.0),
         "N" => ([1, 1, -2, 0], 1.0),
@@ -712,6 +797,17 @@ pub fn output(binding: &Binding, result: &StepResult) -> Option<f64> {
                 NodeField::Y => *n.y.get(k)?,
                 NodeField::Gap => *n.gap.get(k)?,
                 NodeField::Slip => *n.slip.get(k)?,
+                NodeField::Angle => *n.angle.get(k)?,
+            }
+        }
+        Binding::Running { index, field } => {
+            let r = &result.running.get(index)?.1;
+            match field {
+                RunningField::Fed => r.fed,
+                RunningField::SpeedIn => r.speed_in,
+                RunningField::SpeedOut => r.speed_out,
+                RunningField::StrainIn => r.strain_in,
+                RunningField::StrainOut => r.strain_out,
             }
         }
         Binding::Iterations => result.iterations as f64,
