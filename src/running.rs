@@ -12,7 +12,7 @@
 
 use crate::assembly::Model;
 use crate::contact::{NodeMemory, PairMemory, SegmentMemory};
-use crate::problem::Problem;
+use crate::problem::{Body, ContactPair, Problem};
 use crate::results::RunningResult;
 use crate::state::{RunningMemory, State};
 use crate::strip::StripPath;
@@ -64,6 +64,64 @@ pub struct Strip {
     up: Shift,
 }
 
+/// Nodes of a strip by half-column and cross-section position, elements
+/// by column and row (`Strip::new`).
+type Grid = HashMap<(i64, i64), usize>;
+
+impl Shift {
+    /// The shift by one element downstream (`dir` 1) or upstream (-1).
+    fn new(problem: &Problem, b: &Body, grid: &Grid, cells: &Grid, dir: i64) -> Self {
+        let mut s = Shift::default();
+        for (&(m, y), &n) in grid {
+            let src = match grid.get(&(m - 2 * dir, y)) {
+                Some(&from) => Source::Copy(from),
+                None => Source::Extrapolate(grid[&(m + 2 * dir, y)]),
+            };
+            s.nodes.push((n, src));
+        }
+        s.nodes.sort_unstable_by_key(|p| p.0);
+        for (&(c, r), &e) in cells {
+            if let Some(&from) = cells.get(&(c - dir, r)) {
+                s.elements.push((e, from));
+            }
+        }
+        s.elements.sort_unstable();
+        let from: HashMap<usize, Source> = s.nodes.iter().copied().collect();
+        for (i, pair) in problem.contacts.iter().enumerate() {
+            if pair.contactor.iter().all(|n| b.nodes.contains(n)) {
+                s.pairs.push(PairShift::new(i, pair, &from));
+            }
+        }
+        s
+    }
+}
+
+impl PairShift {
+    /// Pair `i`'s chain positions and segments mapped by the nodes' sources.
+    fn new(i: usize, pair: &ContactPair, from: &HashMap<usize, Source>) -> Self {
+        let at: HashMap<usize, usize> = (pair.contactor.iter().enumerate())
+            .map(|(i, &n)| (n, i))
+            .collect();
+        let source = |n: usize| match from[&n] {
+            Source::Copy(f) => at.get(&f).copied(),
+            Source::Extrapolate(_) => None,
+        };
+        let nodes: Vec<Option<usize>> = pair.contactor.iter().map(|&n| source(n)).collect();
+        let m = pair.contactor.len();
+        let segments = (0..PairMemory::new(pair).segments.len())
+            .map(|k| match (nodes[k], nodes[(k + 1) % m]) {
+                (Some(a), Some(b)) if a.abs_diff(b) == 1 => Some(a.min(b)),
+                _ => None,
+            })
+            .collect();
+        PairShift {
+            pair: i,
+            nodes,
+            segments,
+        }
+    }
+}
+
 fn mean(problem: &Problem, u: &[f64], nodes: &[usize]) -> [f64; 2] {
     let mut m = [0.0; 2];
     for &n in nodes {
@@ -93,7 +151,7 @@ impl Strip {
                 (p[1] / path.thickness * 1e6).round() as i64,
             )
         };
-        let grid: HashMap<(i64, i64), usize> = b
+        let grid: Grid = b
             .nodes
             .clone()
             .map(|n| (key(problem.mesh.nodes[n]), n))
@@ -111,8 +169,7 @@ impl Strip {
                 (c[1] / path.thickness * 1e6).round() as i64,
             )
         };
-        let cells: HashMap<(i64, i64), usize> =
-            b.elements.clone().map(|e| (centroid(e), e)).collect();
+        let cells: Grid = b.elements.clone().map(|e| (centroid(e), e)).collect();
         let column = |m: i64| {
             let mut c: Vec<(i64, usize)> = (grid.iter())
                 .filter(|(k, _)| k.0 == m)
@@ -121,53 +178,7 @@ impl Strip {
             c.sort_unstable();
             c.into_iter().map(|(_, n)| n).collect::<Vec<_>>()
         };
-        let shift = |dir: i64| {
-            let mut s = Shift::default();
-            for (&(m, y), &n) in &grid {
-                let src = match grid.get(&(m - 2 * dir, y)) {
-                    Some(&from) => Source::Copy(from),
-                    None => Source::Extrapolate(grid[&(m + 2 * dir, y)]),
-                };
-                s.nodes.push((n, src));
-            }
-            s.nodes.sort_unstable_by_key(|p| p.0);
-            for (&(c, r), &e) in &cells {
-                if let Some(&from) = cells.get(&(c - dir, r)) {
-                    s.elements.push((e, from));
-                }
-            }
-            s.elements.sort_unstable();
-            let from: HashMap<usize, Source> = s.nodes.iter().copied().collect();
-            for (i, pair) in problem.contacts.iter().enumerate() {
-                if !pair.contactor.iter().all(|n| b.nodes.contains(n)) {
-                    continue;
-                }
-                let at: HashMap<usize, usize> = pair
-                    .contactor
-                    .iter()
-                    .enumerate()
-                    .map(|(i, &n)| (n, i))
-                    .collect();
-                let source = |n: usize| match from[&n] {
-                    Source::Copy(f) => at.get(&f).copied(),
-                    Source::Extrapolate(_) => None,
-                };
-                let nodes: Vec<Option<usize>> = pair.contactor.iter().map(|&n| source(n)).collect();
-                let m = pair.contactor.len();
-                let segments = (0..PairMemory::new(pair).segments.len())
-                    .map(|k| match (nodes[k], nodes[(k + 1) % m]) {
-                        (Some(a), Some(b)) if a.abs_diff(b) == 1 => Some(a.min(b)),
-                        _ => None,
-                    })
-                    .collect();
-                s.pairs.push(PairShift {
-                    pair: i,
-                    nodes,
-                    segments,
-                });
-            }
-            s
-        };
+        let shift = |dir| Shift::new(problem, b, &grid, &cells, dir);
         let (down, up) = (shift(1), shift(-1));
         Strip {
             body,
