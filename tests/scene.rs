@@ -471,7 +471,7 @@ fn missing_key() {
         &e,
         SceneErrorKind::MissingKey,
         "scenes/t.toml:20: body[1].mesh.generator = (missing): \
-         a mesh needs `generator` (rectangle, disk, ring, plate_with_hole) or `file`",
+         a mesh needs `generator` (rectangle, disk, ring, plate_with_hole, strip) or `file`",
     );
 }
 
@@ -533,7 +533,7 @@ fn unknown_word() {
     assert_error(
         &e,
         SceneErrorKind::InvalidValue,
-        r#"scenes/t.toml:20: body[1].mesh.generator = "circle": must be one of: rectangle, disk, ring, plate_with_hole"#,
+        r#"scenes/t.toml:20: body[1].mesh.generator = "circle": must be one of: rectangle, disk, ring, plate_with_hole, strip"#,
     );
     let e = bad(
         "name = \"wheel\"\nmaterial = \"steel\"",
