@@ -456,6 +456,10 @@ impl Solver {
         let linear = LinearSolver::new(&model.pattern, model.symmetric)
             .map_err(|e| SolveError::Invalid(e.to_string()))?;
         let nnz = model.pattern.row_idx.len();
+        let running: Vec<crate::running::Strip> = (0..problem.bodies.len())
+            .filter(|&b| problem.bodies[b].running)
+            .map(|b| crate::running::Strip::new(&problem, b))
+            .collect();
         let state = State {
             time: 0.0,
             u: problem.initial_u(),
@@ -468,14 +472,8 @@ impl Solver {
             ties: vec![0.0; problem.ties.iter().map(|t| t.rows.len()).sum()],
             driver_forces: scene_forces(&problem, 0.0),
             pressures: scene_pressures(&problem, 0.0),
-            running: Vec::new(),
+            running: vec![Default::default(); running.len()],
         };
-        let running: Vec<crate::running::Strip> = (0..problem.bodies.len())
-            .filter(|&b| problem.bodies[b].running)
-            .map(|b| crate::running::Strip::new(&problem, b))
-            .collect();
-        let mut state = state;
-        state.running = vec![Default::default(); running.len()];
         let size = model_size(&problem);
         let diagonal_at = diagonal_positions(&model.pattern)?;
         let inputs = Inputs {

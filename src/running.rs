@@ -18,7 +18,7 @@ use crate::state::{RunningMemory, State};
 use crate::strip::StripPath;
 use std::collections::HashMap;
 
-/// Where a node's (or element's) new state comes from in a shift.
+/// Where a node's new state comes from in a shift.
 #[derive(Clone, Copy, Debug)]
 enum Source {
     /// The node one element upstream (against the shift).
