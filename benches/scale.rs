@@ -23,8 +23,8 @@
 //! as the mesh's).
 //!
 //! Part 2, the FMU layer (`fmi::instance::Instance`, what every fmi2 call
-//! reaches): the winding machine's capstan (examples/winding_machine/
-//! capstan.toml) at 128 strip elements (516 unknowns), its tight end drawn
+//! reaches): the capstan in its drum's frame (scenes/
+//! capstan_drum_frame.toml) at 128 strip elements (516 unknowns), its tight end drawn
 //! by `pull.uy` one doStep at a time until the strip slides over the
 //! whole wrap, then held, five times over on fresh instances: per doStep
 //! the median and largest wall time, the Newton iterations, and the time
@@ -113,7 +113,7 @@ fn capstan_fmu() {
     use contact2d::fmi::instance::{Instance, Status};
     use contact2d::fmi::variables::variables;
     let (text, _) = common::scene_text(
-        "../examples/winding_machine/capstan.toml",
+        "capstan_drum_frame.toml",
         &[("divisions = [1, 64]", "divisions = [1, 128]")],
     );
     let dir = std::env::temp_dir().join(format!("contact2d_scale_{}", std::process::id()));
@@ -181,7 +181,7 @@ fn capstan_fmu() {
     }
     per_run.sort_by(f64::total_cmp);
     println!(
-        "capstan FMU (examples/winding_machine/capstan.toml at 128 elements, {} unknowns), doStep h = {h}:",
+        "capstan FMU (scenes/capstan_drum_frame.toml at 128 elements, {} unknowns), doStep h = {h}:",
         2 * problem.mesh.nodes.len()
     );
     report("drawn by 0.05 mm", &moving);

@@ -1022,7 +1022,16 @@ impl Solver {
         let poses = self.rigid_poses(t, t0, t1, rigid0);
         self.step_forces = self.driver_forces(t, t0, t1, forces0);
         self.ws.pressures = self.pressures_at(t, t0, t1, pressures0);
-        let u = self.state.u.clone();
+        let mut u = self.state.u.clone();
+        // A running strip starts where its drum's turn carries it.
+        for strip in &self.running {
+            if let Some(r) = strip.drum {
+                let turn = poses[r][2] - self.state.rigid[r][2];
+                if turn != 0.0 {
+                    strip.carry(&self.problem, &mut u, turn);
+                }
+            }
+        }
         let mut dup = vec![0.0; u.len()];
         for p in &self.prescribed {
             dup[p.dof] = self.prescribed_value(p, t, t0, t1, u0) - u[p.dof];

@@ -12,7 +12,7 @@
 
 use crate::assembly::Model;
 use crate::contact::{NodeMemory, PairMemory, SegmentMemory};
-use crate::problem::{Body, ContactPair, Problem};
+use crate::problem::{Body, ContactPair, Problem, Target};
 use crate::results::RunningResult;
 use crate::state::{RunningMemory, State};
 use crate::strip::StripPath;
@@ -53,6 +53,9 @@ pub struct Strip {
     pub body: usize,
     pub name: String,
     pub path: StripPath,
+    /// The rigid target the strip's first contact pair presses it on (its
+    /// turn carries the strip in the predictor, `carry`).
+    pub drum: Option<usize>,
     /// Node columns at each end, cross-section by cross-section: the end
     /// column and the one an element further in.
     supply: [Vec<usize>; 2],
@@ -180,15 +183,38 @@ impl Strip {
         };
         let shift = |dir| Shift::new(problem, b, &grid, &cells, dir);
         let (down, up) = (shift(1), shift(-1));
+        let drum = (problem.contacts.iter())
+            .filter(|c| c.body == body)
+            .find_map(|c| match c.target {
+                Target::Rigid(r) => Some(r),
+                Target::Body { .. } => None,
+            });
         Strip {
             body,
             name: b.name.clone(),
+            drum,
             supply: [column(0), column(2)],
             takeup: [column(last), column(last - 2)],
             columns: (last / 2) as usize,
             path,
             down,
             up,
+        }
+    }
+
+    /// Moves the strip's nodes in `u` as the drum's turn by `turn` carries
+    /// them (`StripPath::carry`): the configuration of steady running,
+    /// which stands still in the drum's frame, a turn further on. Newton's
+    /// predictor starts from there, so the wrap's rotation is not first
+    /// taken along its tangents.
+    pub fn carry(&self, problem: &Problem, u: &mut [f64], turn: f64) {
+        let ds = self.path.run_by_turn(turn);
+        for n in problem.bodies[self.body].nodes.clone() {
+            let x = problem.mesh.nodes[n];
+            let q = [x[0] + u[2 * n], x[1] + u[2 * n + 1]];
+            let c = self.path.carry(q, ds);
+            u[2 * n] = c[0] - x[0];
+            u[2 * n + 1] = c[1] - x[1];
         }
     }
 

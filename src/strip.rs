@@ -155,6 +155,28 @@ impl StripPath {
         }
     }
 
+    /// The path length the mid-line runs when the drum turns by `turn`
+    /// (radians, counter-clockwise positive): negative when it runs back.
+    pub fn run_by_turn(&self, turn: f64) -> f64 {
+        self.sense() * turn * self.mid_radius()
+    }
+
+    /// Where the point `q` lands when the strip runs `ds` along its path:
+    /// at its path coordinate plus `ds` and its offset across the strip,
+    /// its departure from the path kept. On the wrap that is the drum's
+    /// rotation by `ds` over the mid-line's radius; in a span, a
+    /// translation along it.
+    pub fn carry(&self, q: [f64; 2], ds: f64) -> [f64; 2] {
+        let s = self.path_coordinate(q);
+        let on = s.clamp(self.spans[0], self.spans[0] + self.wrap_length());
+        let t = self.tangent_at_angle(self.angle_at(on));
+        let a = self.at_path([s, 0.0]);
+        // The offset to the left of the running direction (`at_path`'s y).
+        let y = (q[0] - a[0]) * -t[1] + (q[1] - a[1]) * t[0];
+        let (from, to) = (self.at_path([s, y]), self.at_path([s + ds, y]));
+        [q[0] + to[0] - from[0], q[1] + to[1] - from[1]]
+    }
+
     /// The angle along the wrap from the take-up side's tangent point
     /// back toward the supply side (0 where the strip leaves the drum,
     /// |wrap| where it meets it) of the mid-line point nearest `q`; beyond
@@ -178,6 +200,32 @@ mod tests {
             spans: [4.0, 6.0],
             strain: 0.0,
             element: 1.0,
+        }
+    }
+
+    #[test]
+    fn carrying_turns_the_wrap_and_slides_the_spans() {
+        for wrap in [2.5, -2.5] {
+            let p = path(wrap);
+            let turn = 0.01 * wrap.signum();
+            let ds = p.run_by_turn(turn);
+            assert!((ds - 0.01 * p.mid_radius()).abs() < 1e-12);
+            // A point of the inner face on the wrap turns about the centre.
+            let s = p.spans[0] + 0.5 * p.wrap_length();
+            let q = p.at_path([s, p.inner_y()]);
+            let c = p.carry(q, ds);
+            let (r0, r1) = (
+                [q[0] - p.center[0], q[1] - p.center[1]],
+                [c[0] - p.center[0], c[1] - p.center[1]],
+            );
+            let angle = (r0[0] * r1[1] - r0[1] * r1[0]).atan2(dot(r0, r1));
+            assert!((angle - turn).abs() < 1e-12, "{angle}");
+            assert!((dot(r1, r1).sqrt() - p.radius).abs() < 1e-12);
+            // A point beside the span in slides along it, its offset kept.
+            let q = p.at_path([1.0, 0.2]);
+            let c = p.carry([q[0] + 1e-3, q[1]], ds);
+            let e = p.at_path([1.0 + ds, 0.2]);
+            assert!((c[0] - e[0] - 1e-3).abs() < 1e-12 && (c[1] - e[1]).abs() < 1e-12);
         }
     }
 

@@ -15,7 +15,7 @@ use contact2d::newton::Solver;
 fn drawn_capstan_factors_its_inner_solves_by_the_ldu() {
     use common::stress::{Frame, check_contact_conditions};
     let (text, path) = common::scene_text(
-        "../examples/winding_machine/capstan.toml",
+        "capstan_drum_frame.toml",
         &[
             ("uy = 0.0", "uy = { function = \"draw\", scale = -0.15 }"),
             (
@@ -66,7 +66,7 @@ fn drawn_capstan_steps_take_three_iterations() {
         .map(|i| format!("{:.2}", 0.05 * i as f64))
         .collect();
     let (text, path) = common::scene_text(
-        "../examples/winding_machine/capstan.toml",
+        "capstan_drum_frame.toml",
         &[
             ("divisions = [1, 64]", "divisions = [1, 128]"),
             ("uy = 0.0", "uy = { function = \"draw\", scale = -0.5 }"),

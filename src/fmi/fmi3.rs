@@ -178,7 +178,7 @@ mod tests {
     #[test]
     fn per_node_outputs_are_arrays() {
         let scene = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("examples/winding_machine/capstan.toml");
+            .join("scenes/capstan_drum_frame.toml");
         let problem = crate::scene::load(&scene).unwrap();
         let vars = variables(&problem);
         let list = variables3(&vars);

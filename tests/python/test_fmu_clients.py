@@ -140,7 +140,8 @@ def test_every_shipped_fmu_validates(contact2d, tmp_path, scene, fmi):
 
 
 def test_capstan_fmi3_validates(contact2d, tmp_path):
-    """The machine example's capstan as FMI 3.0: scene parameters, force and
-    displacement inputs, tunable friction, 65-node arrays."""
+    """The machine example's capstan as FMI 3.0: a running strip with scene
+    parameters, the drum's angle and two forces as inputs, tunable
+    friction, per-node arrays with the angles along the wrap."""
     scene = REPO / "examples" / "winding_machine" / "capstan.toml"
     assert_fmu_validates(export_fmu(contact2d, scene, tmp_path / "capstan3.fmu", fmi=3), fmi=3)

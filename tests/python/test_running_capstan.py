@@ -11,19 +11,18 @@ T1 exp(mu phi) there; the material leaves faster than it enters by
 of the spans' mid-lines.
 
 Where the strip departs from the membrane, and how far (measured, 128
-elements over the wrap, t / R = 1e-3):
+elements over the wrap, t / R = 5e-4):
 
 - bending the strip onto the drum at the entry stretches its inner face's
-  neighbourhood a little: the stick zone carries 0.5-0.8 % more than T1
+  neighbourhood a little: the stick zone carries about 0.2 % more than T1
   (the tests allow 1 %), which moves the stick/slip boundary toward the
-  exit by ln(T_stick / T1) / mu = 1.1-1.8 deg, so the slip arc is compared
-  with ln(T2 / T_stick) / mu, the theory at the tension the stick zone
-  carries (against ln(T2 / T1) / mu it is 2.0-2.3 deg, 1.4-1.6 elements,
-  short);
+  exit by ln(T_stick / T1) / mu = 0.5 deg; the slip arc comes out
+  0.6-1.0 deg (0.4-0.7 elements) short of ln(T2 / T1) / mu
+  (docs/contact.md section 12);
 - the strip's bends at the exit and entry carry their reactions over the
   first five elements (7 deg) from the tangent points, where the nodal
-  tension T = tn R swings (by up to 86 % at the exit's first node): the
-  tension is compared with the theory beyond them.
+  tension T = tn R swings: the tension is compared with the theory beyond
+  them.
 """
 
 import math
@@ -34,7 +33,7 @@ import pytest
 from conftest import REPO, Slave, export_fmu
 
 SCENE = REPO / "scenes" / "running_capstan.toml"
-T1, MU, R, THICKNESS = 20.0, 0.25, 100.0, 0.1
+T1, MU, R, THICKNESS = 20.0, 0.25, 100.0, 0.05
 ELEMENTS = 128
 ELEMENT = math.pi / ELEMENTS  # one element of the wrap, radians
 DT = 0.25
@@ -111,8 +110,8 @@ def test_steady_running_against_the_creep_theory(running, ratio):
         # The stick zone's tension: constant, and T1's (1 %: see above).
         assert max(stick) - min(stick) <= 0.01 * T1, stick
         assert abs(t_stick / T1 - 1) <= 0.01, t_stick
-        # The slip arc: within one element of the theory at that tension.
-        theory = math.log(t2 / t_stick) / MU
+        # The slip arc: within one element of the membrane's.
+        theory = math.log(t2 / T1) / MU
         assert abs(arc - theory) <= ELEMENT, (math.degrees(arc), math.degrees(theory))
         # The tension over the slip arc, beyond the exit's bend: T2
         # exp(-mu phi) within 1 %.
