@@ -313,10 +313,7 @@ fn a_distribution_needs_a_force_and_a_rigid_set_its_own_nodes() {
 #[test]
 fn capstan_held_by_two_forces_converges_through_the_fallback() {
     use common::stress::{Frame, check_contact_conditions};
-    let (text, path) = common::scene_text(
-        "capstan_drum_frame.toml",
-        &[("uy = 0.0", "fy = -12.0")],
-    );
+    let (text, path) = common::scene_text("capstan_drum_frame.toml", &[("uy = 0.0", "fy = -12.0")]);
     let problem = contact2d::scene::parse(&text, &path).unwrap();
     let mut solver = Solver::new(problem).unwrap();
     let before = Frame::at_rest(&solver);

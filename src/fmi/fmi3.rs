@@ -177,8 +177,8 @@ mod tests {
     /// are unique and `time` is 0.
     #[test]
     fn per_node_outputs_are_arrays() {
-        let scene = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("scenes/capstan_drum_frame.toml");
+        let scene =
+            std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/capstan_drum_frame.toml");
         let problem = crate::scene::load(&scene).unwrap();
         let vars = variables(&problem);
         let list = variables3(&vars);
