@@ -13,7 +13,8 @@
 //! error (Hertz: the largest deviation from Hertz within 0.8 a and the
 //! largest node-to-node swing, over p0; shrink fit: the nodal pressures'
 //! range against Lame), the mortar run's time over node-to-segment's, and
-//! the split of the mortar run's time by phase. Nothing is asserted here;
+//! the split of each run's time by phase. `cargo bench --bench mortar --
+//! NAME` runs the cases whose name holds NAME. Nothing is asserted here;
 //! tests/mortar.rs asserts the accuracy.
 
 #[path = "../tests/common/mod.rs"]
@@ -69,7 +70,7 @@ fn shrink(element: &str, formulation: &str, radial: usize) -> Run {
             lo / p - 1.0,
             hi / p - 1.0
         ),
-        split: solver.phases().split(),
+        split: solver.phases().summary(),
     }
 }
 
@@ -92,7 +93,7 @@ fn shipped(
         per_increment: ran.seconds / ran.iterations.len() as f64,
         error: error(&ran.last),
         iterations: ran.iterations,
-        split: ran.solver.phases().split(),
+        split: ran.solver.phases().summary(),
     }
 }
 
@@ -160,7 +161,14 @@ fn main() {
         ("drag, mu 0.2 (q4 8/4)".into(), Box::new(drag)),
         ("Cattaneo-Mindlin (shipped)".into(), Box::new(cattaneo)),
     ];
-    for (name, run) in &cases {
+    // `cargo bench --bench mortar -- NAME` runs the cases whose name
+    // holds NAME.
+    let only: Vec<String> = std::env::args()
+        .skip(1)
+        .filter(|a| !a.starts_with('-'))
+        .collect();
+    let chosen = |name: &str| only.is_empty() || only.iter().any(|o| name.contains(o.as_str()));
+    for (name, run) in cases.iter().filter(|(name, _)| chosen(name)) {
         let mut best: [Option<Run>; 2] = [None, None];
         for _ in 0..3 {
             for (i, formulation) in ["node_to_segment", "mortar"].into_iter().enumerate() {
@@ -196,8 +204,9 @@ fn main() {
             );
         }
         println!(
-            "{name:<26} mortar / node_to_segment {:.2}; mortar's time by phase: {}",
+            "{name:<26} mortar / node_to_segment {:.2}; time by phase, node_to_segment: {}; mortar: {}",
             mortar.per_increment / nts.per_increment,
+            nts.split,
             mortar.split
         );
     }

@@ -152,7 +152,7 @@ pub struct HertzFit {
     pub iterations: Vec<usize>,
     /// Wall time of the increments, s.
     pub seconds: f64,
-    /// Where the run's time went (`Phases::split`).
+    /// Where the run's time went, with the counts (`Phases::summary`).
     pub split: String,
 }
 
@@ -221,6 +221,6 @@ pub fn hertz_fit(text: &str) -> HertzFit {
         a,
         iterations,
         seconds,
-        split: solver.phases().split(),
+        split: solver.phases().summary(),
     }
 }
