@@ -68,9 +68,28 @@ impl<const N: usize, const H: usize> Dual<N, H> {
     );
     /// Whether the value carries its Hessian.
     const SECOND: bool = H > 0;
+    /// A first-order value's operations are called, not inlined: their
+    /// loops over the gradient, inlined into every expression, made the
+    /// first-order integrals the largest function of the FMU's library
+    /// (issue 15 keeps the Hertz FMU under 2 MB). Plain numbers (`N = 0`)
+    /// and second-order values inline as the compiler decides.
+    const OUTLINED: bool = N > 0 && H == 0;
 
     /// A constant.
     pub fn c(v: f64) -> Self {
+        if Self::OUTLINED {
+            Self::c_outlined(v)
+        } else {
+            Self::c_body(v)
+        }
+    }
+
+    #[inline(never)]
+    fn c_outlined(v: f64) -> Self {
+        Self::c_body(v)
+    }
+
+    fn c_body(v: f64) -> Self {
         let () = Self::PACKED;
         Dual {
             v,
@@ -144,6 +163,19 @@ impl<const N: usize, const H: usize> Dual<N, H> {
 
     /// `self += k b`.
     fn add_scaled(&mut self, k: f64, b: &Self) {
+        if Self::OUTLINED {
+            self.add_scaled_outlined(k, b)
+        } else {
+            self.add_scaled_body(k, b)
+        }
+    }
+
+    #[inline(never)]
+    fn add_scaled_outlined(&mut self, k: f64, b: &Self) {
+        self.add_scaled_body(k, b)
+    }
+
+    fn add_scaled_body(&mut self, k: f64, b: &Self) {
         self.v += k * b.v;
         let (blo, bhi) = b.span();
         if blo == bhi {
@@ -186,6 +218,19 @@ impl<const N: usize, const H: usize> Dual<N, H> {
 
     /// `self += k a b`, with no product formed apart.
     pub fn add_product(&mut self, k: f64, a: &Self, b: &Self) {
+        if Self::OUTLINED {
+            self.add_product_outlined(k, a, b)
+        } else {
+            self.add_product_body(k, a, b)
+        }
+    }
+
+    #[inline(never)]
+    fn add_product_outlined(&mut self, k: f64, a: &Self, b: &Self) {
+        self.add_product_body(k, a, b)
+    }
+
+    fn add_product_body(&mut self, k: f64, a: &Self, b: &Self) {
         let (av, bv) = (k * a.v, k * b.v);
         self.v += av * b.v;
         let (alo, ahi) = a.span();
@@ -277,6 +322,19 @@ impl<const N: usize, const H: usize> Dual<N, H> {
 
     /// `self *= k` for a plain number `k`; by zero, a constant.
     fn scale_in_place(&mut self, k: f64) {
+        if Self::OUTLINED {
+            self.scale_in_place_outlined(k)
+        } else {
+            self.scale_in_place_body(k)
+        }
+    }
+
+    #[inline(never)]
+    fn scale_in_place_outlined(&mut self, k: f64) {
+        self.scale_in_place_body(k)
+    }
+
+    fn scale_in_place_body(&mut self, k: f64) {
         self.v *= k;
         let (lo, hi) = self.span();
         if k == 0.0 {
@@ -296,6 +354,19 @@ impl<const N: usize, const H: usize> Dual<N, H> {
 
     /// `self *= b`: `(a b)'' = a b'' + b a'' + a' b'^T + b' a'^T`.
     fn mul_in_place(&mut self, b: &Self) {
+        if Self::OUTLINED {
+            self.mul_in_place_outlined(b)
+        } else {
+            self.mul_in_place_body(b)
+        }
+    }
+
+    #[inline(never)]
+    fn mul_in_place_outlined(&mut self, b: &Self) {
+        self.mul_in_place_body(b)
+    }
+
+    fn mul_in_place_body(&mut self, b: &Self) {
         let (av, bv) = (self.v, b.v);
         let (alo, ahi) = self.span();
         let (blo, bhi) = b.span();
@@ -384,6 +455,19 @@ impl<const N: usize, const H: usize> Dual<N, H> {
 
     /// `f(self)` from `f`, `f'` and `f''` at `self.v` (the chain rule).
     fn chain(&mut self, f: f64, df: f64, d2f: f64) {
+        if Self::OUTLINED {
+            self.chain_outlined(f, df, d2f)
+        } else {
+            self.chain_body(f, df, d2f)
+        }
+    }
+
+    #[inline(never)]
+    fn chain_outlined(&mut self, f: f64, df: f64, d2f: f64) {
+        self.chain_body(f, df, d2f)
+    }
+
+    fn chain_body(&mut self, f: f64, df: f64, d2f: f64) {
         let (lo, hi) = self.span();
         if Self::SECOND && (lo, hi) == (0, N) {
             for i in 0..N {

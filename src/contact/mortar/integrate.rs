@@ -107,16 +107,17 @@ pub(super) fn integrate(s: &Setting, order: Order) -> (Vec<Part>, Vec<f64>) {
         for &m in &cover.met {
             let count = 2
                 * (support + s.target.sides[m].len() + cover.extra_nodes(&s.target.sides[m]).len());
-            // Three sizes: a linear side pair, a quadratic one or a linear
-            // one with cutting nodes, and a quadratic one with cutting
-            // nodes (each size is one more copy of the dual-number code in
-            // the FMU's library).
+            // Each size is one more copy of the dual-number code in the
+            // FMU's library, which issue 15 keeps under 2 MB. To the first
+            // order one size serves every side pair (a value's operations
+            // run over its span, and its copies are small); to the second,
+            // two: a linear or quadratic side pair (12 or 20 unknowns, or
+            // a linear one with cutting nodes), and a quadratic one with
+            // cutting nodes. A third for the linear side pairs alone (12)
+            // took the Hertz FMU over 2 MB (docs/performance-log.md).
             let part = match (count, order) {
-                (..=12, Order::First) => side_pair::<12, 0>(s, e, m, &cover),
-                (..=12, Order::Second) => side_pair::<12, 78>(s, e, m, &cover),
-                (13..=20, Order::First) => side_pair::<20, 0>(s, e, m, &cover),
-                (13..=20, Order::Second) => side_pair::<20, 210>(s, e, m, &cover),
                 (_, Order::First) => side_pair::<32, 0>(s, e, m, &cover),
+                (..=20, Order::Second) => side_pair::<20, 210>(s, e, m, &cover),
                 (_, Order::Second) => side_pair::<32, 528>(s, e, m, &cover),
             };
             parts.extend(part);
@@ -945,7 +946,7 @@ pub(super) fn slip_from(s: &Setting, k: usize, coupling: &Coupling) -> Sparse {
             .position(|&p| p == q)
             .expect("in the support");
         V2(
-            Dual::<10, 55>::var(s.x[q][0], 2 * i),
+            Dual::<12, 78>::var(s.x[q][0], 2 * i),
             Dual::var(s.x[q][1], 2 * i + 1),
         )
     };
