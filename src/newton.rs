@@ -1421,7 +1421,16 @@ impl Solver {
         log: &mut dyn FnMut(LogCategory, &str),
     ) -> Result<(), String> {
         let n = self.model.free_dofs();
-        let contact = (eval.contact).filter(|c| c.neqc() > 0 || !c.k.is_empty());
+        // The contact tangent a formulation deferred (a converged iterate,
+        // which no solve starts from, never forms it).
+        let clock = Instant::now();
+        let contact = (eval.contact)
+            .map(|mut c| {
+                c.complete_tangent();
+                c
+            })
+            .filter(|c| c.neqc() > 0 || !c.k.is_empty());
+        self.times.contact += clock.elapsed();
         if contact.is_none() && inc.lambda.is_empty() {
             if self.solve_in_contact_slots(inc)? {
                 inc.solves += 1;
@@ -1675,7 +1684,11 @@ impl Solver {
             };
             let deferred = b.filter(|_| partial).map(|b| (b, extra.clone()));
             let states = memory.clone();
-            let rebuilt = self.contact_update(step, Some((sys, &switched)), memory, flips, log)?;
+            let mut rebuilt =
+                self.contact_update(step, Some((sys, &switched)), memory, flips, log)?;
+            let clock = Instant::now();
+            rebuilt.complete_tangent();
+            self.times.contact += clock.elapsed();
             rhs_now.copy_from_slice(rhs_base);
             for &(d, f) in &rebuilt.force {
                 if self.model.eq[d] != PRESCRIBED {

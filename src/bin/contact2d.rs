@@ -152,7 +152,7 @@ fn with_fmu_extension(output: &Path) -> PathBuf {
 }
 
 fn export(scene: &Path, output: &Path, fmi: &str, library: Option<PathBuf>) -> ExitCode {
-    use contact2d::fmi::export::FmiVersion;
+    use contact2d::fmi::export::{FmiVersion, Packing};
     let output = &with_fmu_extension(output);
     let version = if fmi == "3" {
         FmiVersion::Fmi3
@@ -163,11 +163,17 @@ fn export(scene: &Path, output: &Path, fmi: &str, library: Option<PathBuf>) -> E
     if let Err(e) = contact2d::scene::load(scene) {
         return scene_failure(e);
     }
-    let library = match library.map_or_else(shipped_library, Ok) {
-        Ok(library) => library,
-        Err(msg) => return failure(msg),
+    // The portable library, the one made to ship, is packed thoroughly
+    // (zopfli, once per build); a native or named one fast (zlib).
+    let (library, packing) = match library {
+        Some(named) => (named, Packing::Fast),
+        None => match shipped_library() {
+            Ok((library, true)) => (library, Packing::Thorough),
+            Ok((library, false)) => (library, Packing::Fast),
+            Err(msg) => return failure(msg),
+        },
     };
-    match contact2d::fmi::export::export_version(scene, output, &library, version) {
+    match contact2d::fmi::export::export_version(scene, output, &library, version, packing) {
         Ok(done) => {
             say(
                 &None,
@@ -191,12 +197,12 @@ fn export(scene: &Path, output: &Path, fmi: &str, library: Option<PathBuf>) -> E
 /// source tree this binary was built from when it is missing or older than
 /// the native library beside this binary (the first export, and the first
 /// after a change of the code). A binary away from its source tree ships
-/// the native library with a warning.
-fn shipped_library() -> Result<PathBuf, String> {
+/// the native library with a warning. With whether it is the portable one.
+fn shipped_library() -> Result<(PathBuf, bool), String> {
     use contact2d::fmi::export::default_library;
     let exe = std::env::current_exe().map_err(|e| format!("this executable's path: {e}"))?;
     if let Some((portable, true)) = default_library(&exe) {
-        return Ok(portable);
+        return Ok((portable, true));
     }
     let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("scripts/build_fmu_library.sh");
     let target = exe.parent().and_then(Path::parent);
@@ -212,7 +218,7 @@ fn shipped_library() -> Result<PathBuf, String> {
             .status()
             .map_err(|e| format!("cannot run {}: {e}", script.display()))?;
         return match default_library(&exe) {
-            Some((portable, true)) if built.success() => Ok(portable),
+            Some((portable, true)) if built.success() => Ok((portable, true)),
             _ => Err(format!(
                 "{} failed ({built}): the portable library was not built; pass --library FILE to ship another",
                 script.display()
@@ -226,7 +232,7 @@ fn shipped_library() -> Result<PathBuf, String> {
                 native.display(),
                 env!("CARGO_MANIFEST_DIR")
             );
-            Ok(native)
+            Ok((native, false))
         }
         None => Err(
             "libcontact2d.so not found beside this executable: pass --library, or build from the source tree".into(),

@@ -95,8 +95,13 @@ impl Row {
 pub struct ContactSystem {
     /// `G^T lambda` per dof: the contact forces, added to the external load.
     pub force: Vec<(usize, f64)>,
-    /// Sliding gradient matrix entries (dof, dof, value), added to K.
+    /// Sliding gradient matrix entries (dof, dof, value), added to K; with
+    /// those `deferred` (`complete_tangent`).
     pub k: Vec<(usize, usize, f64)>,
+    /// Tangent entries a formulation forms only where a solve needs them
+    /// (a converged iterate's are never formed), each with the place in
+    /// `k` they take.
+    pub(crate) deferred: Vec<(usize, DeferredTangent)>,
     pub rows: Vec<Row>,
     /// Per constrained node: its mesh node and the range of its rows.
     pub groups: Vec<(usize, std::ops::Range<usize>)>,
@@ -114,6 +119,48 @@ pub struct ContactSystem {
     /// Per pair, what its formulation keeps of the decisions the rows were
     /// built from: `predict` and `update` with `keep` start from them.
     pub(crate) kept: Vec<Kept>,
+}
+
+impl ContactSystem {
+    /// Defers tangent entries that `tangent` forms to `complete_tangent`,
+    /// at the place in `k` they would take now.
+    pub(crate) fn defer_tangent(
+        &mut self,
+        tangent: impl Fn(&mut Vec<(usize, usize, f64)>) + Send + Sync + 'static,
+    ) {
+        self.deferred
+            .push((self.k.len(), DeferredTangent(Arc::new(tangent))));
+    }
+
+    /// Forms the deferred tangent entries into `k`, each at its place: the
+    /// entries' order is the order in which their sums are taken, so the
+    /// tangent is the one formed at once, bit for bit.
+    pub fn complete_tangent(&mut self) {
+        if self.deferred.is_empty() {
+            return;
+        }
+        let formed = std::mem::take(&mut self.k);
+        let mut from = 0;
+        for (at, DeferredTangent(tangent)) in std::mem::take(&mut self.deferred) {
+            self.k.extend_from_slice(&formed[from..at]);
+            tangent(&mut self.k);
+            from = at;
+        }
+        self.k.extend_from_slice(&formed[from..]);
+    }
+}
+
+/// Matrix entries (dof, dof, value).
+type Entries3 = Vec<(usize, usize, f64)>;
+
+/// Tangent entries formed on demand (`ContactSystem::defer_tangent`).
+#[derive(Clone)]
+pub(crate) struct DeferredTangent(Arc<dyn Fn(&mut Entries3) + Send + Sync>);
+
+impl std::fmt::Debug for DeferredTangent {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("DeferredTangent")
+    }
 }
 
 /// Per pair, the nodes the linearised problem decides otherwise than the

@@ -13,25 +13,38 @@
 //! unknowns, the common case once a projection mixes both sides, in loops
 //! of compile-time bounds, which vectorize). The gradient is
 //! stored whole (zero outside the span); the Hessian is symmetric, and
-//! only its upper triangle within the span (`h[i][j]`, `lo <= i <= j <
-//! hi`) is computed and read (`hessian`): entries outside it hold stale
-//! numbers, and a span that widens zeroes the entries it takes in first.
-//! Operations update their left operand in place (it is taken by value),
-//! so that a result is not built in a fresh, zero-filled value.
+//! only its upper triangle is stored, packed row by row (`H = N (N + 1) /
+//! 2` entries: the values are copied and moved whole, so the storage is
+//! what each copy costs). Only its entries within the span (`(i, j)`, `lo
+//! <= i <= j < hi`) are computed and read (`hessian`): entries outside it
+//! hold stale numbers, and a span that widens zeroes the entries it takes
+//! in first. Operations update their left operand in place (it is taken by
+//! value), so that a result is not built in a fresh, zero-filled value.
 
 use std::ops::{Add, Div, Mul, Neg, Sub};
 
-/// A value with its gradient and Hessian over `N` unknowns.
+/// A value with its gradient and Hessian over `N` unknowns; `H` is the
+/// size of the Hessian's packed upper triangle, `N (N + 1) / 2`, or 0: a
+/// value of the first order, with no Hessian (`hessian` is not to be
+/// called on it).
 #[derive(Clone, Copy, Debug)]
-pub(super) struct Dual<const N: usize> {
+pub(super) struct Dual<const N: usize, const H: usize> {
     pub v: f64,
     /// The gradient: zero outside `lo..hi`.
     pub g: [f64; N],
-    /// The Hessian's upper triangle, meaningful within `lo..hi` only.
-    h: [[f64; N]; N],
+    /// The Hessian's upper triangle, row `i` (columns `i..N`) from
+    /// `start::<N>(i)`, meaningful within `lo..hi` only.
+    h: [f64; H],
     /// The span of unknowns the value depends on (empty: `lo == hi`).
     lo: usize,
     hi: usize,
+}
+
+/// Where row `i` of an upper triangle of order `n`, packed row by row,
+/// starts (at its diagonal entry).
+#[inline(always)]
+const fn start<const N: usize>(i: usize) -> usize {
+    i * (2 * N + 1 - i) / 2
 }
 
 /// The smallest span that holds spans `a` and `b` (an empty one holds
@@ -46,13 +59,42 @@ fn union(a: (usize, usize), b: (usize, usize)) -> (usize, usize) {
     }
 }
 
-impl<const N: usize> Dual<N> {
+impl<const N: usize, const H: usize> Dual<N, H> {
+    /// `H` is the packed triangle's size or 0 (checked when the type is
+    /// used).
+    const PACKED: () = assert!(
+        H == 0 || H == N * (N + 1) / 2,
+        "H must be N (N + 1) / 2, or 0"
+    );
+    /// Whether the value carries its Hessian.
+    const SECOND: bool = H > 0;
+    /// A first-order value's operations are called, not inlined: their
+    /// loops over the gradient, inlined into every expression, made the
+    /// first-order integrals the largest function of the FMU's library
+    /// (issue 15 keeps the Hertz FMU under 2 MB). Plain numbers (`N = 0`)
+    /// and second-order values inline as the compiler decides.
+    const OUTLINED: bool = N > 0 && H == 0;
+
     /// A constant.
     pub fn c(v: f64) -> Self {
+        if Self::OUTLINED {
+            Self::c_outlined(v)
+        } else {
+            Self::c_body(v)
+        }
+    }
+
+    #[inline(never)]
+    fn c_outlined(v: f64) -> Self {
+        Self::c_body(v)
+    }
+
+    fn c_body(v: f64) -> Self {
+        let () = Self::PACKED;
         Dual {
             v,
             g: [0.0; N],
-            h: [[0.0; N]; N],
+            h: [0.0; H],
             lo: 0,
             hi: 0,
         }
@@ -70,10 +112,27 @@ impl<const N: usize> Dual<N> {
         (self.lo, self.hi)
     }
 
+    /// Row `i` of the Hessian's upper triangle, columns `i..to`.
+    #[inline(always)]
+    fn row(&self, i: usize, to: usize) -> &[f64] {
+        let s = start::<N>(i);
+        &self.h[s..s + to - i]
+    }
+
+    #[inline(always)]
+    fn row_mut(&mut self, i: usize, to: usize) -> &mut [f64] {
+        let s = start::<N>(i);
+        &mut self.h[s..s + to - i]
+    }
+
     /// Widens the span to `lo..hi` (which holds it), zeroing the
     /// Hessian's entries it takes in (the gradient's are zero already).
     fn widen(&mut self, (lo, hi): (usize, usize)) {
         if (lo, hi) == self.span() {
+            return;
+        }
+        if !Self::SECOND {
+            (self.lo, self.hi) = (lo, hi);
             return;
         }
         let (a, b) = if self.lo == self.hi {
@@ -82,11 +141,11 @@ impl<const N: usize> Dual<N> {
             self.span()
         };
         for i in lo..hi {
-            let row = &mut self.h[i];
+            let row = self.row_mut(i, hi);
             if i < a || i >= b {
-                row[i..hi].fill(0.0);
+                row.fill(0.0);
             } else {
-                row[b..hi].fill(0.0);
+                row[b - i..].fill(0.0);
             }
         }
         (self.lo, self.hi) = (lo, hi);
@@ -104,25 +163,38 @@ impl<const N: usize> Dual<N> {
 
     /// `self += k b`.
     fn add_scaled(&mut self, k: f64, b: &Self) {
+        if Self::OUTLINED {
+            self.add_scaled_outlined(k, b)
+        } else {
+            self.add_scaled_body(k, b)
+        }
+    }
+
+    #[inline(never)]
+    fn add_scaled_outlined(&mut self, k: f64, b: &Self) {
+        self.add_scaled_body(k, b)
+    }
+
+    fn add_scaled_body(&mut self, k: f64, b: &Self) {
         self.v += k * b.v;
         let (blo, bhi) = b.span();
         if blo == bhi {
             return;
         }
         let (lo, hi) = union(self.span(), (blo, bhi));
-        if self.span() == (0, N) && (blo, bhi) == (0, N) {
-            for i in 0..N {
-                for j in i..N {
-                    self.h[i][j] += k * b.h[i][j];
-                }
+        if !Self::SECOND {
+            (self.lo, self.hi) = (lo, hi);
+        } else if self.span() == (0, N) && (blo, bhi) == (0, N) {
+            for (h, bh) in self.h.iter_mut().zip(&b.h) {
+                *h += k * bh;
             }
         } else if (lo, hi) == (blo, bhi) {
             // b's span holds self's: one pass, which sets the entries
             // outside self's.
             for i in lo..hi {
                 let end = self.row_end(i);
-                let (old, new) = self.h[i][i..hi].split_at_mut(end - i);
-                let (bold, bnew) = b.h[i][i..hi].split_at(end - i);
+                let (old, new) = self.row_mut(i, hi).split_at_mut(end - i);
+                let (bold, bnew) = b.row(i, hi).split_at(end - i);
                 for (h, bh) in old.iter_mut().zip(bold) {
                     *h += k * bh;
                 }
@@ -134,7 +206,7 @@ impl<const N: usize> Dual<N> {
         } else {
             self.widen((lo, hi));
             for i in blo..bhi {
-                for (h, bh) in self.h[i][i..bhi].iter_mut().zip(&b.h[i][i..bhi]) {
+                for (h, bh) in self.row_mut(i, bhi).iter_mut().zip(b.row(i, bhi)) {
                     *h += k * bh;
                 }
             }
@@ -146,6 +218,19 @@ impl<const N: usize> Dual<N> {
 
     /// `self += k a b`, with no product formed apart.
     pub fn add_product(&mut self, k: f64, a: &Self, b: &Self) {
+        if Self::OUTLINED {
+            self.add_product_outlined(k, a, b)
+        } else {
+            self.add_product_body(k, a, b)
+        }
+    }
+
+    #[inline(never)]
+    fn add_product_outlined(&mut self, k: f64, a: &Self, b: &Self) {
+        self.add_product_body(k, a, b)
+    }
+
+    fn add_product_body(&mut self, k: f64, a: &Self, b: &Self) {
         let (av, bv) = (k * a.v, k * b.v);
         self.v += av * b.v;
         let (alo, ahi) = a.span();
@@ -154,11 +239,16 @@ impl<const N: usize> Dual<N> {
         if ab.0 == ab.1 {
             return;
         }
-        if self.span() == (0, N) && (alo, ahi) == (0, N) && (blo, bhi) == (0, N) {
+        if Self::SECOND && self.span() == (0, N) && (alo, ahi) == (0, N) && (blo, bhi) == (0, N) {
             for i in 0..N {
                 let (ag, bg) = (k * a.g[i], k * b.g[i]);
-                for j in i..N {
-                    self.h[i][j] += bv * a.h[i][j] + av * b.h[i][j] + ag * b.g[j] + bg * a.g[j];
+                let s = start::<N>(i);
+                let rows = (self.h[s..s + N - i].iter_mut())
+                    .zip(&a.h[s..s + N - i])
+                    .zip(&b.h[s..s + N - i]);
+                let cols = a.g[i..].iter().zip(&b.g[i..]);
+                for (((h, ah), bh), (agj, bgj)) in rows.zip(cols) {
+                    *h += bv * ah + av * bh + ag * bgj + bg * agj;
                 }
             }
             for i in 0..N {
@@ -167,25 +257,8 @@ impl<const N: usize> Dual<N> {
             return;
         }
         self.widen(union(self.span(), ab));
-        for i in alo..ahi {
-            for (h, ah) in self.h[i][i..ahi].iter_mut().zip(&a.h[i][i..ahi]) {
-                *h += bv * ah;
-            }
-        }
-        for i in blo..bhi {
-            for (h, bh) in self.h[i][i..bhi].iter_mut().zip(&b.h[i][i..bhi]) {
-                *h += av * bh;
-            }
-        }
-        if alo != ahi && blo != bhi {
-            let (lo, hi) = ab;
-            for i in lo..hi {
-                let (ag, bg) = (k * a.g[i], k * b.g[i]);
-                let cols = a.g[i..hi].iter().zip(&b.g[i..hi]);
-                for (h, (agj, bgj)) in self.h[i][i..hi].iter_mut().zip(cols) {
-                    *h += ag * bgj + bg * agj;
-                }
-            }
+        if Self::SECOND {
+            self.add_product_hessian(k, a, b);
         }
         let (lo, hi) = ab;
         for ((g, ag), bg) in self.g[lo..hi]
@@ -194,6 +267,35 @@ impl<const N: usize> Dual<N> {
             .zip(&b.g[lo..hi])
         {
             *g += av * bg + bv * ag;
+        }
+    }
+
+    /// `add_product`'s Hessian terms over the operands' spans (`self`
+    /// widened to hold them).
+    fn add_product_hessian(&mut self, k: f64, a: &Self, b: &Self) {
+        let (av, bv) = (k * a.v, k * b.v);
+        let (alo, ahi) = a.span();
+        let (blo, bhi) = b.span();
+        let ab = union((alo, ahi), (blo, bhi));
+        for i in alo..ahi {
+            for (h, ah) in self.row_mut(i, ahi).iter_mut().zip(a.row(i, ahi)) {
+                *h += bv * ah;
+            }
+        }
+        for i in blo..bhi {
+            for (h, bh) in self.row_mut(i, bhi).iter_mut().zip(b.row(i, bhi)) {
+                *h += av * bh;
+            }
+        }
+        if alo != ahi && blo != bhi {
+            let (lo, hi) = ab;
+            for i in lo..hi {
+                let (ag, bg) = (k * a.g[i], k * b.g[i]);
+                let cols = a.g[i..hi].iter().zip(&b.g[i..hi]);
+                for (h, (agj, bgj)) in self.row_mut(i, hi).iter_mut().zip(cols) {
+                    *h += ag * bgj + bg * agj;
+                }
+            }
         }
     }
 
@@ -220,6 +322,19 @@ impl<const N: usize> Dual<N> {
 
     /// `self *= k` for a plain number `k`; by zero, a constant.
     fn scale_in_place(&mut self, k: f64) {
+        if Self::OUTLINED {
+            self.scale_in_place_outlined(k)
+        } else {
+            self.scale_in_place_body(k)
+        }
+    }
+
+    #[inline(never)]
+    fn scale_in_place_outlined(&mut self, k: f64) {
+        self.scale_in_place_body(k)
+    }
+
+    fn scale_in_place_body(&mut self, k: f64) {
         self.v *= k;
         let (lo, hi) = self.span();
         if k == 0.0 {
@@ -229,14 +344,29 @@ impl<const N: usize> Dual<N> {
         }
         for i in lo..hi {
             self.g[i] *= k;
-            for h in &mut self.h[i][i..hi] {
-                *h *= k;
+            if Self::SECOND {
+                for h in self.row_mut(i, hi) {
+                    *h *= k;
+                }
             }
         }
     }
 
     /// `self *= b`: `(a b)'' = a b'' + b a'' + a' b'^T + b' a'^T`.
     fn mul_in_place(&mut self, b: &Self) {
+        if Self::OUTLINED {
+            self.mul_in_place_outlined(b)
+        } else {
+            self.mul_in_place_body(b)
+        }
+    }
+
+    #[inline(never)]
+    fn mul_in_place_outlined(&mut self, b: &Self) {
+        self.mul_in_place_body(b)
+    }
+
+    fn mul_in_place_body(&mut self, b: &Self) {
         let (av, bv) = (self.v, b.v);
         let (alo, ahi) = self.span();
         let (blo, bhi) = b.span();
@@ -244,13 +374,17 @@ impl<const N: usize> Dual<N> {
             return self.scale_in_place(bv);
         }
         let (lo, hi) = union((alo, ahi), (blo, bhi));
-        if (alo, ahi) == (0, N) && (blo, bhi) == (0, N) {
+        if !Self::SECOND {
+            (self.lo, self.hi) = (lo, hi);
+        } else if (alo, ahi) == (0, N) && (blo, bhi) == (0, N) {
             // Both over all unknowns: bounds known at compile time.
             for i in 0..N {
                 let (ag, bg) = (self.g[i], b.g[i]);
-                for j in i..N {
-                    self.h[i][j] =
-                        bv * self.h[i][j] + av * b.h[i][j] + ag * b.g[j] + bg * self.g[j];
+                let s = start::<N>(i);
+                let rows = self.h[s..s + N - i].iter_mut().zip(&b.h[s..s + N - i]);
+                let cols = self.g[i..].iter().zip(&b.g[i..]);
+                for ((h, bh), (agj, bgj)) in rows.zip(cols) {
+                    *h = bv * *h + av * bh + ag * bgj + bg * agj;
                 }
             }
         } else if (lo, hi) == (blo, bhi) {
@@ -259,8 +393,9 @@ impl<const N: usize> Dual<N> {
             for i in lo..hi {
                 let (ag, bg) = (self.g[i], b.g[i]);
                 let end = self.row_end(i) - i;
-                let (old, new) = self.h[i][i..hi].split_at_mut(end);
-                let (bold, bnew) = b.h[i][i..hi].split_at(end);
+                let s = start::<N>(i);
+                let (old, new) = self.h[s..s + hi - i].split_at_mut(end);
+                let (bold, bnew) = b.row(i, hi).split_at(end);
                 let (gold, gnew) = (self.g[i..hi].split_at(end), b.g[i..hi].split_at(end));
                 let cols = gold.0.iter().zip(gnew.0);
                 for ((h, bh), (agj, bgj)) in old.iter_mut().zip(bold).zip(cols) {
@@ -277,10 +412,11 @@ impl<const N: usize> Dual<N> {
             for i in lo..hi {
                 let (ag, bg) = (self.g[i], b.g[i]);
                 let end = b.row_end(i) - i;
-                let (inside, outside) = self.h[i][i..hi].split_at_mut(end);
+                let s = start::<N>(i);
+                let (inside, outside) = self.h[s..s + hi - i].split_at_mut(end);
                 let (gin, gout) = (self.g[i..hi].split_at(end), b.g[i..hi].split_at(end));
                 let cols = gin.0.iter().zip(gout.0);
-                let bh = &b.h[i][i..i + end];
+                let bh = b.row(i, i + end);
                 for ((h, bh), (agj, bgj)) in inside.iter_mut().zip(bh).zip(cols) {
                     *h = bv * *h + av * bh + ag * bgj + bg * agj;
                 }
@@ -291,20 +427,21 @@ impl<const N: usize> Dual<N> {
             }
         } else {
             for i in alo..ahi {
-                for h in &mut self.h[i][i..ahi] {
+                for h in self.row_mut(i, ahi) {
                     *h *= bv;
                 }
             }
             self.widen((lo, hi));
             for i in blo..bhi {
-                for (h, bh) in self.h[i][i..bhi].iter_mut().zip(&b.h[i][i..bhi]) {
+                for (h, bh) in self.row_mut(i, bhi).iter_mut().zip(b.row(i, bhi)) {
                     *h += av * bh;
                 }
             }
             // The outer products: zero outside the spans' crossings.
             for i in lo..hi {
                 let (ag, bg) = (self.g[i], b.g[i]);
-                let row = self.h[i][i..hi].iter_mut();
+                let s = start::<N>(i);
+                let row = self.h[s..s + hi - i].iter_mut();
                 for (h, (agj, bgj)) in row.zip(self.g[i..hi].iter().zip(&b.g[i..hi])) {
                     *h += ag * bgj + bg * agj;
                 }
@@ -318,21 +455,37 @@ impl<const N: usize> Dual<N> {
 
     /// `f(self)` from `f`, `f'` and `f''` at `self.v` (the chain rule).
     fn chain(&mut self, f: f64, df: f64, d2f: f64) {
+        if Self::OUTLINED {
+            self.chain_outlined(f, df, d2f)
+        } else {
+            self.chain_body(f, df, d2f)
+        }
+    }
+
+    #[inline(never)]
+    fn chain_outlined(&mut self, f: f64, df: f64, d2f: f64) {
+        self.chain_body(f, df, d2f)
+    }
+
+    fn chain_body(&mut self, f: f64, df: f64, d2f: f64) {
         let (lo, hi) = self.span();
-        if (lo, hi) == (0, N) {
+        if Self::SECOND && (lo, hi) == (0, N) {
             for i in 0..N {
                 let gi = d2f * self.g[i];
-                for j in i..N {
-                    self.h[i][j] = df * self.h[i][j] + gi * self.g[j];
+                let s = start::<N>(i);
+                let row = self.h[s..s + N - i].iter_mut().zip(&self.g[i..]);
+                for (h, gj) in row {
+                    *h = df * *h + gi * gj;
                 }
                 self.g[i] *= df;
             }
             self.v = f;
             return;
         }
-        for i in lo..hi {
+        for i in (lo..hi).filter(|_| Self::SECOND) {
             let gi = d2f * self.g[i];
-            let row = self.h[i][i..hi].iter_mut().zip(&self.g[i..hi]);
+            let s = start::<N>(i);
+            let row = self.h[s..s + hi - i].iter_mut().zip(&self.g[i..hi]);
             for (h, gj) in row {
                 *h = df * *h + gi * gj;
             }
@@ -370,16 +523,17 @@ impl<const N: usize> Dual<N> {
 
     /// Entry (i, j) of the Hessian.
     pub fn hessian(&self, i: usize, j: usize) -> f64 {
+        debug_assert!(Self::SECOND, "the Hessian of a first-order value");
         let (i, j) = (i.min(j), i.max(j));
         if self.lo <= i && j < self.hi {
-            self.h[i][j]
+            self.h[start::<N>(i) + j - i]
         } else {
             0.0
         }
     }
 }
 
-impl<const N: usize> Add for Dual<N> {
+impl<const N: usize, const H: usize> Add for Dual<N, H> {
     type Output = Self;
     #[inline(always)]
     fn add(mut self, b: Self) -> Self {
@@ -388,7 +542,7 @@ impl<const N: usize> Add for Dual<N> {
     }
 }
 
-impl<const N: usize> Sub for Dual<N> {
+impl<const N: usize, const H: usize> Sub for Dual<N, H> {
     type Output = Self;
     #[inline(always)]
     fn sub(mut self, b: Self) -> Self {
@@ -397,7 +551,7 @@ impl<const N: usize> Sub for Dual<N> {
     }
 }
 
-impl<const N: usize> Neg for Dual<N> {
+impl<const N: usize, const H: usize> Neg for Dual<N, H> {
     type Output = Self;
     #[inline(always)]
     fn neg(mut self) -> Self {
@@ -406,7 +560,7 @@ impl<const N: usize> Neg for Dual<N> {
     }
 }
 
-impl<const N: usize> Mul for Dual<N> {
+impl<const N: usize, const H: usize> Mul for Dual<N, H> {
     type Output = Self;
     #[inline(always)]
     fn mul(mut self, b: Self) -> Self {
@@ -415,7 +569,7 @@ impl<const N: usize> Mul for Dual<N> {
     }
 }
 
-impl<const N: usize> Div for Dual<N> {
+impl<const N: usize, const H: usize> Div for Dual<N, H> {
     type Output = Self;
     #[allow(clippy::suspicious_arithmetic_impl)]
     #[inline(always)]
@@ -426,7 +580,7 @@ impl<const N: usize> Div for Dual<N> {
     }
 }
 
-impl<const N: usize> Add<f64> for Dual<N> {
+impl<const N: usize, const H: usize> Add<f64> for Dual<N, H> {
     type Output = Self;
     #[inline(always)]
     fn add(mut self, b: f64) -> Self {
@@ -435,7 +589,7 @@ impl<const N: usize> Add<f64> for Dual<N> {
     }
 }
 
-impl<const N: usize> Mul<f64> for Dual<N> {
+impl<const N: usize, const H: usize> Mul<f64> for Dual<N, H> {
     type Output = Self;
     #[inline(always)]
     fn mul(mut self, k: f64) -> Self {
@@ -446,9 +600,9 @@ impl<const N: usize> Mul<f64> for Dual<N> {
 
 /// A 2-vector of dual numbers.
 #[derive(Clone, Copy, Debug)]
-pub(super) struct V2<const N: usize>(pub Dual<N>, pub Dual<N>);
+pub(super) struct V2<const N: usize, const H: usize>(pub Dual<N, H>, pub Dual<N, H>);
 
-impl<const N: usize> V2<N> {
+impl<const N: usize, const H: usize> V2<N, H> {
     pub fn c(x: [f64; 2]) -> Self {
         V2(Dual::c(x[0]), Dual::c(x[1]))
     }
@@ -458,7 +612,7 @@ impl<const N: usize> V2<N> {
     }
 
     #[inline(always)]
-    pub fn dot(&self, b: &Self) -> Dual<N> {
+    pub fn dot(&self, b: &Self) -> Dual<N, H> {
         let mut d = self.0;
         d.mul_in_place(&b.0);
         d.add_product(1.0, &self.1, &b.1);
@@ -467,21 +621,21 @@ impl<const N: usize> V2<N> {
 
     /// The z component of `self x b`.
     #[inline(always)]
-    pub fn cross(&self, b: &Self) -> Dual<N> {
+    pub fn cross(&self, b: &Self) -> Dual<N, H> {
         let mut d = self.0;
         d.mul_in_place(&b.1);
         d.add_product(-1.0, &self.1, &b.0);
         d
     }
 
-    pub fn norm(&self) -> Dual<N> {
+    pub fn norm(&self) -> Dual<N, H> {
         let mut d = self.dot(self);
         d.sqrt_in_place();
         d
     }
 
     #[inline(always)]
-    pub fn scale(&self, k: Dual<N>) -> Self {
+    pub fn scale(&self, k: Dual<N, H>) -> Self {
         let mut out = *self;
         out.0.mul_in_place(&k);
         out.1.mul_in_place(&k);
@@ -507,7 +661,7 @@ impl<const N: usize> V2<N> {
     }
 }
 
-impl<const N: usize> Add for V2<N> {
+impl<const N: usize, const H: usize> Add for V2<N, H> {
     type Output = Self;
     #[inline(always)]
     fn add(mut self, b: Self) -> Self {
@@ -517,7 +671,7 @@ impl<const N: usize> Add for V2<N> {
     }
 }
 
-impl<const N: usize> Sub for V2<N> {
+impl<const N: usize, const H: usize> Sub for V2<N, H> {
     type Output = Self;
     #[inline(always)]
     fn sub(mut self, b: Self) -> Self {
@@ -535,7 +689,7 @@ mod tests {
     /// against central differences of the closed forms.
     #[test]
     fn second_derivatives_match_the_closed_form() {
-        let f = |x: Dual<2>, y: Dual<2>| (x * x + y * y).sqrt() / (x * y) + x;
+        let f = |x: Dual<2, 3>, y: Dual<2, 3>| (x * x + y * y).sqrt() / (x * y) + x;
         let (x0, y0) = (1.3, 0.7);
         let d = f(Dual::var(x0, 0), Dual::var(y0, 1));
         let r = (x0 * x0 + y0 * y0).sqrt();
@@ -585,7 +739,7 @@ mod reference {
         fn recip(&self) -> Self;
     }
 
-    impl<const N: usize> Number for Dual<N> {
+    impl<const N: usize, const H: usize> Number for Dual<N, H> {
         fn c(v: f64) -> Self {
             Dual::c(v)
         }
@@ -743,7 +897,7 @@ mod reference {
         let x = [
             1.3, 0.7, -0.4, 2.1, 0.9, -1.1, 2.6, 1.9, 0.3, -0.8, 1.7, 0.45,
         ];
-        let sparse = expressions::<Dual<12>>(&x);
+        let sparse = expressions::<Dual<12, 78>>(&x);
         let dense = expressions::<Dense<12>>(&x);
         for (k, (s, d)) in sparse.iter().zip(&dense).enumerate() {
             let scale = (d.g.iter().chain(d.h.iter().flatten()))
@@ -765,6 +919,26 @@ mod reference {
         assert_eq!(sparse[2].span(), (10, 12));
     }
 
+    /// A first-order value (no Hessian) has the value and gradient its
+    /// second-order twin has, bit for bit: the mortar integrals are made
+    /// in the first order at every iterate and again in the second where a
+    /// solve needs the tangent, and the two must agree.
+    #[test]
+    fn first_order_values_match_the_second_order_bit_for_bit() {
+        let x = [
+            1.3, 0.7, -0.4, 2.1, 0.9, -1.1, 2.6, 1.9, 0.3, -0.8, 1.7, 0.45,
+        ];
+        let first = expressions::<Dual<12, 0>>(&x);
+        let second = expressions::<Dual<12, 78>>(&x);
+        for (k, (f, s)) in first.iter().zip(&second).enumerate() {
+            assert_eq!(f.v.to_bits(), s.v.to_bits(), "expression {k}");
+            assert_eq!(f.span(), s.span(), "expression {k}");
+            for i in 0..12 {
+                assert_eq!(f.g[i].to_bits(), s.g[i].to_bits(), "expression {k}, g[{i}]");
+            }
+        }
+    }
+
     /// `add_product` (dot and cross products) against the operators it
     /// stands for, over spans that hold each other, overlap, or are apart.
     #[test]
@@ -772,7 +946,7 @@ mod reference {
         let x = [
             0.9, -1.2, 0.4, 1.6, 2.2, -0.3, 0.8, 1.1, -0.6, 1.4, 0.25, 1.9,
         ];
-        let u = |i: usize| Dual::<12>::var(x[i], i);
+        let u = |i: usize| Dual::<12, 78>::var(x[i], i);
         let wide = (u(1) * u(5) + u(2)).sqrt() * u(9) + u(0);
         let narrow = u(3) * u(4) + u(3);
         let other = (u(10) + u(11) * u(8)).recip();

@@ -55,7 +55,8 @@ pub(super) struct Setting<'a> {
 /// weighted gap with gradient and Hessian over those unknowns.
 pub(super) struct Part {
     pub dofs: Vec<usize>,
-    /// (contactor surface node, value, gradient, Hessian row by row).
+    /// (contactor surface node, value, gradient, Hessian row by row; empty
+    /// to the first `Order`).
     pub gaps: Vec<(usize, f64, Vec<f64>, Vec<f64>)>,
     /// Per node of `gaps`, the gap weighted by its hat function instead
     /// (`hat`: positive, so this is negative only where the target is
@@ -69,7 +70,8 @@ pub(super) struct Part {
     /// int Phi_j (x - y) ds`, the contactor's points less the target's
     /// points they meet along the normal field, along the node's unit
     /// tangent `tau_j` (`nodal_tangent`): value, gradient, Hessian row by
-    /// row. The weighted slip (`slip_from`) subtracts it.
+    /// row (empty to the first `Order`). The weighted slip (`slip_from`)
+    /// subtracts it.
     pub slips: Vec<(f64, Vec<f64>, Vec<f64>)>,
 }
 
@@ -85,10 +87,19 @@ pub(super) struct Coupling {
     pub target: Vec<(usize, f64)>,
 }
 
-/// Every side pair's part of the weighted gaps (`Part`), and per contactor
-/// node the integral of its shape function (its share of the contactor's
-/// area, in the same measure).
-pub(super) fn integrate(s: &Setting) -> (Vec<Part>, Vec<f64>) {
+/// How far the integrals are differentiated: the values and gradients
+/// (the rows and forces, at every iterate), or the Hessians as well (the
+/// contact tangent, for the iterates a solve starts from).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum Order {
+    First,
+    Second,
+}
+
+/// Every side pair's part of the weighted gaps (`Part`; to the `order`
+/// asked), and per contactor node the integral of its shape function (its
+/// share of the contactor's area, in the same measure).
+pub(super) fn integrate(s: &Setting, order: Order) -> (Vec<Part>, Vec<f64>) {
     let mut parts = Vec::new();
     for e in 0..s.contactor.sides.len() {
         let cover = cover(s, e);
@@ -96,14 +107,20 @@ pub(super) fn integrate(s: &Setting) -> (Vec<Part>, Vec<f64>) {
         for &m in &cover.met {
             let count = 2
                 * (support + s.target.sides[m].len() + cover.extra_nodes(&s.target.sides[m]).len());
-            // Three sizes: a linear side pair, a quadratic one or a linear
-            // one with cutting nodes, and a quadratic one with cutting
-            // nodes (each size is one more copy of the dual-number code in
-            // the FMU's library).
-            let part = match count {
-                ..=12 => side_pair::<12>(s, e, m, &cover),
-                13..=20 => side_pair::<20>(s, e, m, &cover),
-                _ => side_pair::<32>(s, e, m, &cover),
+            // Each size is one more copy of the dual-number code in the
+            // FMU's library, which issue 15 keeps under 2 MB. To the first
+            // order one size serves every side pair (a value's operations
+            // run over its span, and its copies are small); to the second,
+            // three: a linear side pair, a quadratic one or a linear one
+            // with cutting nodes, and a quadratic one with cutting nodes.
+            // (Forming the linear side pairs' Hessians in 20 unknowns
+            // rounds them differently, which took Cattaneo-Mindlin's first
+            // increment over two solves per iteration.)
+            let part = match (count, order) {
+                (_, Order::First) => side_pair::<32, 0>(s, e, m, &cover),
+                (..=12, Order::Second) => side_pair::<12, 78>(s, e, m, &cover),
+                (13..=20, Order::Second) => side_pair::<20, 210>(s, e, m, &cover),
+                (_, Order::Second) => side_pair::<32, 528>(s, e, m, &cover),
             };
             parts.extend(part);
         }
@@ -161,8 +178,8 @@ const SAME_CUT: f64 = 1e-9;
 /// The cover of contactor side e (`Cover`), in plain numbers.
 fn cover(s: &Setting, e: usize) -> Cover {
     let side = &s.contactor.sides[e];
-    let at = |k: usize| V2::<0>::c(s.x[k]);
-    let xs: Vec<V2<0>> = side.iter().map(|&k| at(k)).collect();
+    let at = |k: usize| V2::<0, 0>::c(s.x[k]);
+    let xs: Vec<V2<0, 0>> = side.iter().map(|&k| at(k)).collect();
     let ns = nodal_normals(s.contactor, e, &at);
     let mut met = Vec::new();
     let mut pieces: Vec<[Cut; 2]> = Vec::new();
@@ -174,7 +191,7 @@ fn cover(s: &Setting, e: usize) -> Cover {
         }) {
             continue;
         }
-        let ys: Vec<V2<0>> = target.iter().map(|&k| V2::c(s.y[k])).collect();
+        let ys: Vec<V2<0, 0>> = target.iter().map(|&k| V2::c(s.y[k])).collect();
         let Some(ends) = overlap(&xs, &ns, &ys, s.reach) else {
             continue;
         };
@@ -228,7 +245,7 @@ impl ProjectionBound {
     /// None where the bound does not serve: a degenerate chord, or a
     /// normal tilted by more than 60 degrees from the chord's (a surface
     /// corner's node).
-    fn of(xs: &[V2<0>], ns: &[V2<0>]) -> Option<Self> {
+    fn of(xs: &[V2<0, 0>], ns: &[V2<0, 0>]) -> Option<Self> {
         let (a, b) = (xs[0].value(), xs[xs.len() - 1].value());
         let d = [b[0] - a[0], b[1] - a[1]];
         let length = d[0].hypot(d[1]);
@@ -312,7 +329,7 @@ fn near(s: &Setting, e: usize, m: usize) -> bool {
 fn areas(s: &Setting) -> Vec<f64> {
     let mut area = vec![0.0; s.contactor.nodes.len()];
     for side in &s.contactor.sides {
-        let xs: Vec<V2<0>> = (side.iter())
+        let xs: Vec<V2<0, 0>> = (side.iter())
             .map(|&k| {
                 V2::c(if s.reference_measure {
                     s.x_ref[k]
@@ -322,7 +339,7 @@ fn areas(s: &Setting) -> Vec<f64> {
             })
             .collect();
         for &(z, w) in &GAUSS {
-            let (n, dn) = shape(side.len(), Dual::<0>::c(z));
+            let (n, dn) = shape(side.len(), Dual::<0, 0>::c(z));
             let ds = measure(s.geometry, &xs, &n, &dn).v * w;
             for (l, &k) in side.iter().enumerate() {
                 area[k] += n[l].v * ds;
@@ -333,7 +350,7 @@ fn areas(s: &Setting) -> Vec<f64> {
 }
 
 /// `sum w_i v_i`.
-fn sum<const N: usize>(w: &[Dual<N>], v: &[V2<N>]) -> V2<N> {
+fn sum<const N: usize, const H: usize>(w: &[Dual<N, H>], v: &[V2<N, H>]) -> V2<N, H> {
     // Accumulated in place: a Dual is kilobytes, and each `acc + ...`
     // copied it whole.
     let mut acc = V2::zero();
@@ -346,12 +363,12 @@ fn sum<const N: usize>(w: &[Dual<N>], v: &[V2<N>]) -> V2<N> {
 
 /// The integrand's measure at a side point: length per parameter times
 /// the thickness, or times 2 pi r about the axis.
-fn measure<const N: usize>(
+fn measure<const N: usize, const H: usize>(
     geometry: Geometry,
-    xs: &[V2<N>],
-    n: &[Dual<N>],
-    dn: &[Dual<N>],
-) -> Dual<N> {
+    xs: &[V2<N, H>],
+    n: &[Dual<N, H>],
+    dn: &[Dual<N, H>],
+) -> Dual<N, H> {
     let length = sum(dn, xs).norm();
     match geometry {
         Geometry::Planar { thickness } => length * thickness,
@@ -362,24 +379,24 @@ fn measure<const N: usize>(
 /// The values of `v` with their derivatives dropped, for the plain
 /// iterations of a projection (over one unknown, the parameter itself:
 /// `root` reads the residual's second derivative in it).
-fn plain<const N: usize>(v: &[V2<N>]) -> Vec<V2<1>> {
+fn plain<const N: usize, const H: usize>(v: &[V2<N, H>]) -> Vec<V2<1, 1>> {
     v.iter().map(|p| V2::c(p.value())).collect()
 }
 
 /// The root of `f` (value and derivative) near `start`, with its first
 /// and second derivatives in the `N` unknowns: `plain_root`, then
 /// `dual_root`. None if the plain iteration does not converge.
-fn root<const N: usize>(
-    f: impl Fn(Dual<N>) -> (Dual<N>, Dual<N>),
-    f0: impl Fn(Dual<1>) -> (Dual<1>, Dual<1>),
+fn root<const N: usize, const H: usize>(
+    f: impl Fn(Dual<N, H>) -> (Dual<N, H>, Dual<N, H>),
+    f0: impl Fn(Dual<1, 1>) -> (Dual<1, 1>, Dual<1, 1>),
     start: f64,
-) -> Option<Dual<N>> {
+) -> Option<Dual<N, H>> {
     plain_root(&f0, start).map(|xi| dual_root(f, f0, xi))
 }
 
 /// The root of `f0` near `start`, iterated in plain numbers to round-off;
 /// None if the iteration does not converge.
-fn plain_root(f0: impl Fn(Dual<1>) -> (Dual<1>, Dual<1>), start: f64) -> Option<f64> {
+fn plain_root(f0: impl Fn(Dual<1, 1>) -> (Dual<1, 1>, Dual<1, 1>), start: f64) -> Option<f64> {
     let mut xi = start;
     for _ in 0..30 {
         let (v, d) = f0(Dual::c(xi));
@@ -407,11 +424,11 @@ fn plain_root(f0: impl Fn(Dual<1>) -> (Dual<1>, Dual<1>), start: f64) -> Option<
 /// step in dual numbers from `xi` (`xi - f / f_r`, whose derivatives are
 /// `r_p` and the first three terms of `r_pp`) and the last term added
 /// (`f_rr` from `f0` with the parameter as its unknown). Its value is `xi`.
-fn dual_root<const N: usize>(
-    f: impl Fn(Dual<N>) -> (Dual<N>, Dual<N>),
-    f0: impl Fn(Dual<1>) -> (Dual<1>, Dual<1>),
+fn dual_root<const N: usize, const H: usize>(
+    f: impl Fn(Dual<N, H>) -> (Dual<N, H>, Dual<N, H>),
+    f0: impl Fn(Dual<1, 1>) -> (Dual<1, 1>, Dual<1, 1>),
     xi: f64,
-) -> Dual<N> {
+) -> Dual<N, H> {
     let (v, d) = f(Dual::c(xi));
     let mut x = Dual::c(xi) - v / d;
     let (_, d0) = f0(Dual::var(xi, 0));
@@ -427,30 +444,34 @@ fn dual_root<const N: usize>(
 
 /// The contactor side at `xi`: its point, tangent, and the normal field
 /// interpolated from its nodal normals `ns` with its derivative.
-fn contactor_at<const N: usize>(
-    xs: &[V2<N>],
-    ns: &[V2<N>],
-    xi: Dual<N>,
-) -> (V2<N>, V2<N>, V2<N>, V2<N>) {
+fn contactor_at<const N: usize, const H: usize>(
+    xs: &[V2<N, H>],
+    ns: &[V2<N, H>],
+    xi: Dual<N, H>,
+) -> (V2<N, H>, V2<N, H>, V2<N, H>, V2<N, H>) {
     let (n, dn) = shape(xs.len(), xi);
     (sum(&n, xs), sum(&dn, xs), sum(&n, ns), sum(&dn, ns))
 }
 
 /// The contactor side's point at `xi` and its normal field there (not
 /// unit): `contactor_at`'s first and third.
-fn point_and_normal<const N: usize>(xs: &[V2<N>], ns: &[V2<N>], xi: Dual<N>) -> (V2<N>, V2<N>) {
+fn point_and_normal<const N: usize, const H: usize>(
+    xs: &[V2<N, H>],
+    ns: &[V2<N, H>],
+    xi: Dual<N, H>,
+) -> (V2<N, H>, V2<N, H>) {
     let (n, _) = shape(xs.len(), xi);
     (sum(&n, xs), sum(&n, ns))
 }
 
 /// Where point `y` lies on the contactor side along its normal field:
 /// `(y - x(xi)) x n(xi)` and its derivative in xi.
-fn onto_contactor<const N: usize>(
-    xs: &[V2<N>],
-    ns: &[V2<N>],
-    y: V2<N>,
-    xi: Dual<N>,
-) -> (Dual<N>, Dual<N>) {
+fn onto_contactor<const N: usize, const H: usize>(
+    xs: &[V2<N, H>],
+    ns: &[V2<N, H>],
+    y: V2<N, H>,
+    xi: Dual<N, H>,
+) -> (Dual<N, H>, Dual<N, H>) {
     let (x, t, n, dn) = contactor_at(xs, ns, xi);
     let d = y - x;
     (d.cross(&n), d.cross(&dn) - t.cross(&n))
@@ -458,12 +479,12 @@ fn onto_contactor<const N: usize>(
 
 /// Where the line through `p` along `n` meets the target side at eta:
 /// `(y(eta) - p) x n` and its derivative in eta.
-fn onto_target<const N: usize>(
-    ys: &[V2<N>],
-    p: &V2<N>,
-    n: &V2<N>,
-    eta: Dual<N>,
-) -> (Dual<N>, Dual<N>) {
+fn onto_target<const N: usize, const H: usize>(
+    ys: &[V2<N, H>],
+    p: &V2<N, H>,
+    n: &V2<N, H>,
+    eta: Dual<N, H>,
+) -> (Dual<N, H>, Dual<N, H>) {
     let (w, dw) = shape(ys.len(), eta);
     ((sum(&w, ys) - *p).cross(n), sum(&dw, ys).cross(n))
 }
@@ -471,11 +492,11 @@ fn onto_target<const N: usize>(
 /// The outward unit normals at side e's nodes: the average of the unit
 /// tangents of the sides at each node, turned outward. `at(k)` is surface
 /// node k's position.
-fn nodal_normals<const N: usize>(
+fn nodal_normals<const N: usize, const H: usize>(
     surface: &Surface,
     e: usize,
-    at: &dyn Fn(usize) -> V2<N>,
-) -> Vec<V2<N>> {
+    at: &dyn Fn(usize) -> V2<N, H>,
+) -> Vec<V2<N, H>> {
     (surface.sides[e].iter())
         .map(|&k| nodal_tangent(surface, k, at).right())
         .collect()
@@ -490,14 +511,14 @@ fn nodal_normals<const N: usize>(
 /// whole side, the negative lobe of `Phi_j` over a piece next to the other
 /// node could cancel a positive gap, and a node far from the target was
 /// held on it.
-fn dual_basis<const N: usize>(
+fn dual_basis<const N: usize, const H: usize>(
     geometry: Geometry,
-    xs: &[V2<N>],
-    pieces: &[[Dual<N>; 2]],
-) -> Vec<Vec<Dual<N>>> {
+    xs: &[V2<N, H>],
+    pieces: &[[Dual<N, H>; 2]],
+) -> Vec<Vec<Dual<N, H>>> {
     let n = xs.len();
-    let mut m = vec![vec![Dual::<N>::c(0.0); n]; n];
-    let mut d = vec![Dual::<N>::c(0.0); n];
+    let mut m = vec![vec![Dual::<N, H>::c(0.0); n]; n];
+    let mut d = vec![Dual::<N, H>::c(0.0); n];
     for [lo, hi] in pieces {
         let (mid, half) = ((*lo + *hi) * 0.5, (*hi - *lo) * 0.5);
         for &(z, w) in &GAUSS {
@@ -521,12 +542,12 @@ fn dual_basis<const N: usize>(
 /// The covered pieces of a contactor side at `xs` (nodal normals `ns`) in
 /// `N` unknowns: a cut by target node k is where `target_at(k)` projects
 /// onto the side along its normal field.
-fn pieces<const N: usize>(
+fn pieces<const N: usize, const H: usize>(
     cover: &Cover,
-    xs: &[V2<N>],
-    ns: &[V2<N>],
-    target_at: &dyn Fn(usize) -> V2<N>,
-) -> Vec<[Dual<N>; 2]> {
+    xs: &[V2<N, H>],
+    ns: &[V2<N, H>],
+    target_at: &dyn Fn(usize) -> V2<N, H>,
+) -> Vec<[Dual<N, H>; 2]> {
     if cover.whole() || cover.pieces.is_empty() {
         // A side the target does not meet keeps the basis of its whole
         // range.
@@ -555,7 +576,7 @@ fn pieces<const N: usize>(
 }
 
 /// The inverse of a 2x2 or 3x3 matrix (cofactors over the determinant).
-fn inverse<const N: usize>(m: &[Vec<Dual<N>>]) -> Vec<Vec<Dual<N>>> {
+fn inverse<const N: usize, const H: usize>(m: &[Vec<Dual<N, H>>]) -> Vec<Vec<Dual<N, H>>> {
     if m.len() == 2 {
         let det = (m[0][0] * m[1][1] - m[0][1] * m[1][0]).recip();
         return vec![
@@ -580,12 +601,12 @@ fn inverse<const N: usize>(m: &[Vec<Dual<N>>]) -> Vec<Vec<Dual<N>>> {
 /// nodes projected onto the contactor side along its normal field, clipped
 /// to the side. None: no overlap, or the sides do not face each other
 /// within `reach` (checked at the overlap's middle).
-fn overlap<const N: usize>(
-    xs: &[V2<N>],
-    ns: &[V2<N>],
-    ys: &[V2<N>],
+fn overlap<const N: usize, const H: usize>(
+    xs: &[V2<N, H>],
+    ns: &[V2<N, H>],
+    ys: &[V2<N, H>],
     reach: f64,
-) -> Option<[(Dual<N>, Option<usize>); 2]> {
+) -> Option<[(Dual<N, H>, Option<usize>); 2]> {
     let (xs0, ns0, ys0) = (plain(xs), plain(ns), plain(ys));
     let last = ys.len() - 1;
     // The ends' projections in plain numbers; in dual numbers only where
@@ -640,7 +661,12 @@ fn overlap<const N: usize>(
 /// the target side's, and the target nodes that cut the side's `cover`
 /// elsewhere (the dual basis of a partly covered side depends on them).
 /// None: the sides do not meet after all.
-fn side_pair<const N: usize>(s: &Setting, e: usize, m: usize, cover: &Cover) -> Option<Part> {
+fn side_pair<const N: usize, const H: usize>(
+    s: &Setting,
+    e: usize,
+    m: usize,
+    cover: &Cover,
+) -> Option<Part> {
     let support = s.contactor.normal_support(e);
     let target = &s.target.sides[m];
     let extra = cover.extra_nodes(target);
@@ -653,7 +679,8 @@ fn side_pair<const N: usize>(s: &Setting, e: usize, m: usize, cover: &Cover) -> 
         extra.len()
     );
     let side = &s.contactor.sides[e];
-    let var = |p: [f64; 2], i: usize| V2(Dual::<N>::var(p[0], 2 * i), Dual::var(p[1], 2 * i + 1));
+    let var =
+        |p: [f64; 2], i: usize| V2(Dual::<N, H>::var(p[0], 2 * i), Dual::var(p[1], 2 * i + 1));
     let at = |k: usize| {
         let i = support
             .iter()
@@ -661,7 +688,7 @@ fn side_pair<const N: usize>(s: &Setting, e: usize, m: usize, cover: &Cover) -> 
             .expect("in the support");
         var(s.x[k], i)
     };
-    let xs: Vec<V2<N>> = side.iter().map(|&k| at(k)).collect();
+    let xs: Vec<V2<N, H>> = side.iter().map(|&k| at(k)).collect();
     let ns = nodal_normals(s.contactor, e, &at);
     let target_at = |k: usize| match target.iter().position(|&q| q == k) {
         Some(i) => var(s.y[k], support.len() + i),
@@ -670,15 +697,15 @@ fn side_pair<const N: usize>(s: &Setting, e: usize, m: usize, cover: &Cover) -> 
             var(s.y[k], support.len() + target.len() + i)
         }
     };
-    let ys: Vec<V2<N>> = target.iter().map(|&k| target_at(k)).collect();
-    let reference: Vec<V2<N>> = side.iter().map(|&k| V2::c(s.x_ref[k])).collect();
+    let ys: Vec<V2<N, H>> = target.iter().map(|&k| target_at(k)).collect();
+    let reference: Vec<V2<N, H>> = side.iter().map(|&k| V2::c(s.x_ref[k])).collect();
     let measured = if s.reference_measure { &reference } else { &xs };
     let a_dual = dual_basis(s.geometry, measured, &pieces(cover, &xs, &ns, &target_at));
-    let zero = Dual::<N>::c(0.0);
+    let zero = Dual::<N, H>::c(0.0);
     let mut gaps = vec![zero; side.len()];
     let mut hat_weighted = vec![zero; side.len()];
     let mut covered = vec![zero; side.len()];
-    let mut apart = vec![V2::<N>::zero(); if s.friction { side.len() } else { 0 }];
+    let mut apart = vec![V2::<N, H>::zero(); if s.friction { side.len() } else { 0 }];
     for point in points(s, &xs, &ns, &ys, measured)? {
         let g = (point.y - point.x).dot(&point.n);
         let gds = g * point.ds;
@@ -705,12 +732,15 @@ fn side_pair<const N: usize>(s: &Setting, e: usize, m: usize, cover: &Cover) -> 
     for &k in target.iter().chain(&extra) {
         dofs.extend([2 * s.target.nodes[k], 2 * s.target.nodes[k] + 1]);
     }
-    let hessian = |g: &Dual<N>| -> Vec<f64> {
+    let hessian = |g: &Dual<N, H>| -> Vec<f64> {
+        if H == 0 {
+            return Vec::new();
+        }
         (0..count)
             .flat_map(|i| (0..count).map(move |j| g.hessian(i, j)))
             .collect()
     };
-    let plain_gradient = |g: &Dual<N>| (g.v, g.g[..count].to_vec());
+    let plain_gradient = |g: &Dual<N, H>| (g.v, g.g[..count].to_vec());
     let hat_weighted = hat_weighted.iter().map(plain_gradient).collect();
     let covered = covered.iter().map(plain_gradient).collect();
     let gaps = (side.iter().zip(&gaps))
@@ -736,26 +766,26 @@ fn side_pair<const N: usize>(s: &Setting, e: usize, m: usize, cover: &Cover) -> 
 /// and shape functions there, its point, the unit normal of its normal
 /// field, the target's point met along it and the target side's shape
 /// functions there, and the point's weight in the pair's measure.
-struct Point<const N: usize> {
-    xi: Dual<N>,
-    sh: [Dual<N>; 3],
-    x: V2<N>,
-    n: V2<N>,
-    y: V2<N>,
-    wt: [Dual<N>; 3],
-    ds: Dual<N>,
+struct Point<const N: usize, const H: usize> {
+    xi: Dual<N, H>,
+    sh: [Dual<N, H>; 3],
+    x: V2<N, H>,
+    n: V2<N, H>,
+    y: V2<N, H>,
+    wt: [Dual<N, H>; 3],
+    ds: Dual<N, H>,
 }
 
 /// The Gauss points of the overlap of the contactor side at `xs` (nodal
 /// normals `ns`, its measure taken on `measured`) with the target side at
 /// `ys` (None: they do not meet).
-fn points<const N: usize>(
+fn points<const N: usize, const H: usize>(
     s: &Setting,
-    xs: &[V2<N>],
-    ns: &[V2<N>],
-    ys: &[V2<N>],
-    measured: &[V2<N>],
-) -> Option<Vec<Point<N>>> {
+    xs: &[V2<N, H>],
+    ns: &[V2<N, H>],
+    ys: &[V2<N, H>],
+    measured: &[V2<N, H>],
+) -> Option<Vec<Point<N, H>>> {
     let ys0 = plain(ys);
     let [(lo, _), (hi, _)] = overlap(xs, ns, ys, s.reach)?;
     let (mid, half) = ((lo + hi) * 0.5, (hi - lo) * 0.5);
@@ -796,16 +826,16 @@ pub(super) fn couplings(s: &Setting) -> Vec<Coupling> {
             continue;
         }
         let side = &s.contactor.sides[e];
-        let at = |k: usize| V2::<0>::c(s.x[k]);
-        let xs: Vec<V2<0>> = side.iter().map(|&k| at(k)).collect();
+        let at = |k: usize| V2::<0, 0>::c(s.x[k]);
+        let xs: Vec<V2<0, 0>> = side.iter().map(|&k| at(k)).collect();
         let ns = nodal_normals(s.contactor, e, &at);
-        let reference: Vec<V2<0>> = side.iter().map(|&k| V2::c(s.x_ref[k])).collect();
+        let reference: Vec<V2<0, 0>> = side.iter().map(|&k| V2::c(s.x_ref[k])).collect();
         let measured = if s.reference_measure { &reference } else { &xs };
-        let target_at = |k: usize| V2::<0>::c(s.y[k]);
+        let target_at = |k: usize| V2::<0, 0>::c(s.y[k]);
         let a_dual = dual_basis(s.geometry, measured, &pieces(&cover, &xs, &ns, &target_at));
         for &m in &cover.met {
             let target = &s.target.sides[m];
-            let ys: Vec<V2<0>> = target.iter().map(|&k| V2::c(s.y[k])).collect();
+            let ys: Vec<V2<0, 0>> = target.iter().map(|&k| V2::c(s.y[k])).collect();
             let Some(points) = points(s, &xs, &ns, &ys, measured) else {
                 continue;
             };
@@ -841,16 +871,16 @@ fn add_to(list: &mut Vec<(usize, f64)>, key: usize, v: f64) {
 /// tangents of the sides at the node, in `N` unknowns over the positions
 /// `at` gives; on a symmetry plane (`Surface::mirror`), the plane's
 /// normal.
-pub(super) fn nodal_tangent<const N: usize>(
+pub(super) fn nodal_tangent<const N: usize, const H: usize>(
     surface: &Surface,
     k: usize,
-    at: &dyn Fn(usize) -> V2<N>,
-) -> V2<N> {
+    at: &dyn Fn(usize) -> V2<N, H>,
+) -> V2<N, H> {
     let mut t = V2::zero();
     for &(side, l) in &surface.on[k] {
         let nodes = &surface.sides[side];
-        let (_, dn) = shape(nodes.len(), Dual::<N>::c(node_xi(nodes.len(), l)));
-        let xs: Vec<V2<N>> = nodes.iter().map(|&q| at(q)).collect();
+        let (_, dn) = shape(nodes.len(), Dual::<N, H>::c(node_xi(nodes.len(), l)));
+        let xs: Vec<V2<N, H>> = nodes.iter().map(|&q| at(q)).collect();
         t = t + sum(&dn, &xs).unit();
     }
     match surface.mirror[k] {
@@ -868,7 +898,7 @@ pub(super) fn nodal_tangent<const N: usize>(
 /// linear shape function on a 2-node side; on a 3-node side the linear
 /// hats over its two halves (corner, mid-side, corner), which unlike the
 /// quadratic shape functions are nowhere negative.
-fn hat<const N: usize>(n: usize, j: usize, xi: Dual<N>) -> Dual<N> {
+fn hat<const N: usize, const H: usize>(n: usize, j: usize, xi: Dual<N, H>) -> Dual<N, H> {
     let zero = Dual::c(0.0);
     match (n, j) {
         (2, 0) => xi * -0.5 + 0.5,
@@ -883,7 +913,7 @@ fn hat<const N: usize>(n: usize, j: usize, xi: Dual<N>) -> Dual<N> {
 
 /// Where `y` projects on the chord of the contactor side, in its parameter:
 /// the start of the projection along the normal field.
-fn chord_xi<const N: usize>(xs: &[V2<N>], y: [f64; 2]) -> f64 {
+fn chord_xi<const N: usize, const H: usize>(xs: &[V2<N, H>], y: [f64; 2]) -> f64 {
     let (a, b) = (xs[0].value(), xs[xs.len() - 1].value());
     let d = [b[0] - a[0], b[1] - a[1]];
     let t = ((y[0] - a[0]) * d[0] + (y[1] - a[1]) * d[1]) / (d[0] * d[0] + d[1] * d[1]);
@@ -918,7 +948,7 @@ pub(super) fn slip_from(s: &Setting, k: usize, coupling: &Coupling) -> Sparse {
             .position(|&p| p == q)
             .expect("in the support");
         V2(
-            Dual::<10>::var(s.x[q][0], 2 * i),
+            Dual::<12, 78>::var(s.x[q][0], 2 * i),
             Dual::var(s.x[q][1], 2 * i + 1),
         )
     };

@@ -7,7 +7,7 @@
 //! contactor node's force and frame for the resultants' changes.
 
 use super::decide::Decision;
-use super::rows::{add_forces, add_rows};
+use super::rows::{add_forces, add_rows, add_tangent};
 use super::{Decided, PairAt};
 use crate::contact::report::node_frame;
 use crate::contact::sensitivity::{At, Linearised, NodeForce, Row, Turn};
@@ -27,6 +27,7 @@ pub(super) fn linearise_pair(
     let mut system = ContactSystem::default();
     add_rows(pair, here, &kept.decisions, &mut system);
     let force = add_forces(here, [&kept.lambda, &kept.lambda_t], &mut system);
+    add_tangent(here, [&kept.lambda, &kept.lambda_t], &mut system.k);
     for row in &system.rows {
         let dofs: Vec<(usize, f64)> = row.dofs.to_vec();
         out.rows.push(Row {

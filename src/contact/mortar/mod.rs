@@ -37,7 +37,7 @@ use crate::assembly::PRESCRIBED;
 use crate::problem::{ContactPair, Kinematics};
 use crate::results::{NodeState, PairResult};
 use decide::Decision;
-use integrate::{Coupling, Part, Setting, couplings, integrate, slip_from};
+use integrate::{Coupling, Order, Part, Setting, couplings, integrate, slip_from};
 use nalgebra::Vector2;
 use std::collections::BTreeMap;
 use surface::Surface;
@@ -77,9 +77,10 @@ struct NodeGap {
 }
 
 /// A pair at an iterate: its surfaces and positions, the weighted gaps
-/// with their side pairs' parts, each contactor node's area and whether
-/// it has none, and the free dofs of both surfaces (the rows of the
-/// multipliers' least-squares fit). Kept for the inner solves at the same iterate.
+/// with their side pairs' parts (to the first order; the second where a
+/// solve needs the tangent), each contactor node's area and whether it has
+/// none, and the free dofs of both surfaces (the rows of the multipliers'
+/// least-squares fit). Kept for the inner solves at the same iterate.
 struct PairAt {
     contactor: Surface,
     target: Surface,
@@ -90,6 +91,8 @@ struct PairAt {
     geometry: crate::contact::traction::Geometry,
     friction: bool,
     parts: Vec<Part>,
+    /// The parts with their Hessians (`second_order`).
+    second: std::sync::OnceLock<Vec<Part>>,
     gaps: Vec<NodeGap>,
     area: Vec<f64>,
     weightless: Vec<bool>,
@@ -152,6 +155,7 @@ impl PairAt {
             geometry: geometry(problem),
             friction: pair.mu_s != 0.0 || pair.mu_d != 0.0,
             parts: Vec::new(),
+            second: std::sync::OnceLock::new(),
             gaps: Vec::new(),
             area: Vec::new(),
             weightless: Vec::new(),
@@ -160,7 +164,7 @@ impl PairAt {
         };
         pair_at.h = longest_side(&pair_at.contactor, &pair_at.x)
             .max(longest_side(&pair_at.target, &pair_at.y));
-        let (parts, area) = integrate(&pair_at.setting(&pair_at.x, &pair_at.y));
+        let (parts, area) = integrate(&pair_at.setting(&pair_at.x, &pair_at.y), Order::First);
         let mut gaps = gather(&parts, pair_at.x.len());
         if pair_at.friction {
             // Where the contactor's points met the target at the start of
@@ -202,6 +206,23 @@ impl PairAt {
             pair_at.weightless,
         ) = (parts, gaps, area, weightless);
         Ok(pair_at)
+    }
+
+    /// The side pairs' parts with their Hessians, integrated on the first
+    /// call: the contact tangent is formed only at an iterate a solve
+    /// starts from (`ContactSystem::defer_tangent`). Their values and
+    /// gradients are the first-order parts', bit for bit.
+    fn second_order(&self) -> &[Part] {
+        self.second.get_or_init(|| {
+            let (parts, _) = integrate(&self.setting(&self.x, &self.y), Order::Second);
+            debug_assert!(
+                parts.len() == self.parts.len()
+                    && (parts.iter().zip(&self.parts)).all(|(a, b)| a.dofs == b.dofs
+                        && (a.gaps.iter().zip(&b.gaps))
+                            .all(|(p, q)| p.0 == q.0 && p.1.to_bits() == q.1.to_bits()))
+            );
+            parts
+        })
     }
 
     /// The pair's setting with the contactor at `x` and the target at `y`.
@@ -396,6 +417,10 @@ impl Formulation for Mortar {
             .collect();
         rows::add_rows(pair, &here, &decisions, out);
         let force = rows::add_forces(&here, [&lambda, &lambda_t], out);
+        {
+            let (here, lambda, lambda_t) = (here.clone(), lambda.clone(), lambda_t.clone());
+            out.defer_tangent(move |k| rows::add_tangent(&here, [&lambda, &lambda_t], k));
+        }
         for (node, d) in mem.nodes.iter_mut().zip(&decisions) {
             d.remember(node, here.friction);
         }

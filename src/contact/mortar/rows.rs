@@ -65,8 +65,7 @@ pub(super) fn add_rows(
 }
 
 /// The contact forces `sum lambda_j grad g_j + lambda_t,j grad u_j` into
-/// `out.force` and their tangent `-sum lambda_j hess g_j + lambda_t,j hess
-/// u_j` into `out.k`; returns the forces per dof.
+/// `out.force`; returns the forces per dof.
 pub(super) fn add_forces(
     here: &PairAt,
     [lambda, lambda_t]: [&[f64]; 2],
@@ -81,16 +80,30 @@ pub(super) fn add_forces(
                 }
             }
         }
-        // The weighted slip's own term (`slip_from`); the parts hold the
-        // rest of its Hessian, with the opposite sign.
-        if lambda_t[j] != 0.0 {
-            let l = lambda_t[j];
-            out.k
-                .extend(gap.slip_hessian.iter().map(|&(a, b, v)| (a, b, -l * v)));
-        }
     }
     out.force.extend(force.iter().map(|(&d, &f)| (d, f)));
-    for part in &here.parts {
+    force
+}
+
+/// The contact forces' tangent `-sum lambda_j hess g_j + lambda_t,j hess
+/// u_j` into `k`, from the side pairs' Hessians (`PairAt::second_order`,
+/// made on the first call).
+pub(super) fn add_tangent(
+    here: &PairAt,
+    [lambda, lambda_t]: [&[f64]; 2],
+    k: &mut Vec<(usize, usize, f64)>,
+) {
+    // The weighted slip's own term (`slip_from`); the parts hold the rest
+    // of its Hessian, with the opposite sign.
+    for (gap, &l) in here.gaps.iter().zip(lambda_t) {
+        if l != 0.0 {
+            k.extend(gap.slip_hessian.iter().map(|&(a, b, v)| (a, b, -l * v)));
+        }
+    }
+    if lambda.iter().chain(lambda_t).all(|&l| l == 0.0) {
+        return;
+    }
+    for part in here.second_order() {
         let count = part.dofs.len();
         let mut h = vec![0.0; count * count];
         let mut any = false;
@@ -116,12 +129,11 @@ pub(super) fn add_forces(
             for (b, &db) in part.dofs.iter().enumerate() {
                 let v = h[a * count + b];
                 if v != 0.0 {
-                    out.k.push((da, db, v));
+                    k.push((da, db, v));
                 }
             }
         }
     }
-    force
 }
 
 /// The pair's results: per node its state, normal and tangential forces

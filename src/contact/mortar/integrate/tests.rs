@@ -68,7 +68,7 @@ fn a_uniform_gap_weighs_as_the_area() {
             let (c, x) = chain(7, order_c, [1.0, 3.0], d, true);
             let (t, y) = chain(5, order_t, [0.5, 3.5], 0.0, false);
             let s = setting(&c, &t, &x, &y, geometry);
-            let (parts, area) = integrate(&s);
+            let (parts, area) = integrate(&s, Order::Second);
             let g = summed(&parts, x.len());
             for k in 0..x.len() {
                 assert!(
@@ -161,10 +161,10 @@ fn derivatives_match_differences() {
         let (cs, ts, x, y) = curved(order);
         let geometry = Geometry::Axisymmetric;
         let total = |x: &[[f64; 2]], y: &[[f64; 2]], k: usize| {
-            let (parts, _) = integrate(&setting(&cs, &ts, x, y, geometry));
+            let (parts, _) = integrate(&setting(&cs, &ts, x, y, geometry), Order::Second);
             summed(&parts, x.len())[k]
         };
-        let (parts, _) = integrate(&setting(&cs, &ts, &x, &y, geometry));
+        let (parts, _) = integrate(&setting(&cs, &ts, &x, &y, geometry), Order::Second);
         assert!(!parts.is_empty());
         // The node totals' gradients and Hessians: summed over parts.
         let m = x.len();
@@ -193,7 +193,7 @@ fn derivatives_match_differences() {
 type Slip = (f64, BTreeMap<usize, f64>, BTreeMap<(usize, usize), f64>);
 
 fn weighted_slips(s: &Setting, start: &[Coupling]) -> Vec<Slip> {
-    let (parts, _) = integrate(s);
+    let (parts, _) = integrate(s, Order::Second);
     let mut out: Vec<Slip> = vec![Default::default(); s.x.len()];
     for part in &parts {
         let count = part.dofs.len();
@@ -234,7 +234,7 @@ fn a_uniform_slide_weighs_as_the_area_and_a_rigid_motion_slips_nothing() {
             let (c, x0) = chain(7, order_c, [1.0, 3.0], 0.01, true);
             let (t, y0) = chain(5, order_t, [0.5, 3.5], 0.0, false);
             let start = couplings(&setting(&c, &t, &x0, &y0, geometry));
-            let (_, area) = integrate(&setting(&c, &t, &x0, &y0, geometry));
+            let (_, area) = integrate(&setting(&c, &t, &x0, &y0, geometry), Order::Second);
             let x: Vec<[f64; 2]> = x0.iter().map(|p| [p[0] + d, p[1]]).collect();
             let s = setting(&c, &t, &x, &y0, geometry);
             for (k, slip) in weighted_slips(&s, &start).iter().enumerate() {
@@ -304,7 +304,7 @@ fn projections_lie_within_the_chord_s_bound() {
     for case in 0..100 {
         let nodes = 2 + case % 2;
         let (a, b) = ([0.3, -0.2], [1.1 + next(), 0.4 * next()]);
-        let mut xs = vec![V2::<0>::c(a)];
+        let mut xs = vec![V2::<0, 0>::c(a)];
         if nodes == 3 {
             let m = [0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])];
             xs.push(V2::c([
@@ -314,7 +314,7 @@ fn projections_lie_within_the_chord_s_bound() {
         }
         xs.push(V2::c(b));
         let chord = (b[1] - a[1]).atan2(b[0] - a[0]) + std::f64::consts::FRAC_PI_2;
-        let ns: Vec<V2<0>> = (0..nodes)
+        let ns: Vec<V2<0, 0>> = (0..nodes)
             .map(|_| {
                 let tilt = (next() - 0.5) * 2.0 * 55f64.to_radians();
                 V2::c([(chord + tilt).cos(), (chord + tilt).sin()])
