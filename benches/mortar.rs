@@ -6,9 +6,9 @@
 //! Two flexible cylinders (Hertz, non-matching arcs) at two refinements,
 //! 4- and 8-node, and the axisymmetric shrink fit; with friction, the block
 //! dragged over the coarse strip (mu = 0.2) and Cattaneo-Mindlin on its
-//! shipped meshes (both formulations with the nodal decisions). Each scene
-//! runs with
-//! both formulations in turn, three rounds alternating; the best of the
+//! shipped meshes (both formulations with the nodal decisions); the drag
+//! also on meshes four times finer. Each scene runs with both
+//! formulations in turn, three rounds alternating; the best of the
 //! rounds is printed: wall time per increment, Newton iterations, the
 //! error (Hertz: the largest deviation from Hertz within 0.8 a and the
 //! largest node-to-node swing, over p0; shrink fit: the nodal pressures'
@@ -103,11 +103,19 @@ fn reaction(step: &contact2d::results::StepResult, name: &str) -> [f64; 2] {
     [r.rx, r.ry]
 }
 
-fn drag(formulation: &str) -> Run {
+/// The shipped drag with mu = 0.2, its meshes' divisions times `refine`
+/// (1: the shipped 8/4 elements along the block's bottom / the strip's top).
+fn drag(formulation: &str, refine: usize) -> Run {
     let friction = "mu_s = 0.2\nmu_d = 0.2";
+    let strip = format!("divisions = [{}, {}]", 4 * refine, 2 * refine);
+    let block = format!("divisions = [{}, {}]", 8 * refine, 4 * refine);
     shipped(
         "verification/flexible_target.toml",
-        &[("mu_s = 0.0", friction)],
+        &[
+            ("mu_s = 0.0", friction),
+            ("divisions = [4, 2]", &strip),
+            ("divisions = [8, 4]", &block),
+        ],
         friction,
         formulation,
         |step| {
@@ -158,7 +166,8 @@ fn main() {
         ),
         ("shrink fit q4 8".into(), Box::new(|f| shrink("q4", f, 8))),
         ("shrink fit q8 4".into(), Box::new(|f| shrink("q8", f, 4))),
-        ("drag, mu 0.2 (q4 8/4)".into(), Box::new(drag)),
+        ("drag, mu 0.2 (q4 8/4)".into(), Box::new(|f| drag(f, 1))),
+        ("drag, mu 0.2 (q4 32/16)".into(), Box::new(|f| drag(f, 4))),
         ("Cattaneo-Mindlin (shipped)".into(), Box::new(cattaneo)),
     ];
     // `cargo bench --bench mortar -- NAME` runs the cases whose name
