@@ -1,8 +1,8 @@
 //! The crate's modules depend one way (issue 32). Every top-level module of
 //! `src/` has a layer below; a module may use only modules of lower layers
 //! (`crate::x` paths read as text, test modules left out), and the files of
-//! a folder module (a room: `contact`, `fmi`, ...) may not use each other in
-//! a cycle. A new module must be given its layer here; a `use` that points
+//! a folder module at any depth (a room: `contact`, `contact::mortar`, ...)
+//! may not use each other in a cycle. A new module must be given its layer here; a `use` that points
 //! up, or sideways within a layer, fails with the file that makes it.
 
 use std::collections::{BTreeMap, BTreeSet};
@@ -109,47 +109,86 @@ fn paths<'a>(text: &'a str, prefix: &str) -> Vec<Vec<&'a str>> {
 
 type Graph = BTreeMap<String, BTreeSet<String>>;
 
-/// The top-level edges (module -> module, with a file that makes each) and
-/// per room the edges between its direct children.
+/// A module's path from `src/` (`contact/node_to_segment/nodal.rs` gives
+/// `[contact, node_to_segment, nodal]`, a `mod.rs` its folder's).
+fn module_path(src: &Path, file: &Path) -> Vec<String> {
+    let rel = file.strip_prefix(src).unwrap().with_extension("");
+    let mut parts: Vec<String> = rel.iter().map(|p| p.to_string_lossy().into()).collect();
+    if parts.last().is_some_and(|p| p == "mod") {
+        parts.pop();
+    }
+    parts
+}
+
+/// `path` (after `crate::`, or after `super::` when `supers` > 0) as a path
+/// from the crate's root, read in the module `at` (a `mod.rs` file's module
+/// is its folder, whose `super` is the folder above).
+fn resolve(at: &[String], supers: usize, path: &[&str]) -> Option<Vec<String>> {
+    let base = at.len().checked_sub(supers)?;
+    let mut out = at[..base].to_vec();
+    out.extend(path.iter().map(|p| p.to_string()));
+    Some(out)
+}
+
+/// The top-level edges (module -> module, with a file that makes each) and,
+/// per folder module at any depth (a room: `contact`,
+/// `contact::node_to_segment`, ...), the edges between its direct children:
+/// a file of child `a` (or of a module inside it) that names `room::b::..`
+/// makes the edge `a -> b` when `b` is a module.
 fn graph(src: &Path) -> (BTreeMap<(String, String), String>, BTreeMap<String, Graph>) {
     let mut files = Vec::new();
     rust_files(src, &mut files);
+    let modules: BTreeSet<Vec<String>> = files
+        .iter()
+        .map(|f| module_path(src, f))
+        .flat_map(|p| (1..=p.len()).map(move |n| p[..n].to_vec()))
+        .collect();
     let mut top = BTreeMap::new();
     let mut rooms: BTreeMap<String, Graph> = BTreeMap::new();
     for file in files {
-        let rel = file.strip_prefix(src).unwrap().with_extension("");
-        let mut parts: Vec<String> = rel.iter().map(|p| p.to_string_lossy().into()).collect();
-        if parts.last().is_some_and(|p| p == "mod") {
-            parts.pop();
-        }
+        let parts = module_path(src, &file);
         if parts.is_empty() || ["lib", "main", "bin"].contains(&parts[0].as_str()) {
             continue;
         }
         let text = code(&std::fs::read_to_string(&file).unwrap());
-        let module = &parts[0];
+        // A `mod.rs` is its folder's module; `super` of a file `x.rs` is
+        // the folder it is in.
+        let is_mod = file.file_name().is_some_and(|n| n == "mod.rs");
+        let here: Vec<String> = if is_mod {
+            parts.clone()
+        } else {
+            parts[..parts.len() - 1].to_vec()
+        };
+        let mut used: Vec<Vec<String>> = Vec::new();
         for path in paths(&text, "crate::") {
-            let Some(&first) = path.first() else { continue };
-            if first != module {
-                let name = rel.display().to_string();
-                top.entry((module.clone(), first.to_string()))
-                    .or_insert(name);
-            } else if let (Some(child), Some(&used)) = (parts.get(1), path.get(1))
-                && child != used
-            {
-                let room = rooms.entry(module.clone()).or_default();
-                room.entry(child.clone()).or_default().insert(used.into());
-            }
+            used.extend(resolve(&[], 0, &path));
         }
-        if let Some(child) = parts.get(1) {
-            for path in paths(&text, "super::") {
-                if let Some(&used) = path.first()
-                    && used != child
-                    && used != "super"
-                {
-                    let room = rooms.entry(module.clone()).or_default();
-                    room.entry(child.clone()).or_default().insert(used.into());
-                }
+        for path in paths(&text, "super::") {
+            let supers = 1 + path.iter().take_while(|p| **p == "super").count();
+            let rest = &path[supers - 1..];
+            // `super` of a `mod.rs` module is one folder up from `here`.
+            let up = if is_mod { supers } else { supers - 1 };
+            used.extend(resolve(&here, up, rest));
+        }
+        for q in used {
+            let Some(first) = q.first() else { continue };
+            if *first != parts[0] {
+                let name = file.strip_prefix(src).unwrap().with_extension("");
+                top.entry((parts[0].clone(), first.clone()))
+                    .or_insert(name.display().to_string());
+                continue;
             }
+            let common = parts.iter().zip(&q).take_while(|(a, b)| a == b).count();
+            if common == parts.len() || common == q.len() {
+                continue; // a module of its own, or an item of a room it is in
+            }
+            if !modules.contains(&q[..=common].to_vec()) {
+                continue; // an item of the room's own file, not a module
+            }
+            let room = rooms.entry(parts[..common].join("::")).or_default();
+            room.entry(parts[common].clone())
+                .or_default()
+                .insert(q[common].clone());
         }
     }
     (top, rooms)
@@ -248,4 +287,34 @@ fn the_checks_find_what_they_look_for() {
     assert_eq!(cycle(&g), None);
     g.entry("b".into()).or_default().insert("a".into());
     assert_eq!(cycle(&g), Some(vec!["a".to_string(), "b".to_string()]));
+    // `super::` read at depth: from a file, its folder; from a `mod.rs`,
+    // the folder above.
+    let at: Vec<String> = ["contact", "node_to_segment"].map(String::from).to_vec();
+    let nodal = resolve(&at, 0, &["linearise", "f"]).unwrap();
+    assert_eq!(nodal, ["contact", "node_to_segment", "linearise", "f"]);
+    let up = resolve(&at, 1, &["search"]).unwrap();
+    assert_eq!(up, ["contact", "search"]);
+}
+
+/// A cycle between two files of a folder two levels down is found (the
+/// one `contact/node_to_segment` had: `linearise` used `nodal`'s type and
+/// `nodal` called `linearise`).
+#[test]
+fn a_cycle_at_depth_is_found() {
+    let dir = std::env::temp_dir().join(format!("module_graph_{}", std::process::id()));
+    let room = dir.join("contact/node_to_segment");
+    std::fs::create_dir_all(&room).unwrap();
+    std::fs::write(dir.join("contact/mod.rs"), "mod node_to_segment;").unwrap();
+    std::fs::write(room.join("mod.rs"), "mod linearise;\nmod nodal;").unwrap();
+    std::fs::write(room.join("linearise.rs"), "use super::nodal::Decision;").unwrap();
+    let nodal = "use crate::contact::node_to_segment::linearise;";
+    std::fs::write(room.join("nodal.rs"), nodal).unwrap();
+    let (_, rooms) = graph(&dir);
+    std::fs::remove_dir_all(&dir).unwrap();
+    let g = &rooms["contact::node_to_segment"];
+    assert_eq!(
+        cycle(g),
+        Some(vec!["linearise".to_string(), "nodal".to_string()])
+    );
+    assert!(!rooms.contains_key("contact"), "{rooms:?}");
 }

@@ -1,7 +1,7 @@
 //! The exact linearisation of a converged state's contact conditions under
 //! the nodal decisions (`contact::sensitivity` states the conditions).
 
-use super::nodal::Decision;
+use super::decision::Decision;
 use crate::assembly::PRESCRIBED;
 use crate::contact::search::rigid_reference;
 use crate::contact::segment::ContactPoint;

@@ -4,6 +4,7 @@
 //! or by the paper's Section 3 on recovered segment tractions (`paper`);
 //! both build their rows with `rows` and report with `contact::report`.
 
+mod decision;
 mod linearise;
 mod nodal;
 mod paper;

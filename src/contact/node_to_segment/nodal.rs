@@ -8,6 +8,7 @@
 //! force, so its row is linearised consistently and Newton converges
 //! quadratically once the states settle (docs/contact.md section 8).
 
+use super::decision::Decision;
 use super::rows::add_rows;
 use super::{Nodal, TENSION_TOLERANCE, linearise};
 use crate::assembly::PRESCRIBED;
@@ -24,26 +25,6 @@ use crate::contact::system::{self, ContactSystem, Forced, Iterate, Kept, count_f
 use crate::problem::{ContactPair, FrictionRule, Recovery, Target};
 use crate::results::{NodeState, PairResult};
 use nalgebra::Vector2;
-
-/// What one node is, after this iteration's decision.
-#[derive(Clone, Debug)]
-pub(super) struct Decision {
-    pub(super) state: NodeState,
-    /// Target segment and contact point (None when open).
-    pub(super) point: Option<(usize, ContactPoint)>,
-    /// The node's contact force for the rows (zero for a new contact).
-    pub(super) lambda: Vector2<f64>,
-    /// Normal force (compression positive) of a sliding node.
-    pub(super) p_n: f64,
-    pub(super) slip_sign: f64,
-    /// Where its slip is measured from (segment, beta): see `decide`.
-    anchor: Option<(usize, f64)>,
-    /// Frictionless, held at a reflex corner of the target (two rows).
-    pub(super) corner: bool,
-    /// Kept in contact after the predictor though its force pulls
-    /// (`Start::settling`): the iteration has not converged while any is.
-    held_back: bool,
-}
 
 /// What `Nodal::update` does: decide every node from the iterate, or keep
 /// the decisions it made at this iterate except the forced nodes'.
@@ -520,23 +501,6 @@ impl Touch {
         let seg = self.cp.segment();
         let p = seg.project(x);
         (self.j, seg.contact_at(x, p.beta().clamp(0.0, 1.0)))
-    }
-}
-
-impl Decision {
-    /// Open, with the normal force that released it (zero for a node that
-    /// has not touched).
-    fn open(p_n: f64) -> Self {
-        Decision {
-            state: NodeState::Open,
-            point: None,
-            lambda: Vector2::zeros(),
-            p_n,
-            slip_sign: 0.0,
-            anchor: None,
-            corner: false,
-            held_back: false,
-        }
     }
 }
 
