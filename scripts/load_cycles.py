@@ -7,13 +7,18 @@ and how many copies of the library are still mapped.
 
     .venv/bin/python scripts/load_cycles.py FMU [--cycles N] [--set NAME=VALUE ...]
                          [--derivative OUTPUT,INPUT] [--copy] [--max-kib-per-cycle K]
+                         [--way full|init|step|unterminated] [--fmpy]
 
 FMU is a .fmu or an extracted folder. `--copy` loads the library from a new
 path each cycle (as a sweep that extracts an FMU per case does): a library
 that dlclose does not unload then stays mapped once per cycle. The calls go
 through ctypes, not fmpy: fmpy's own objects grow by about 9 KiB a cycle,
-which would hide a leak of that size. Exits 1 when the growth per cycle
-exceeds --max-kib-per-cycle (when given).
+which would hide a leak of that size; `--fmpy` makes the same cycles
+through fmpy's FMU2Slave (whose freeInstance unloads the library).
+`--way` sets how far a cycle goes before the free: `full` (the default:
+everything above), `init` (initialise, terminate), `step` (initialise, a
+step, terminate), `unterminated` (initialise, a step, no fmi2Terminate).
+Exits 1 when the growth per cycle exceeds --max-kib-per-cycle (when given).
 """
 
 import argparse
@@ -99,8 +104,8 @@ def check(status: int, what: str):
         raise RuntimeError(f"{what} returned status {status}: {MESSAGES[-3:]}")
 
 
-def cycle(unit: Unit, library: Path, k: int, inputs: dict, derivative):
-    """One load, instance, step and unload."""
+def cycle(unit: Unit, library: Path, k: int, inputs: dict, derivative, way: str):
+    """One load, instance, use and unload through the C calls."""
     lib = ctypes.CDLL(str(library), mode=os.RTLD_NOW | os.RTLD_LOCAL)
     lib.fmi2Instantiate.restype = ctypes.c_void_p
     lib.fmi2Instantiate.argtypes = [
@@ -126,21 +131,45 @@ def cycle(unit: Unit, library: Path, k: int, inputs: dict, derivative):
         values = (ctypes.c_double * len(inputs))(*inputs.values())
         check(lib.fmi2SetReal(c, refs, ctypes.c_size_t(len(inputs)), values), "fmi2SetReal")
     lib.fmi2DoStep.argtypes = [ctypes.c_void_p, ctypes.c_double, ctypes.c_double, ctypes.c_int]
-    check(lib.fmi2DoStep(c, 0.0, 1.0, 1), "fmi2DoStep")
-    state = ctypes.c_void_p()
-    check(lib.fmi2GetFMUstate(c, ctypes.byref(state)), "fmi2GetFMUstate")
-    check(lib.fmi2SetFMUstate(c, state), "fmi2SetFMUstate")
-    check(lib.fmi2FreeFMUstate(c, ctypes.byref(state)), "fmi2FreeFMUstate")
-    if derivative:
+    if way != "init":
+        check(lib.fmi2DoStep(c, 0.0, 1.0, 1), "fmi2DoStep")
+    if way == "full":
+        state = ctypes.c_void_p()
+        check(lib.fmi2GetFMUstate(c, ctypes.byref(state)), "fmi2GetFMUstate")
+        check(lib.fmi2SetFMUstate(c, state), "fmi2SetFMUstate")
+        check(lib.fmi2FreeFMUstate(c, ctypes.byref(state)), "fmi2FreeFMUstate")
+    if derivative and way == "full":
         unknown, known = (ctypes.c_uint * 1)(unit.vr[derivative[0]]), (ctypes.c_uint * 1)(unit.vr[derivative[1]])
         seed, out = (ctypes.c_double * 1)(1.0), (ctypes.c_double * 1)()
         one = ctypes.c_size_t(1)
         check(lib.fmi2GetDirectionalDerivative(c, unknown, one, known, one, seed, out), "fmi2GetDirectionalDerivative")
-    check(lib.fmi2Terminate(c), "fmi2Terminate")
+    if way != "unterminated":
+        check(lib.fmi2Terminate(c), "fmi2Terminate")
     lib.fmi2FreeInstance(c)
     handle = lib._handle
     del lib
     _ctypes.dlclose(handle)
+
+
+def fmpy_cycle(unit: Unit, k: int, inputs: dict, way: str):
+    """One load, instance, use and unload through fmpy's FMU2Slave, whose
+    freeInstance frees the instance and unloads the library."""
+    from fmpy.fmi2 import FMU2Slave
+
+    fmu = FMU2Slave(
+        guid=unit.guid.decode(), unzipDirectory=str(unit.folder), modelIdentifier=unit.identifier, instanceName=f"cycle{k}"
+    )
+    fmu.instantiate(loggingOn=False)
+    fmu.setupExperiment(startTime=0.0)
+    fmu.enterInitializationMode()
+    fmu.exitInitializationMode()
+    if inputs:
+        fmu.setReal([unit.vr[n] for n in inputs], list(inputs.values()))
+    if way != "init":
+        fmu.doStep(0.0, 1.0)
+    if way != "unterminated":
+        fmu.terminate()
+    fmu.freeInstance()
 
 
 def main() -> int:
@@ -151,6 +180,8 @@ def main() -> int:
     ap.add_argument("--derivative", metavar="OUTPUT,INPUT", help="d OUTPUT / d INPUT after the step")
     ap.add_argument("--copy", action="store_true", help="load the library from a new path each cycle")
     ap.add_argument("--max-kib-per-cycle", type=float)
+    ap.add_argument("--way", choices=["full", "init", "step", "unterminated"], default="full")
+    ap.add_argument("--fmpy", action="store_true", help="the cycles through fmpy's FMU2Slave")
     args = ap.parse_args()
     inputs = {k: float(v) for k, v in (s.split("=", 1) for s in args.set)}
     warm = min(20, args.cycles // 4)
@@ -164,7 +195,10 @@ def main() -> int:
                 library = Path(tmp) / f"copy{k}" / name
                 library.parent.mkdir()
                 shutil.copy(unit.library(), library)
-            cycle(unit, library, k, inputs, args.derivative and args.derivative.split(","))
+            if args.fmpy:
+                fmpy_cycle(unit, k, inputs, args.way)
+            else:
+                cycle(unit, library, k, inputs, args.derivative and args.derivative.split(","), args.way)
             if args.copy:
                 shutil.rmtree(library.parent)
             samples.append(rss_kib())
@@ -178,7 +212,8 @@ def main() -> int:
     early, late = min(samples[warm - 1 : warm - 1 + w]), min(samples[-w:])
     per_cycle = (late - early) / (args.cycles - warm - w + 1)
     print(
-        f"load_cycles: {args.cycles} cycles of {args.fmu.name}{' (a new copy each)' if args.copy else ''}: "
+        f"load_cycles: {args.cycles} cycles ({args.way}{', fmpy' if args.fmpy else ''}) of {args.fmu.name}"
+        f"{' (a new copy each)' if args.copy else ''}: "
         f"RSS {samples[0]} KiB after the first, at least {early} over cycles {warm}..{warm + w - 1}, "
         f"at least {late} over the last {w}, {samples[-1]} after the last: "
         f"{per_cycle:.2f} KiB per cycle; library copies still mapped: {left}"

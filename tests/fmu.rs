@@ -2014,19 +2014,27 @@ struct Reentry {
     c: std::sync::atomic::AtomicPtr<c_void>,
     vr: u32,
     statuses: Mutex<Vec<fmi2Status>>,
+    /// The lines it received.
+    lines: Mutex<Vec<String>>,
+    /// Whether it also frees the instance.
+    free: std::sync::atomic::AtomicBool,
 }
 
 /// A master's logger that calls back into the instance that is logging:
-/// fmi2GetReal, then fmi2FreeInstance.
+/// fmi2GetReal, then (when asked) fmi2FreeInstance.
 unsafe extern "C" fn reentrant_logger(
     env: fmi2ComponentEnvironment,
     _name: fmi2String,
     _status: fmi2Status,
     _category: fmi2String,
     _format: fmi2String,
-    _message: *const c_char,
+    message: *const c_char,
 ) {
     let r = unsafe { &*(env as *const Reentry) };
+    let text = unsafe { CStr::from_ptr(message) }
+        .to_string_lossy()
+        .into_owned();
+    r.lines.lock().unwrap().push(text);
     let c = r.c.load(std::sync::atomic::Ordering::SeqCst);
     if c.is_null() {
         return;
@@ -2034,12 +2042,31 @@ unsafe extern "C" fn reentrant_logger(
     let mut v = 0.0;
     let status = unsafe { (lib().fmi2GetReal.as_ref().unwrap())(c, &r.vr, 1, &mut v) };
     r.statuses.lock().unwrap().push(status);
-    unsafe { (lib().fmi2FreeInstance.as_ref().unwrap())(c) };
+    if r.free.load(std::sync::atomic::Ordering::SeqCst) {
+        unsafe { (lib().fmi2FreeInstance.as_ref().unwrap())(c) };
+    }
+}
+
+/// fmi2SetReal of NaN on `c` (logged, so the logger runs inside the
+/// call), on a thread so that a deadlock fails the test instead of
+/// hanging it: its status.
+fn set_nan(c: fmi2Component, vr: u32) -> fmi2Status {
+    let addr = c as usize;
+    let (done, wait) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        let c = addr as fmi2Component;
+        let status = unsafe { (lib().fmi2SetReal.as_ref().unwrap())(c, &vr, 1, &f64::NAN) };
+        done.send(status).unwrap();
+    });
+    wait.recv_timeout(std::time::Duration::from_secs(20))
+        .expect("fmi2SetReal deadlocked in its logger")
 }
 
 /// A logger that calls back into the instance while it logs gets an error
-/// (and a free is refused) instead of a deadlock or a use after free
-/// (issue 13, defect 7); the instance works on afterwards.
+/// instead of a deadlock or a use after free (issue 13, defect 7), and the
+/// refusal is logged once the call has done its work (without recursing);
+/// the instance works on afterwards. A free from inside the logger is
+/// logged and carried out when the call in progress returns.
 #[test]
 fn a_logger_calling_back_gets_an_error_not_a_deadlock() {
     let u = hertz();
@@ -2047,6 +2074,8 @@ fn a_logger_calling_back_gets_an_error_not_a_deadlock() {
         c: std::sync::atomic::AtomicPtr::new(null_mut()),
         vr: u.vr["press.uy"],
         statuses: Mutex::new(Vec::new()),
+        lines: Mutex::new(Vec::new()),
+        free: std::sync::atomic::AtomicBool::new(false),
     });
     let callbacks = callbacks(reentrant_logger, &*reentry as *const Reentry as *mut c_void);
     let l = lib();
@@ -2064,26 +2093,19 @@ fn a_logger_calling_back_gets_an_error_not_a_deadlock() {
     };
     assert!(!c.is_null());
     reentry.c.store(c, std::sync::atomic::Ordering::SeqCst);
-    // A refused value is logged while the call holds the instance; run on a
-    // thread so that a deadlock fails the test instead of hanging it.
-    let addr = c as usize;
     let vr = reentry.vr;
-    let (done, wait) = std::sync::mpsc::channel();
-    std::thread::spawn(move || {
-        let c = addr as fmi2Component;
-        let status = unsafe { (lib().fmi2SetReal.as_ref().unwrap())(c, &vr, 1, &f64::NAN) };
-        done.send(status).unwrap();
-    });
-    let status = wait
-        .recv_timeout(std::time::Duration::from_secs(20))
-        .expect("fmi2SetReal deadlocked in its logger");
-    assert_eq!(status, ERROR);
+    assert_eq!(set_nan(c, vr), ERROR);
     let statuses = reentry.statuses.lock().unwrap().clone();
     assert!(
         !statuses.is_empty() && statuses.iter().all(|&s| s == ERROR),
         "{statuses:?}"
     );
-    // Not freed under the call: the instance still answers.
+    let lines = reentry.lines.lock().unwrap().clone();
+    let refused = |l: &String| {
+        l.starts_with("fmi2GetReal: refused: called from inside the logger during another call")
+    };
+    assert!(lines.iter().any(refused), "{lines:?}");
+    // Not freed: the instance still answers.
     reentry
         .c
         .store(null_mut(), std::sync::atomic::Ordering::SeqCst);
@@ -2093,7 +2115,18 @@ fn a_logger_calling_back_gets_an_error_not_a_deadlock() {
         OK
     );
     assert_eq!(v, 0.0);
-    unsafe { (l.fmi2FreeInstance.as_ref().unwrap())(c) };
+
+    // Freed from inside the logger: said, and done when the call returns
+    // (the handle is not used again).
+    reentry.lines.lock().unwrap().clear();
+    reentry
+        .free
+        .store(true, std::sync::atomic::Ordering::SeqCst);
+    reentry.c.store(c, std::sync::atomic::Ordering::SeqCst);
+    assert_eq!(set_nan(c, vr), ERROR);
+    let lines = reentry.lines.lock().unwrap().clone();
+    let freed = "fmi2FreeInstance: the instance is in a call; it is freed when that call returns";
+    assert!(lines.iter().any(|l| l == freed), "{lines:?}");
 }
 
 /// Time at the edges (issue 13, defect 4): the master's clock must agree

@@ -15,7 +15,7 @@ use std::collections::HashMap;
 use std::ffi::{CStr, CString};
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::path::PathBuf;
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::{Mutex, MutexGuard, PoisonError};
 
 /// What `fmi2Component` (and `fmi3Instance`) points to.
@@ -32,6 +32,13 @@ pub(super) struct Component {
     /// The thread the calls that solve run on (`with_solving`), started at
     /// the first; it ends when the component is dropped.
     worker: Mutex<Option<Worker>>,
+    /// Lines for the logger that arose where logging could recurse (a call
+    /// refused from inside the logger, a free of an instance in use): the
+    /// call in progress logs them when its own work is done (`with`).
+    deferred: Mutex<Vec<(LogCategory, String)>>,
+    /// fmi2FreeInstance came while a call was in progress: that call frees
+    /// the component when it returns.
+    pub(super) free_when_done: AtomicBool,
 }
 
 impl Component {
@@ -43,7 +50,27 @@ impl Component {
             strings: Mutex::new(Vec::new()),
             fmi3,
             worker: Mutex::new(None),
+            deferred: Mutex::new(Vec::new()),
+            free_when_done: AtomicBool::new(false),
         }))
+    }
+
+    /// A line for the logger of the call in progress, logged when its work
+    /// is done.
+    pub(super) fn defer(&self, category: LogCategory, msg: String) {
+        let mut lines = self.deferred.lock().unwrap_or_else(PoisonError::into_inner);
+        lines.push((category, msg));
+    }
+
+    /// Logs the deferred lines. A line deferred while these are logged (the
+    /// logger calling back in) waits for the next call's end: this never
+    /// recurses.
+    fn flush(&self, inst: &mut Instance) {
+        let lines =
+            std::mem::take(&mut *self.deferred.lock().unwrap_or_else(PoisonError::into_inner));
+        for (category, msg) in lines {
+            inst.log(category, &msg);
+        }
     }
 }
 
@@ -67,8 +94,10 @@ pub(super) fn panic_text(p: &(dyn std::any::Any + Send)) -> String {
 /// call from another thread waits until the call in progress ends (each
 /// instance has one lock), a call back into the instance from inside the
 /// logger of a call on the same thread is refused (waiting would deadlock;
-/// it is not logged, as a logged refusal would call that logger again), a
-/// panic is caught and marks the instance failed.
+/// its refusal is logged when the call in progress has done its work, as
+/// logging it at once would call that logger again), a panic is caught and
+/// marks the instance failed. A free that came during the call frees the
+/// component when it returns.
 pub(super) fn with(
     c: fmi2Component,
     call: &str,
@@ -77,16 +106,24 @@ pub(super) fn with(
     if c.is_null() {
         return fmi2Status_fmi2Error;
     }
+    let mut ran = false;
     let outcome = catch_unwind(AssertUnwindSafe(|| {
         let comp = unsafe { &*(c as *const Component) };
         let me = thread_token();
         if comp.owner.load(Ordering::SeqCst) == me {
+            comp.defer(
+                LogCategory::Error,
+                format!(
+                    "{call}: refused: called from inside the logger during another call on this instance (it would wait for itself)"
+                ),
+            );
             return fmi2Status_fmi2Error;
         }
         let mut guard = match comp.instance.lock() {
             Ok(guard) => guard,
             Err(poisoned) => return recover(comp, poisoned.into_inner(), call),
         };
+        ran = true;
         comp.owner.store(me, Ordering::SeqCst);
         let result = catch_unwind(AssertUnwindSafe(|| f(&mut guard, comp)));
         let status = match result {
@@ -99,9 +136,16 @@ pub(super) fn with(
                 fmi2Status_fmi2Error
             }
         };
+        let _ = catch_unwind(AssertUnwindSafe(|| comp.flush(&mut guard)));
         comp.owner.store(0, Ordering::SeqCst);
         status
     }));
+    // Only the call that held the instance frees it: a refused re-entry
+    // returns to the call that does.
+    let comp = unsafe { &*(c as *const Component) };
+    if ran && comp.free_when_done.swap(false, Ordering::SeqCst) {
+        drop(unsafe { Box::from_raw(c as *mut Component) });
+    }
     outcome.unwrap_or(fmi2Status_fmi2Error)
 }
 
@@ -118,6 +162,14 @@ pub(super) fn with_solving(
         // A forked child inherits the instance but not its thread.
         if !worker.as_ref().is_some_and(Worker::here) {
             *worker = Worker::start();
+            if worker.is_none() {
+                inst.log(
+                    LogCategory::Warning,
+                    &format!(
+                        "{call}: no thread of the instance's own could start; the call runs on the calling thread (the library may then stay loaded after it is unloaded, for as long as that thread lives)"
+                    ),
+                );
+            }
         }
         match worker.as_ref() {
             Some(worker) => worker.run(inst, |inst| f(inst, comp)),

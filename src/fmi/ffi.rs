@@ -11,6 +11,7 @@ use super::boundary::{
     string, thread_token, unsupported, with, with_solving,
 };
 use super::instance::{Instance, LogFn, Snapshot, Status};
+use crate::results::LogCategory;
 use fmi_sys::fmi2::*;
 use std::ffi::{CString, c_char};
 use std::panic::{AssertUnwindSafe, catch_unwind};
@@ -176,12 +177,18 @@ pub extern "C" fn fmi2FreeInstance(c: fmi2Component) {
     let _ = catch_unwind(AssertUnwindSafe(|| {
         // In use (freed from inside the logger during a call on it, or,
         // against FMI, from another thread during a call): freeing it under
-        // that call would leave the call on freed memory; it is kept
-        // instead.
+        // that call would leave the call on freed memory; that call frees
+        // it when it returns (`boundary::with`).
         let comp = unsafe { &*(c as *const Component) };
         if comp.owner.load(Ordering::SeqCst) == thread_token()
             || matches!(comp.instance.try_lock(), Err(TryLockError::WouldBlock))
         {
+            comp.defer(
+                LogCategory::Warning,
+                "fmi2FreeInstance: the instance is in a call; it is freed when that call returns"
+                    .into(),
+            );
+            comp.free_when_done.store(true, Ordering::SeqCst);
             return;
         }
         drop(unsafe { Box::from_raw(c as *mut Component) });
