@@ -182,7 +182,7 @@ fn graph(src: &Path) -> (BTreeMap<(String, String), String>, BTreeMap<String, Gr
             if common == parts.len() || common == q.len() {
                 continue; // a module of its own, or an item of a room it is in
             }
-            if !modules.contains(&q[..=common].to_vec()) {
+            if !modules.contains(&q[..=common]) {
                 continue; // an item of the room's own file, not a module
             }
             let room = rooms.entry(parts[..common].join("::")).or_default();
