@@ -13,8 +13,10 @@ use crate::results::{DriverResult, LogCategory, StepResult};
 use crate::state::State;
 use std::time::{Duration, Instant};
 
+mod rest;
 mod sensitivity;
-pub use sensitivity::{Input, Response};
+pub use rest::rest_step;
+pub use sensitivity::{Input, Response, provides_derivatives};
 
 /// A constraint row whose coefficients on free dofs are below this fraction
 /// of those on prescribed dofs (root sum of squares) acts on prescribed dofs

@@ -214,6 +214,23 @@ pub struct Rigid {
     pub theta: Scaled,
 }
 
+impl Rigid {
+    /// Its points at pose [ux, uy, theta]: rotated by theta about the
+    /// reference and translated by (ux, uy); and the moved reference point.
+    pub fn points_at(&self, pose: [f64; 3]) -> (Vec<[f64; 2]>, [f64; 2]) {
+        let [ux, uy, th] = pose;
+        let (s, c) = th.sin_cos();
+        let [cx, cy] = self.reference;
+        let points = (self.points.iter())
+            .map(|p| {
+                let (dx, dy) = (p[0] - cx, p[1] - cy);
+                [cx + c * dx - s * dy + ux, cy + s * dx + c * dy + uy]
+            })
+            .collect();
+        (points, [cx + ux, cy + uy])
+    }
+}
+
 /// What a contactor surface is pressed against.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Target {

@@ -318,3 +318,32 @@ fn a_cycle_at_depth_is_found() {
     );
     assert!(!rooms.contains_key("contact"), "{rooms:?}");
 }
+
+/// The outer rooms (the FMU, the writers, the command line) talk to the
+/// solver (`newton`) and read `results`: none names `contact` or `running`.
+#[test]
+fn the_outer_rooms_talk_to_the_solver() {
+    let mut files = Vec::new();
+    for room in ["fmi", "output", "bin"] {
+        rust_files(&src().join(room), &mut files);
+    }
+    let mut wrong = Vec::new();
+    for file in files {
+        let text = code(&std::fs::read_to_string(&file).unwrap());
+        for prefix in ["crate::", "contact2d::"] {
+            for path in paths(&text, prefix) {
+                if let Some(&first) = path.first()
+                    && ["contact", "running"].contains(&first)
+                {
+                    let rel = file.strip_prefix(src()).unwrap().display().to_string();
+                    wrong.push(format!("src/{rel}: {prefix}{}", path.join("::")));
+                }
+            }
+        }
+    }
+    assert!(
+        wrong.is_empty(),
+        "outer rooms reaching past the solver:\n{}",
+        wrong.join("\n")
+    );
+}

@@ -413,11 +413,7 @@ fn run(scene: &Path, o: &RunOptions) -> ExitCode {
     let mut series = o.vtk.map(|dir| VtkSeries::new(dir, &stem));
     let (mut solve_time, mut failed) = (Duration::ZERO, None);
     if let Some(series) = &mut series {
-        let rest = contact2d::contact::outputs::rest_step(
-            solver.problem(),
-            solver.state().time,
-            &solver.state().u,
-        );
+        let rest = solver.rest_step();
         if let Err(e) = write_frame(series, 0, &solver, &rest) {
             failed = Some(format!(
                 "cannot write the VTK frame at t = {}: {e}",

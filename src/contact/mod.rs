@@ -24,7 +24,7 @@ pub mod traction;
 
 pub use memory::{NodalMemory, NodeMemory, PairMemory, SegmentMemory, begin_increment};
 pub use search::{
-    NearNodes, RigidSegments, SearchCache, near_target, rigid_points, rigid_reference, scene_poses,
+    NearNodes, RigidSegments, SearchCache, near_target, rigid_reference, scene_poses,
 };
 pub use segment::{ContactPoint, NodeMat, NodeVec, Segment, Sliding, Sticking};
 pub use system::{

@@ -76,29 +76,10 @@ pub fn scene_poses(problem: &Problem, t: f64) -> Vec<[f64; 3]> {
 }
 
 /// The reference point of rigid target `r` moved to pose [ux, uy, theta]
-/// (what `rigid_points` also returns, without building the points).
+/// (what `Rigid::points_at` also returns, without building the points).
 pub fn rigid_reference(problem: &Problem, r: usize, pose: [f64; 3]) -> [f64; 2] {
     let [cx, cy] = problem.rigids[r].reference;
     [cx + pose[0], cy + pose[1]]
-}
-
-/// Points of rigid target `r` at pose [ux, uy, theta]: rotated by theta
-/// about the reference and translated by (ux, uy). Also returns the moved
-/// reference point.
-pub fn rigid_points(problem: &Problem, r: usize, pose: [f64; 3]) -> (Vec<[f64; 2]>, [f64; 2]) {
-    let rigid = &problem.rigids[r];
-    let [ux, uy, th] = pose;
-    let (s, c) = th.sin_cos();
-    let [cx, cy] = rigid.reference;
-    let points = rigid
-        .points
-        .iter()
-        .map(|p| {
-            let (dx, dy) = (p[0] - cx, p[1] - cy);
-            [cx + c * dx - s * dy + ux, cy + s * dx + c * dy + uy]
-        })
-        .collect();
-    (points, [cx + ux, cy + uy])
 }
 
 /// A target's segments, shared: a rigid target's are kept per pose.
@@ -419,7 +400,7 @@ pub(crate) fn target_segments(
                 [ends[0][0], ends[0][1], ends[1][0], ends[1][1]].map(f64::to_bits),
             );
             targets.get_or_build(*r, key, || {
-                let (points, _) = rigid_points(problem, *r, poses[*r]);
+                let (points, _) = problem.rigids[*r].points_at(poses[*r]);
                 points
                     .windows(2)
                     .map(|w| {

@@ -102,7 +102,7 @@ pub(super) fn real(v: f64) -> String {
 /// segment with the nodal decisions; the paper's decisions make the
 /// friction a fixed point of recovered resultants, without a derivative).
 pub fn provides_directional_derivative(problem: &Problem) -> bool {
-    crate::contact::sensitivities(problem)
+    crate::newton::provides_derivatives(problem)
 }
 
 /// The whole `modelDescription.xml`.

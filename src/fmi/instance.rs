@@ -7,8 +7,7 @@ use super::description::{LOG_CATEGORIES, guid};
 use super::variables::{
     Binding, Causality, NodeField, PairField, Start, Type, Variable, output, variables,
 };
-use crate::contact::outputs::rest_step;
-use crate::newton::{Input, Response, SolveError, Solver};
+use crate::newton::{Input, Response, SolveError, Solver, rest_step};
 use crate::problem::{
     Problem, SolverSettings, check_coefficient, check_modulus, check_poisson, check_range,
 };
@@ -119,8 +118,7 @@ impl Instance {
         let vars = variables(&problem);
         let by_vr = vars.iter().enumerate().map(|(i, v)| (v.vr, i)).collect();
         let n = vars.len();
-        let mut last = rest_step(&problem, 0.0, &problem.initial_u());
-        last.running = crate::running::at_rest(&problem);
+        let last = rest_step(&problem);
         let mut instance = Instance {
             name: name.to_string(),
             guid,
@@ -290,8 +288,7 @@ impl Instance {
         let mut state = solver.state().clone();
         state.time = self.start_time;
         solver.restore(state);
-        self.last = rest_step(solver.problem(), self.start_time, &solver.state().u);
-        self.last.running = solver.running_results();
+        self.last = solver.rest_step();
         self.solver = Some(solver);
         self.stepped.clone_from(&self.reals);
         self.mode = Mode::StepComplete;
@@ -376,8 +373,7 @@ impl Instance {
         self.steps = 0;
         self.start_time = 0.0;
         self.load_starts();
-        self.last = rest_step(&self.base, 0.0, &self.base.initial_u());
-        self.last.running = crate::running::at_rest(&self.base);
+        self.last = rest_step(&self.base);
         self.mode = Mode::Instantiated;
         Status::Ok
     }

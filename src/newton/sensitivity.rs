@@ -20,6 +20,13 @@ use crate::contact::sensitivity::{self, Linearised};
 use crate::contact::{self, Flips};
 use crate::linsolve::FactoredLu;
 
+/// Whether a converged state of `problem` has sensitivities (the FMU's
+/// directional derivatives): every contact pair's formulation linearises
+/// its converged state.
+pub fn provides_derivatives(problem: &crate::problem::Problem) -> bool {
+    contact::sensitivities(problem)
+}
+
 /// An input whose change the sensitivities follow.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Input {

@@ -6,7 +6,6 @@
 //! order), so that ParaView opens the whole run at once.
 
 use super::vtk::{DataArray, Piece, PvdEntry, Values, vectors, write_pvd, write_vtu};
-use crate::contact::rigid_points;
 use crate::problem::Problem;
 use crate::results::PairResult;
 use std::io;
@@ -117,7 +116,7 @@ impl VtkSeries {
         for (r, rigid) in problem.rigids.iter().enumerate() {
             let file = format!("{}_rigid_{}_{index:04}.vtu", self.stem, rigid.name);
             let pose = f.rigid_poses.get(r).copied().unwrap_or_default();
-            let (now, _) = rigid_points(problem, r, pose);
+            let (now, _) = rigid.points_at(pose);
             let moved: Vec<f64> = (rigid.points.iter().zip(&now))
                 .flat_map(|(p0, p)| [p[0] - p0[0], p[1] - p0[1]])
                 .collect();
