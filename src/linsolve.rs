@@ -1,20 +1,22 @@
 //! Sparse linear solves with faer, the symbolic analysis done once per
 //! pattern and reused:
-//! - [`LinearSolver`], the tangent alone: Cholesky (LLT) for a symmetric
-//!   positive definite tangent, LU when it is unsymmetric or LLT meets a
-//!   non-positive pivot (a tangent past a limit point);
-//! - [`Augmented`], the contact system of Eq. (18), the one solver Newton
-//!   hands its systems to (`solve`, `solve_watching`, `finish`): it solves
-//!   each on the kept LDLT factor's trailing block when it can
-//!   (`trailing.rs`), else factors it (LDLT with the multipliers last, the
-//!   unpivoted LDU of `ldu.rs`, or LU), each solve checked;
+//! - [`Linear`] (`linear.rs`), the one solver Newton hands its systems to:
+//!   the tangent's, and Eq. (18)'s bordered ones; it owns the order they
+//!   share, the multipliers' slots (`slots.rs`) and the counters;
+//! - [`LinearSolver`] (`tangent.rs`), the tangent alone: Cholesky (LLT) for
+//!   a symmetric positive definite tangent, LU when it is unsymmetric or
+//!   LLT meets a non-positive pivot (a tangent past a limit point);
+//! - [`Augmented`], the contact system of Eq. (18): it solves each on the
+//!   kept LDLT factor's trailing block when it can (`trailing.rs`), else
+//!   factors it (LDLT with the multipliers last, the unpivoted LDU of
+//!   `ldu.rs`, or LU), each solve checked;
 //! - [`FactoredLu`], one factorization kept for many right-hand sides (the
 //!   sensitivities of a converged state).
 
 use crate::assembly::Pattern;
+pub use crate::results::LinearTimes;
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::linalg::cholesky::ldlt::factor::LdltRegularization;
-use faer::linalg::cholesky::llt::factor::LltRegularization;
 use faer::linalg::solvers::Solve;
 use faer::perm::PermRef;
 use faer::sparse::linalg::amd;
@@ -25,9 +27,8 @@ use faer::sparse::linalg::lu::{LuRef, NumericLu, SymbolicLu as LuSymbolic};
 use faer::sparse::linalg::solvers::{Lu, SymbolicLu};
 use faer::sparse::{FaerError, SparseColMatRef, SymbolicSparseColMat, SymbolicSparseColMatRef};
 use faer::{Conj, Mat, MatMut, Par, Side};
-use rustc_hash::FxHashMap as HashMap;
 use std::borrow::Cow;
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
 #[derive(Debug, thiserror::Error)]
 pub enum LinearError {
@@ -47,190 +48,6 @@ pub enum Method {
     /// Sparse LDU without pivoting (the unsymmetric bordered system of a
     /// small or mid-size scene, `ldu`).
     Ldu,
-}
-
-enum Factor {
-    /// In `LinearSolver::llt` and `llt_values`.
-    Llt,
-    Lu(Box<Lu<usize, f64>>),
-}
-
-/// Wall time of the linear algebra by phase, summed over its calls (the
-/// benchmark's split, issue 14).
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct LinearTimes {
-    /// Building the bordered matrix (contact rows sorted into the tangent's
-    /// columns) and its symmetry check.
-    pub system: Duration,
-    /// Fill-reducing ordering and symbolic factorization.
-    pub symbolic: Duration,
-    /// Numeric factorization.
-    pub numeric: Duration,
-    /// Triangular solves, refinement and backward errors, trailing solves.
-    pub solve: Duration,
-}
-
-impl LinearTimes {
-    /// The sum of two tallies.
-    pub fn plus(self, o: LinearTimes) -> LinearTimes {
-        LinearTimes {
-            system: self.system + o.system,
-            symbolic: self.symbolic + o.symbolic,
-            numeric: self.numeric + o.numeric,
-            solve: self.solve + o.solve,
-        }
-    }
-}
-
-pub struct LinearSolver {
-    symbolic: SymbolicSparseColMat<usize>,
-    /// The LLT analysis (in `order`) and its workspace; the factor's values
-    /// in `llt_values`.
-    llt: Option<(SymbolicCholesky<usize>, MemBuffer)>,
-    llt_values: Vec<f64>,
-    /// The fill-reducing order (AMD: forward, inverse), made on the first
-    /// analysis or given by the bordered solver, which orders the same
-    /// displacement block (`share_order`).
-    order: Option<(Vec<usize>, Vec<usize>)>,
-    lu: Option<SymbolicLu<usize>>,
-    factor: Option<Factor>,
-    /// Start with LLT (symmetric tangent); switches to LU for good on a failed LLT.
-    try_llt: bool,
-    pub factorizations: usize,
-    pub times: LinearTimes,
-}
-
-impl LinearSolver {
-    pub fn new(p: &Pattern, symmetric: bool) -> Result<Self, LinearError> {
-        let symbolic =
-            SymbolicSparseColMat::new_checked(p.n, p.n, p.col_ptr.clone(), None, p.row_idx.clone());
-        Ok(LinearSolver {
-            symbolic,
-            llt: None,
-            llt_values: Vec::new(),
-            order: None,
-            lu: None,
-            factor: None,
-            try_llt: symmetric,
-            factorizations: 0,
-            times: LinearTimes::default(),
-        })
-    }
-
-    pub fn method(&self) -> Option<Method> {
-        match self.factor {
-            Some(Factor::Llt) => Some(Method::Llt),
-            Some(Factor::Lu(_)) => Some(Method::Lu),
-            None => None,
-        }
-    }
-
-    /// The fill-reducing order of the matrix, once made.
-    pub fn order(&self) -> Option<&(Vec<usize>, Vec<usize>)> {
-        self.order.as_ref()
-    }
-
-    /// Takes `order` (of the same order; the bordered solver's displacement
-    /// block is this matrix, plus a few couplings against a deformable
-    /// target, and any order is valid) unless one is made: one AMD for
-    /// both solvers.
-    pub fn share_order(&mut self, order: Option<&(Vec<usize>, Vec<usize>)>) {
-        if let Some(o) = order
-            && self.order.is_none()
-            && o.0.len() == self.symbolic.nrows()
-        {
-            self.order = Some(o.clone());
-        }
-    }
-
-    /// Factorize the matrix with values `values` over the pattern.
-    pub fn factorize(&mut self, values: &[f64]) -> Result<(), LinearError> {
-        let mat = SparseColMatRef::new(self.symbolic.as_ref(), values);
-        self.factorizations += 1;
-        if self.try_llt {
-            if self.llt.is_none() {
-                let clock = Instant::now();
-                let n = self.symbolic.nrows();
-                if self.order.as_ref().is_none_or(|(fwd, _)| fwd.len() != n) {
-                    self.order = Some(
-                        amd_of_block(self.symbolic.as_ref(), n)
-                            .map_err(|e| LinearError::Factorization(format!("{e:?}")))?,
-                    );
-                }
-                let (fwd, inv) = self.order.as_ref().expect("set above");
-                let s = factorize_symbolic_cholesky(
-                    self.symbolic.as_ref(),
-                    Side::Lower,
-                    SymmetricOrdering::Custom(PermRef::new_checked(fwd, inv, n)),
-                    CholeskySymbolicParams::default(),
-                )
-                .map_err(|e| LinearError::Factorization(format!("{e:?}")))?;
-                let req = StackReq::any_of(&[
-                    s.factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default()),
-                    s.solve_in_place_scratch::<f64>(1, Par::Seq),
-                ]);
-                let mem = MemBuffer::try_new(req)
-                    .map_err(|e| LinearError::Factorization(format!("{e:?}")))?;
-                self.llt = Some((s, mem));
-                self.times.symbolic += clock.elapsed();
-            }
-            let clock = Instant::now();
-            let (sym, mem) = self.llt.as_mut().expect("set above");
-            self.llt_values.clear();
-            self.llt_values.resize(sym.len_val(), 0.0);
-            let llt = sym.factorize_numeric_llt(
-                &mut self.llt_values,
-                mat,
-                Side::Lower,
-                LltRegularization::default(),
-                Par::Seq,
-                MemStack::new(mem),
-                Default::default(),
-            );
-            self.times.numeric += clock.elapsed();
-            match llt {
-                Ok(_) => {
-                    self.factor = Some(Factor::Llt);
-                    return Ok(());
-                }
-                Err(_) => self.try_llt = false,
-            }
-        }
-        if self.lu.is_none() {
-            let clock = Instant::now();
-            let s = SymbolicLu::try_new(self.symbolic.as_ref())
-                .map_err(|e| LinearError::Factorization(format!("{e:?}")))?;
-            self.lu = Some(s);
-            self.times.symbolic += clock.elapsed();
-        }
-        let clock = Instant::now();
-        let sym = self.lu.clone().expect("set above");
-        let f = Lu::try_new_with_symbolic(sym, mat)
-            .map_err(|e| LinearError::Factorization(format!("{e:?}")))?;
-        self.factor = Some(Factor::Lu(Box::new(f)));
-        self.times.numeric += clock.elapsed();
-        Ok(())
-    }
-
-    /// Solve in place with the last factorization.
-    pub fn solve(&mut self, rhs: &mut [f64]) -> Result<(), LinearError> {
-        let clock = Instant::now();
-        let n = rhs.len();
-        let m = MatMut::from_column_major_slice_mut(rhs, n, 1);
-        match (&self.factor, self.llt.as_mut()) {
-            (Some(Factor::Llt), Some((sym, mem))) => {
-                faer::sparse::linalg::cholesky::LltRef::new(sym, &self.llt_values)
-                    .solve_in_place_with_conj(Conj::No, m, Par::Seq, MemStack::new(mem))
-            }
-            (Some(Factor::Lu(f)), _) => f.solve_in_place(m),
-            _ => return Err(LinearError::Factorization("no factorization".into())),
-        }
-        self.times.solve += clock.elapsed();
-        if rhs.iter().any(|v| !v.is_finite()) {
-            return Err(LinearError::NonFinite);
-        }
-        Ok(())
-    }
 }
 
 /// Symbolic data of one pattern of the bordered matrix, kept while it holds.
@@ -267,135 +84,6 @@ struct Analysis {
     slots: Vec<SlotKey>,
     /// `slots` by key, for `SlotGroups::place`.
     slot_groups: SlotGroups,
-}
-
-/// Slots grouped by key: each distinct key's slots, ascending.
-struct SlotGroups {
-    group_of: HashMap<SlotKey, usize>,
-    groups: Vec<Vec<usize>>,
-}
-
-impl SlotGroups {
-    fn of(slots: &[SlotKey]) -> Self {
-        let mut group_of: HashMap<SlotKey, usize> = HashMap::default();
-        let mut groups: Vec<Vec<usize>> = Vec::new();
-        for (s, key) in slots.iter().enumerate() {
-            let g = *group_of.entry(key.clone()).or_insert_with(|| {
-                groups.push(Vec::new());
-                groups.len() - 1
-            });
-            groups[g].push(s);
-        }
-        SlotGroups { group_of, groups }
-    }
-
-    /// The slot of each key: the first slot of the same key not taken;
-    /// None when a key finds none. (The grouping is made once per analysis,
-    /// `Analysis::slot_groups`, not per system: hashing the capstan FMU's
-    /// 230 slots took 12 us of each factorization.)
-    fn place(&self, keys: &[SlotKey]) -> Option<Vec<usize>> {
-        let mut next = vec![0usize; self.groups.len()];
-        keys.iter()
-            .map(|k| {
-                let g = *self.group_of.get(k)?;
-                let s = *self.groups[g].get(next[g])?;
-                next[g] += 1;
-                Some(s)
-            })
-            .collect()
-    }
-}
-
-/// Where a multiplier's row and column meet the displacement unknowns.
-#[derive(Clone, Debug, PartialEq, Eq, Hash)]
-struct SlotKey {
-    row: Vec<usize>,
-    column: Vec<usize>,
-}
-
-/// The slots of a new analysis for multipliers of `keys`: the kept
-/// analysis's `slots` and the keys that find no free slot among them, or,
-/// when those would be more than twice the keys (and 8), the keys alone.
-fn new_slots(slots: &[SlotKey], keys: &[SlotKey]) -> Vec<SlotKey> {
-    let mut free: HashMap<&SlotKey, usize> = HashMap::default();
-    for s in slots {
-        *free.entry(s).or_default() += 1;
-    }
-    let mut added = Vec::new();
-    for key in keys {
-        match free.get_mut(key) {
-            Some(c) if *c > 0 => *c -= 1,
-            _ => added.push(key.clone()),
-        }
-    }
-    if slots.len() + added.len() > 2 * keys.len() + 8 {
-        return keys.to_vec();
-    }
-    let mut all = slots.to_vec();
-    all.extend(added);
-    all
-}
-
-/// The keys of the `m` multipliers (unknowns `n_disp..`) of a system given
-/// by the entries `extra`; None when two multipliers are coupled.
-fn slot_keys(extra: &[(usize, usize, f64)], n_disp: usize, m: usize) -> Option<Vec<SlotKey>> {
-    let mut keys = vec![
-        SlotKey {
-            row: Vec::new(),
-            column: Vec::new(),
-        };
-        m
-    ];
-    for &(r, c, _) in extra {
-        match (r >= n_disp, c >= n_disp) {
-            (true, false) => keys[r - n_disp].row.push(c),
-            (false, true) => keys[c - n_disp].column.push(r),
-            (true, true) if r != c => return None,
-            _ => {}
-        }
-    }
-    for k in &mut keys {
-        k.row.sort_unstable();
-        k.row.dedup();
-        k.column.sort_unstable();
-        k.column.dedup();
-    }
-    Some(keys)
-}
-
-/// The entries `extra` with the multipliers moved to their slots, a zero
-/// diagonal for each taken slot, and an empty slot's identity row (its key's
-/// entries zero).
-fn in_slots(
-    extra: &[(usize, usize, f64)],
-    n_disp: usize,
-    slots: &[SlotKey],
-    slot_of: &[usize],
-) -> Vec<(usize, usize, f64)> {
-    let at = |i: usize| {
-        if i < n_disp {
-            i
-        } else {
-            n_disp + slot_of[i - n_disp]
-        }
-    };
-    let mut out: Vec<(usize, usize, f64)> =
-        (extra.iter()).map(|&(r, c, v)| (at(r), at(c), v)).collect();
-    let mut taken = vec![false; slots.len()];
-    for &s in slot_of {
-        taken[s] = true;
-    }
-    for (s, key) in slots.iter().enumerate() {
-        let i = n_disp + s;
-        if taken[s] {
-            out.push((i, i, 0.0));
-        } else {
-            out.push((i, i, 1.0));
-            out.extend(key.row.iter().map(|&d| (i, d, 0.0)));
-            out.extend(key.column.iter().map(|&d| (d, i, 0.0)));
-        }
-    }
-    out
 }
 
 /// The saddle-point system of Eq. (18): the free-dof tangent bordered by the
@@ -1364,182 +1052,6 @@ impl Augmented {
     }
 }
 
-/// The values of the matrix `bordered` builds from the tangent `k` over
-/// `pattern` and the entries `extra`, written over the pattern `a` of an
-/// analysis without building one: true when that matrix has the pattern
-/// `a` and its values are then `bordered`'s bit for bit. That takes every
-/// stored entry to be the sum of at most two terms (a tangent entry and an
-/// entry beside it, or two entries beside it), whose sum is the same in
-/// either order; at three terms `bordered` sums in its sort's order, which
-/// the round-off of a sensitive scene follows (the buried pipe: 2.5e-3 of
-/// its largest output), and this leaves them to it. False, `values` and
-/// `terms` then spoilt, otherwise. The capstan's systems have 9,000
-/// tangent entries and 500-860 beside them: merging every column, as
-/// `bordered` does after its sorts, took 7.9 ms of the CLI's 101 ms run of
-/// 40 drawn steps; copying the columns that begin with the tangent's rows,
-/// 3.1 ms.
-fn values_in_pattern(
-    a: SymbolicSparseColMatRef<'_, usize>,
-    pattern: &Pattern,
-    k: &[f64],
-    extra: &[(usize, usize, f64)],
-    values: &mut Vec<f64>,
-    terms: &mut Vec<u8>,
-) -> bool {
-    let (col_ptr, row_idx) = (a.col_ptr(), a.row_idx());
-    let n = a.ncols();
-    let nnz = row_idx.len();
-    if pattern.n > n {
-        return false;
-    }
-    // Every entry is written before it is read (`covered`).
-    values.resize(nnz, 0.0);
-    terms.clear();
-    terms.resize(nnz, 0);
-    let mut covered = 0;
-    // The tangent's columns into the pattern's (both sorted): a column
-    // whose rows begin with the tangent's (the contact rows below them, or
-    // none) is copied, any other merged.
-    for c in 0..pattern.n {
-        let (mut q, end) = (col_ptr[c], col_ptr[c + 1]);
-        let (p0, p1) = (pattern.col_ptr[c], pattern.col_ptr[c + 1]);
-        let len = p1 - p0;
-        if q + len <= end && row_idx[q..q + len] == pattern.row_idx[p0..p1] {
-            values[q..q + len].copy_from_slice(&k[p0..p1]);
-            terms[q..q + len].fill(1);
-            covered += len;
-            continue;
-        }
-        for p in p0..p1 {
-            let r = pattern.row_idx[p];
-            while q < end && row_idx[q] < r {
-                q += 1;
-            }
-            if q == end || row_idx[q] != r {
-                return false;
-            }
-            values[q] = k[p];
-            terms[q] = 1;
-            covered += 1;
-        }
-    }
-    for &(r, c, v) in extra {
-        if c >= n {
-            return false;
-        }
-        let column = &row_idx[col_ptr[c]..col_ptr[c + 1]];
-        let Ok(at) = column.binary_search(&r) else {
-            return false;
-        };
-        let q = col_ptr[c] + at;
-        match terms[q] {
-            0 => {
-                values[q] = v;
-                covered += 1;
-            }
-            1 => values[q] += v,
-            _ => return false,
-        }
-        terms[q] += 1;
-    }
-    covered == nnz
-}
-
-/// The values of a system (pattern `col_ptr`, `row_idx`; values in
-/// `values`) rewritten over the pattern `a`, zero at `a`'s other entries:
-/// false, `values` unchanged, when `a` does not hold every entry of it.
-fn scatter_into(
-    a: SymbolicSparseColMatRef<'_, usize>,
-    col_ptr: &[usize],
-    row_idx: &[usize],
-    values: &mut Vec<f64>,
-) -> bool {
-    let (a_ptr, a_rows) = (a.col_ptr(), a.row_idx());
-    let mut out = vec![0.0; a_rows.len()];
-    for c in 0..a.ncols() {
-        let mut q = a_ptr[c];
-        for p in col_ptr[c]..col_ptr[c + 1] {
-            while q < a_ptr[c + 1] && a_rows[q] < row_idx[p] {
-                q += 1;
-            }
-            if q == a_ptr[c + 1] || a_rows[q] != row_idx[p] {
-                return false;
-            }
-            out[q] = values[p];
-        }
-    }
-    *values = out;
-    true
-}
-
-/// The pattern `col_ptr`, `row_idx` (values `values`) with `a`'s entries
-/// added as zeros, when `a` has at most `limit` entries it lacks (so that
-/// a kept pattern does not grow without end: past the limit, the system's
-/// own). Both are of the same order.
-fn merge_pattern(
-    a: SymbolicSparseColMatRef<'_, usize>,
-    [col_ptr, row_idx]: [&mut Vec<usize>; 2],
-    values: &mut Vec<f64>,
-    limit: usize,
-) {
-    let (a_ptr, a_rows) = (a.col_ptr(), a.row_idx());
-    let n = a.ncols();
-    let mut missing = 0;
-    for c in 0..n {
-        let rows = &row_idx[col_ptr[c]..col_ptr[c + 1]];
-        missing += (a_ptr[c]..a_ptr[c + 1])
-            .filter(|&q| rows.binary_search(&a_rows[q]).is_err())
-            .count();
-        if missing > limit {
-            return;
-        }
-    }
-    if missing == 0 {
-        return;
-    }
-    let (mut ptr, mut rows, mut vals) = (
-        Vec::with_capacity(n + 1),
-        Vec::with_capacity(row_idx.len() + missing),
-        Vec::with_capacity(row_idx.len() + missing),
-    );
-    ptr.push(0);
-    for c in 0..n {
-        let (mut p, p_end) = (col_ptr[c], col_ptr[c + 1]);
-        let (mut q, q_end) = (a_ptr[c], a_ptr[c + 1]);
-        while p < p_end || q < q_end {
-            let (rp, rq) = (
-                row_idx.get(p).filter(|_| p < p_end),
-                a_rows.get(q).filter(|_| q < q_end),
-            );
-            match (rp, rq) {
-                (Some(&r), Some(&s)) if r == s => {
-                    rows.push(r);
-                    vals.push(values[p]);
-                    (p, q) = (p + 1, q + 1);
-                }
-                (Some(&r), Some(&s)) if s < r => {
-                    rows.push(s);
-                    vals.push(0.0);
-                    q += 1;
-                }
-                (Some(&r), _) => {
-                    rows.push(r);
-                    vals.push(values[p]);
-                    p += 1;
-                }
-                (None, Some(&s)) => {
-                    rows.push(s);
-                    vals.push(0.0);
-                    q += 1;
-                }
-                (None, None) => unreachable!("the loop's condition"),
-            }
-        }
-        ptr.push(rows.len());
-    }
-    (*col_ptr, *row_idx, *values) = (ptr, rows, vals);
-}
-
 /// Multiply-adds per factor entry above which the LDU leaves a pattern to
 /// LU: faer's own threshold for its supernodal factorizations
 /// (`SupernodalThreshold::AUTO`, 40), where its dense kernels beat scalar
@@ -1557,253 +1069,6 @@ fn lu_solve(f: LuRef<'_, usize, f64>, b: &mut [f64], cols: usize) {
         Par::Seq,
         MemStack::new(&mut MemBuffer::new(req)),
     );
-}
-
-/// Sorts entries (row, column, value) by column, then row, as
-/// `sort_unstable_by_key` does: by counting the columns where the entries
-/// are many beside the largest column and no place holds two (then the
-/// order is the one order; an inner solve of the capstan FMU sorts its
-/// 500-860 entries over some 700 columns, 12 us by comparisons), else by
-/// comparisons (two entries at one place are summed in the order that
-/// sort leaves them, which the factored systems' round-off has: another
-/// order moved the buried pipe's soil reaction by 2.5e-3 of the scene's
-/// largest output).
-fn sort_by_column(extra: &mut [(usize, usize, f64)]) {
-    let columns = extra.iter().map(|e| e.1 + 1).max().unwrap_or(0);
-    if columns > 8 * extra.len() {
-        extra.sort_unstable_by_key(|&(r, c, _)| (c, r));
-        return;
-    }
-    let mut start = vec![0usize; columns + 1];
-    for e in extra.iter() {
-        start[e.1 + 1] += 1;
-    }
-    for c in 0..columns {
-        start[c + 1] += start[c];
-    }
-    let mut next = start.clone();
-    let mut sorted = vec![(0usize, 0usize, 0.0f64); extra.len()];
-    for &e in extra.iter() {
-        sorted[next[e.1]] = e;
-        next[e.1] += 1;
-    }
-    for c in 0..columns {
-        sorted[start[c]..start[c + 1]].sort_unstable_by_key(|e| e.0);
-    }
-    if sorted
-        .windows(2)
-        .any(|w| (w[0].0, w[0].1) == (w[1].0, w[1].1))
-    {
-        extra.sort_unstable_by_key(|&(r, c, _)| (c, r));
-    } else {
-        extra.copy_from_slice(&sorted);
-    }
-}
-
-/// The CSC form (both triangles, rows sorted) of the order-`n` matrix made
-/// of the tangent `k` over `pattern` (its first `pattern.n` unknowns) plus
-/// the entries `extra` (row, col, value; sorted here, duplicates summed).
-fn bordered(
-    pattern: &Pattern,
-    k: &[f64],
-    extra: &mut [(usize, usize, f64)],
-    n: usize,
-    [col_ptr, row_idx]: [&mut Vec<usize>; 2],
-    values: &mut Vec<f64>,
-) {
-    sort_by_column(extra);
-    col_ptr.clear();
-    row_idx.clear();
-    values.clear();
-    let nnz = pattern.col_ptr.get(pattern.n).copied().unwrap_or(0) + extra.len();
-    col_ptr.reserve(n + 1);
-    row_idx.reserve(nnz);
-    values.reserve(nnz);
-    col_ptr.push(0);
-    let mut e = 0;
-    let mut column: Vec<(usize, f64)> = Vec::new();
-    for c in 0..n {
-        let tangent = if c < pattern.n {
-            pattern.col_ptr[c]..pattern.col_ptr[c + 1]
-        } else {
-            0..0
-        };
-        let start = e;
-        while e < extra.len() && extra[e].1 == c {
-            e += 1;
-        }
-        if e == start {
-            // The tangent's column as it is (its rows sorted, no duplicates).
-            row_idx.extend_from_slice(&pattern.row_idx[tangent.clone()]);
-            values.extend_from_slice(&k[tangent]);
-            col_ptr.push(row_idx.len());
-            continue;
-        }
-        column.clear();
-        column.extend(tangent.map(|p| (pattern.row_idx[p], k[p])));
-        column.extend(extra[start..e].iter().map(|&(r, _, v)| (r, v)));
-        column.sort_unstable_by_key(|&(r, _)| r);
-        let mut last = usize::MAX;
-        for &(r, v) in &column {
-            if r == last {
-                *values.last_mut().expect("a previous entry") += v;
-            } else {
-                row_idx.push(r);
-                values.push(v);
-                last = r;
-            }
-        }
-        col_ptr.push(row_idx.len());
-    }
-}
-
-/// `bordered` into new arrays: `(col_ptr, row_idx, values)`.
-fn bordered_new(
-    pattern: &Pattern,
-    k: &[f64],
-    extra: &mut [(usize, usize, f64)],
-    n: usize,
-) -> (Vec<usize>, Vec<usize>, Vec<f64>) {
-    let (mut col_ptr, mut row_idx, mut values) = (Vec::new(), Vec::new(), Vec::new());
-    bordered(
-        pattern,
-        k,
-        extra,
-        n,
-        [&mut col_ptr, &mut row_idx],
-        &mut values,
-    );
-    (col_ptr, row_idx, values)
-}
-
-/// One sparse LU factorization of a bordered matrix (as [`Augmented`]
-/// builds it), kept for any number of solves: the sensitivities of a
-/// converged state solve with its tangent once per seed. Each solve is
-/// refined against the matrix (a stiff body beside a soft one leaves the
-/// factor a few digits short).
-pub struct FactoredLu {
-    lu: Lu<usize, f64>,
-    mat: SymbolicSparseColMat<usize>,
-    values: Vec<f64>,
-}
-
-/// Refinement steps of a [`FactoredLu`] solve at most; it stops when a
-/// correction is below 1e-15 of the solution.
-const REFINEMENT_STEPS: usize = 3;
-
-impl FactoredLu {
-    /// Factorizes the order-`n` matrix `k` over `pattern` plus `extra`.
-    pub fn new(
-        pattern: &Pattern,
-        k: &[f64],
-        extra: &mut [(usize, usize, f64)],
-        n: usize,
-    ) -> Result<Self, LinearError> {
-        let (col_ptr, row_idx, values) = bordered_new(pattern, k, extra, n);
-        let mat = SymbolicSparseColMat::new_checked(n, n, col_ptr, None, row_idx);
-        let symbolic = SymbolicLu::try_new(mat.as_ref())
-            .map_err(|e| LinearError::Factorization(format!("{e:?}")))?;
-        let lu = Lu::try_new_with_symbolic(symbolic, SparseColMatRef::new(mat.as_ref(), &values))
-            .map_err(|e| LinearError::Factorization(format!("{e:?}")))?;
-        Ok(FactoredLu { lu, mat, values })
-    }
-
-    /// Solves `A x = rhs` in place.
-    pub fn solve(&self, rhs: &mut [f64]) -> Result<(), LinearError> {
-        let n = self.mat.nrows();
-        if rhs.len() != n {
-            return Err(LinearError::Factorization(format!(
-                "right-hand side of length {} for a matrix of order {n}",
-                rhs.len()
-            )));
-        }
-        let b = rhs.to_vec();
-        self.lu
-            .solve_in_place(MatMut::from_column_major_slice_mut(rhs, n, 1));
-        let inf = |v: &[f64]| v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-        for _ in 0..REFINEMENT_STEPS {
-            // r = b - A x, then x += A^-1 r.
-            let mut r = b.clone();
-            for j in 0..n {
-                let rows = self.mat.row_idx_of_col_raw(j);
-                let values = &self.values[self.mat.col_ptr()[j]..self.mat.col_ptr()[j + 1]];
-                for (&i, &v) in rows.iter().zip(values) {
-                    r[i] -= v * rhs[j];
-                }
-            }
-            self.lu
-                .solve_in_place(MatMut::from_column_major_slice_mut(&mut r, n, 1));
-            for (x, d) in rhs.iter_mut().zip(&r) {
-                *x += d;
-            }
-            let step = inf(&r);
-            if step.is_nan() || step <= 1e-15 * inf(rhs) {
-                break;
-            }
-        }
-        if rhs.iter().any(|v| !v.is_finite()) {
-            return Err(LinearError::NonFinite);
-        }
-        Ok(())
-    }
-}
-
-/// A matrix is symmetric when `|a_ij - a_ji| <= SYMMETRY max|a|`.
-const SYMMETRY: f64 = 1e-12;
-
-/// The largest `|e_ij - e_ji|` of the entries `extra` (duplicates summed;
-/// an entry whose transpose is not among them is compared with zero).
-fn asymmetry(extra: &[(usize, usize, f64)]) -> f64 {
-    let e = summed(extra.to_vec());
-    e.iter()
-        .map(|&(r, c, v)| {
-            // `summed` orders by (column, row): the transpose (c, r) is
-            // found by the key (r, c).
-            let t = e
-                .binary_search_by_key(&(r, c), |&(r2, c2, _)| (c2, r2))
-                .map_or(0.0, |q| e[q].2);
-            (v - t).abs()
-        })
-        .fold(0.0f64, f64::max)
-}
-
-/// `|a_ij - a_ji| <= SYMMETRY max|a|` for every stored entry (an entry
-/// whose transpose is not stored is compared with zero); columns sorted by
-/// row.
-fn is_symmetric(col_ptr: &[usize], row_idx: &[usize], values: &[f64]) -> bool {
-    let max = values.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-    if !max.is_finite() {
-        return false;
-    }
-    let tol = SYMMETRY * max;
-    let n = col_ptr.len().saturating_sub(1);
-    // Each entry's transpose, found by a cursor per column: the columns
-    // are swept in order, and the transpose of an entry of column j is
-    // row j of another column, so the rows asked of each column come in
-    // order too (one pass, no search).
-    let mut next: Vec<usize> = col_ptr[..n].to_vec();
-    for j in 0..n {
-        for p in col_ptr[j]..col_ptr[j + 1] {
-            let i = row_idx[p];
-            if i == j {
-                continue;
-            }
-            let at = &mut next[i];
-            let end = col_ptr[i + 1];
-            while *at < end && row_idx[*at] < j {
-                *at += 1;
-            }
-            let transpose = if *at < end && row_idx[*at] == j {
-                values[*at]
-            } else {
-                0.0
-            };
-            if (values[p] - transpose).abs() > tol {
-                return false;
-            }
-        }
-    }
-    true
 }
 
 /// AMD of the leading `n_disp` block of `a`: (forward, inverse). Made on
@@ -1928,37 +1193,6 @@ fn analyse_ldlt(
     Ok((symbolic, mem))
 }
 
-/// Dense work of a trailing set of `t` unknowns (about `t^3`) allowed per
-/// unknown of the system: a sparse factorization of a 2D mesh costs some
-/// `(nnz(L)/n)^2`, 1e3 to 1e4 flops per unknown (nnz(L)/n measured 30 to
-/// 110 on the Hertz meshes of 1e3 to 1e5 unknowns), so the dense solves stay
-/// well below it.
-const TRAILING_FLOPS_PER_UNKNOWN: f64 = 1e4;
-
-/// The displacement dofs the slots' rows and columns touch (the trailing
-/// set with the multipliers, `trailing`) of a system of order `n` whose
-/// first `n_disp` unknowns are displacements; None when there are no
-/// multipliers or the set is too large for its dense solves.
-fn trailing_dofs(slots: &[SlotKey], n_disp: usize, n: usize) -> Option<Vec<usize>> {
-    // The multipliers alone too many already.
-    if !trailing_fits(n - n_disp, n) {
-        return None;
-    }
-    let mut dofs: Vec<usize> = slots
-        .iter()
-        .flat_map(|k| k.row.iter().chain(&k.column).copied())
-        .collect();
-    dofs.sort_unstable();
-    dofs.dedup();
-    (n > n_disp && trailing_fits(dofs.len() + n - n_disp, n)).then_some(dofs)
-}
-
-/// Whether a trailing set of `t` unknowns is small enough for its dense
-/// solves in a system of order `n` ([`TRAILING_FLOPS_PER_UNKNOWN`]).
-pub fn trailing_fits(t: usize, n: usize) -> bool {
-    (t as f64).powi(3) <= TRAILING_FLOPS_PER_UNKNOWN * n as f64
-}
-
 /// Numeric LDLT of `a` (lower triangle, no regularization) and the solve of
 /// `a x = b` into `x`. False when a pivot is zero, a value is not finite or
 /// the backward error exceeds [`LDLT_BACKWARD_ERROR`]; with `refine`, also
@@ -2081,7 +1315,21 @@ fn refined_solve(
     true
 }
 
+mod factored_lu;
 mod ldu;
+mod linear;
+mod pattern;
+mod slots;
+mod tangent;
+
+pub use factored_lu::FactoredLu;
+pub use linear::Linear;
+use pattern::{
+    SYMMETRY, asymmetry, bordered, bordered_new, is_symmetric, merge_pattern, scatter_into,
+    values_in_pattern,
+};
+use slots::{SlotGroups, SlotKey, in_slots, new_slots, slot_keys, trailing_dofs};
+pub use tangent::LinearSolver;
 #[cfg(test)]
 mod tests;
 mod trailing;

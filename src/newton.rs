@@ -7,9 +7,9 @@
 use crate::assembly::{Model, PRESCRIBED, Workspace};
 use crate::constraint::TieResult;
 use crate::contact::{self, ContactSystem, Flips, PairMemory, Switched};
-use crate::linsolve::{Augmented, LinearError, LinearSolver, LinearTimes};
+use crate::linsolve::{Linear, LinearError};
 use crate::problem::Problem;
-use crate::results::{DriverResult, LogCategory, StepResult};
+use crate::results::{DriverResult, LinearTimes, LogCategory, StepResult};
 use crate::state::State;
 use std::time::{Duration, Instant};
 
@@ -47,7 +47,7 @@ struct InnerSolves {
 
 /// A solve before the decisions the linearised problem took from it: its
 /// solution, the contact memory and rows it was made with, and, when it
-/// was left partial (`Augmented::solve_watching`), its right-hand side and
+/// was left partial (`Linear::solve`), its right-hand side and
 /// entries.
 #[derive(Clone)]
 struct KeptSolve {
@@ -205,13 +205,13 @@ pub struct Phases {
     pub analyses: usize,
     /// Bordered systems solved by LDLT, by LU, by the unpivoted LDU, and
     /// without a factorization of their own, on the last LDLT factor's
-    /// trailing block (`linsolve::Augmented::trailing_solves`).
+    /// trailing block.
     pub ldlt: usize,
     pub lu: usize,
     pub ldu: usize,
     pub trailing: usize,
     /// Of those, the ones whose interior waited until an inner solve was
-    /// accepted (`linsolve::Augmented::deferred_solves`).
+    /// accepted.
     pub deferred: usize,
     /// Newton iterations whose first solve took the last factor's trailing
     /// block instead of a factorization (a constant tangent, its contact
@@ -262,7 +262,6 @@ impl Phases {
 #[derive(Clone, Copy, Debug, Default)]
 struct SolverTimes {
     tangents: usize,
-    reused: usize,
     assembly: Duration,
     contact: Duration,
     total: Duration,
@@ -361,7 +360,9 @@ pub struct Solver {
     /// Driver forces of the increment being solved (`driver_forces`).
     step_forces: Vec<[f64; 2]>,
     model: Model,
-    linear: LinearSolver,
+    /// The linear solver: the tangent's systems and Eq. (18)'s bordered
+    /// ones.
+    linear: Linear,
     prescribed: Vec<Prescribed>,
     /// The FMU's inputs: values to reach at the end of the next `advance`.
     inputs: Inputs,
@@ -373,10 +374,8 @@ pub struct Solver {
     /// (`Model::constant_tangent`: small strain, linear laws), assembled
     /// once: later iterations assemble the forces alone.
     k_constant: bool,
-    /// The factorization in `linear` is of the current constant tangent.
+    /// The tangent's factor in `linear` is of the current constant tangent.
     factor_valid: bool,
-    /// The bordered system of Eq. (18), used while contact rows exist.
-    augmented: Augmented,
     /// The contact part of the last converged iteration (for results).
     contact: Option<ContactSystem>,
     /// Diagonal of the model's bounding box: the length scale of gap tests.
@@ -399,20 +398,6 @@ pub struct Solver {
     /// Free nodes touching a target close too (`contact::Start::touching`;
     /// the second fallback of `advance`).
     close_touching: bool,
-    /// Every contact pair's target is rigid: only then do the inner solves
-    /// border the iteration's factor (`constrained_correction`) and the
-    /// multipliers keep slots (`Augmented::slots`). Against a deformable
-    /// target a sliding node's row changes key with its segment, and the
-    /// buried pipe (a steel pipe in soft soil, held by contact alone, its
-    /// LU solves good to about 1e-9 of the right-hand side) stalled at
-    /// |r|/F = 4.8e-4 in its first increment and bisected under either:
-    /// its stick/slip path depends on round-off (docs/contact.md section 8).
-    rigid_targets: bool,
-    /// The free equations of every contactor node (with rigid targets):
-    /// what the linearised problem's decisions read of an inner solve's
-    /// displacements (`contact::predict`), so its solve may be deferred
-    /// (`Augmented::solve_watching`).
-    contact_eqs: Vec<usize>,
     /// The last increment failed at its first solve because nothing held
     /// a body (`correction`).
     free_at_first_solve: bool,
@@ -448,14 +433,10 @@ impl Solver {
         }
         let (is_prescribed, prescribed) = prescribed_dofs(&problem, ndof)?;
         let model = Model::new(&problem, &is_prescribed);
-        let mut augmented = Augmented::with_slots(rigid_targets);
-        augmented.symmetric_tangent = model.symmetric;
-        let contact_eqs = if rigid_targets {
-            contact_equations(&problem, &model)
-        } else {
-            Vec::new()
-        };
-        let linear = LinearSolver::new(&model.pattern, model.symmetric)
+        // What the inner solves' decisions read of a partial solve: the
+        // contactor nodes' motion (`contact::predict`).
+        let watched = contact_equations(&problem, &model);
+        let linear = Linear::new(&model.pattern, model.symmetric, rigid_targets, watched)
             .map_err(|e| SolveError::Invalid(e.to_string()))?;
         let nnz = model.pattern.row_idx.len();
         let running: Vec<crate::running::Strip> = (0..problem.bodies.len())
@@ -497,9 +478,6 @@ impl Solver {
             k: vec![0.0; nnz],
             k_constant: false,
             factor_valid: false,
-            augmented,
-            rigid_targets,
-            contact_eqs,
             contact: None,
             size,
             diagonal_at,
@@ -556,25 +534,26 @@ impl Solver {
     /// Number of numeric factorizations done so far.
     /// Where the time of every `advance` so far went.
     pub fn phases(&self) -> Phases {
+        let c = self.linear.counts();
         Phases {
             assembly: self.times.assembly,
             contact: self.times.contact,
-            linear: self.linear.times.plus(self.augmented.times),
+            linear: c.times,
             total: self.times.total,
-            factorizations: self.linear.factorizations + self.augmented.factorizations,
-            analyses: self.augmented.analyses,
-            ldlt: self.augmented.ldlt,
-            lu: self.augmented.lu,
-            ldu: self.augmented.ldu,
-            trailing: self.augmented.trailing_solves,
-            deferred: self.augmented.deferred_solves,
-            reused: self.times.reused,
+            factorizations: c.factorizations,
+            analyses: c.analyses,
+            ldlt: c.ldlt,
+            lu: c.lu,
+            ldu: c.ldu,
+            trailing: c.trailing,
+            deferred: c.deferred,
+            reused: c.reused,
             tangents: self.times.tangents,
         }
     }
 
     pub fn factorizations(&self) -> usize {
-        self.linear.factorizations + self.augmented.factorizations + self.sensitivity_factorizations
+        self.linear.counts().factorizations + self.sensitivity_factorizations
     }
 
     /// Override a driver component: reach `value` at the end of the next
@@ -987,7 +966,7 @@ impl Solver {
         // The multipliers' slots start afresh: an increment's round-off
         // depends on its start state alone (a restored state continues bit
         // for bit).
-        self.augmented.restart();
+        self.linear.restart();
         self.search_cache = contact::SearchCache::default();
         let mut inc = self.predictor(t, from);
         for it in 0..=max_iterations {
@@ -1292,7 +1271,7 @@ impl Solver {
         if assemble_k {
             // Said before K is written: an assembly that fails half way
             // has changed it too.
-            self.augmented.new_tangent();
+            self.linear.new_tangent();
         }
         let k = if assemble_k {
             Some(&mut self.k[..])
@@ -1438,21 +1417,13 @@ impl Solver {
                 inc.solves += 1;
                 return Ok(());
             }
+            (self
+                .linear
+                .solve_tangent(&self.k, eval.need_k, &mut inc.rhs))
+            .map_err(|e| e.to_string())?;
             if eval.need_k {
-                // One AMD for the tangent and the bordered systems' block
-                // where that block is the tangent's pattern (rigid targets;
-                // against a deformable one the block has contact couplings
-                // and its own order, as the buried pipe's round-off needs).
-                if self.rigid_targets {
-                    self.linear.share_order(self.augmented.order());
-                }
-                self.linear.factorize(&self.k).map_err(|e| e.to_string())?;
-                if self.rigid_targets {
-                    self.augmented.share_order(self.linear.order());
-                }
                 self.factor_valid = self.model.constant_tangent;
             }
-            self.linear.solve(&mut inc.rhs).map_err(|e| e.to_string())?;
             inc.solves += 1;
         } else {
             let force_tolerance = self.problem.solver.force_tolerance;
@@ -1489,18 +1460,14 @@ impl Solver {
     }
 
     /// The contact nodes that may touch in this increment (`contact::near_target`,
-    /// within its prescribed motion `Increment::reach`), as the multiplier
-    /// slots their rows would take: one per node, two with friction (a
-    /// sticking node's), each keyed by the node's free equations (the rows
-    /// against a rigid target act on the node alone). The nearest nodes
-    /// first, while the slots with their nodes' equations stay few enough
-    /// for the dense solves on the factor's trailing block
-    /// (`linsolve::trailing_fits`); a node left out that touches gives the
-    /// contact system a pattern of its own (an analysis and a
-    /// factorization, as without the slots). Empty when no node may touch
-    /// or a target is a body.
+    /// within its prescribed motion `Increment::reach`), nearest first, as
+    /// the multiplier slots their rows would take (`Linear::slots`): one
+    /// per node, two with friction (a sticking node's), each keyed by the
+    /// node's free equations (the rows against a rigid target act on the
+    /// node alone). A node left out that touches gives the contact system
+    /// a pattern of its own (an analysis and a factorization, as without
+    /// the slots). Empty when no node may touch or a target is a body.
     fn contact_slots(&self, inc: &Increment) -> Result<Vec<Vec<usize>>, String> {
-        let n = self.model.free_dofs();
         let near = contact::near_target(
             &self.problem,
             &self.targets,
@@ -1516,54 +1483,29 @@ impl Solver {
             .flat_map(|(p, near)| near.iter().map(move |&(k, d)| (d, p, k)))
             .collect();
         nodes.sort_by(|a, b| a.0.total_cmp(&b.0).then((a.1, a.2).cmp(&(b.1, b.2))));
-        let mut slots = Vec::new();
-        let mut dofs = 0;
-        for (_, p, k) in nodes {
+        let keys = nodes.into_iter().map(|(_, p, k)| {
             let pair = &self.problem.contacts[p];
-            let per_node = if pair.mu_s > 0.0 { 2 } else { 1 };
             let node = pair.contactor[k];
             let eqs: Vec<usize> = [2 * node, 2 * node + 1]
                 .into_iter()
                 .filter(|&d| self.model.eq[d] != PRESCRIBED)
                 .map(|d| self.model.eq[d] as usize)
                 .collect();
-            // A row acting on prescribed dofs alone (a sticking node's
-            // tangential row on a symmetry plane) is an identity row: its
-            // key is empty.
-            let empty = usize::from(eqs.len() < 2);
-            let added = if eqs.is_empty() { 0 } else { per_node };
-            // A node in two pairs counts its equations twice: the set is
-            // overestimated, never under.
-            let (t, m) = (dofs + eqs.len(), slots.len() + empty + added);
-            if !crate::linsolve::trailing_fits(t + m, n + m) {
-                break;
-            }
-            dofs = t;
-            slots.extend(std::iter::repeat_n(Vec::new(), empty));
-            slots.extend(std::iter::repeat_n(eqs, added));
-        }
-        Ok(slots)
+            (eqs, if pair.mu_s > 0.0 { 2 } else { 1 })
+        });
+        Ok(self.linear.slots(self.model.free_dofs(), keys))
     }
 
     /// A correction without contact rows (`inc.rhs` in, the correction
-    /// out) against rigid targets: solved on the LDLT factor of the tangent
-    /// bordered by the slots of the contact rows to come (`contact_slots`),
-    /// every slot empty (an identity row, its entries on its node zero),
-    /// their nodes and slots ordered last, so that the iterations with
-    /// contact rows solve on the same factor's trailing block (under a
-    /// constant tangent) or on its analysis: one symbolic analysis and one
-    /// factorization where the plain tangent (`linear`) and then the
-    /// contact system took two of each. False when this does not apply
-    /// (no slots, comparisons forcing LU or no trailing set, a failed solve):
-    /// `linear` solves then.
+    /// out) against rigid targets, on the tangent bordered by the slots of
+    /// the contact rows to come (`contact_slots`, `Linear::solve_in_slots`),
+    /// so that the iterations with contact rows solve on the same factor's
+    /// trailing block or on its analysis: one symbolic analysis and one
+    /// factorization where the plain tangent and then the contact system
+    /// took two of each. False when this does not apply (no slots, the
+    /// solver takes none, a failed solve): the tangent alone solves then.
     fn solve_in_contact_slots(&mut self, inc: &mut Increment) -> Result<bool, String> {
-        let augmented = &self.augmented;
-        if !self.rigid_targets
-            || self.problem.contacts.is_empty()
-            || augmented.force_lu
-            || augmented.no_trailing
-            || !augmented.slots
-        {
+        if self.problem.contacts.is_empty() || !self.linear.takes_slots() {
             return Ok(false);
         }
         if inc.slots.is_none() {
@@ -1573,28 +1515,11 @@ impl Solver {
         if slots.is_empty() {
             return Ok(false);
         }
-        let n = self.model.free_dofs();
-        let extra = &mut inc.extra;
-        extra.clear();
-        for (m, eqs) in slots.iter().enumerate() {
-            for &q in eqs {
-                extra.push((n + m, q, 0.0));
-                extra.push((q, n + m, 0.0));
-            }
-            extra.push((n + m, n + m, 1.0));
-        }
-        let mut full = inc.rhs.clone();
-        full.resize(n + slots.len(), 0.0);
         let (pattern, k) = (&self.model.pattern, &self.k);
-        let trailing = self.augmented.trailing_solves;
-        let solved = self.augmented.solve(pattern, k, extra, &mut full);
-        self.times.reused += self.augmented.trailing_solves - trailing;
-        if solved.is_err() {
-            self.augmented.restart();
+        if !(self.linear).solve_in_slots(pattern, k, slots, &mut inc.extra, &mut inc.rhs) {
             inc.slots = Some(Vec::new());
             return Ok(false);
         }
-        inc.rhs.copy_from_slice(&full[..n]);
         Ok(true)
     }
 
@@ -1711,7 +1636,7 @@ impl Solver {
     }
 
     /// One solve of the constraint system `full` (entries `extra` beside
-    /// the tangent), the `inner`-th of its iteration (`Augmented::solve`
+    /// the tangent), the `inner`-th of its iteration (`Linear::solve`
     /// decides how). With `more` (another inner solve may follow) it may be
     /// left partial, the contact nodes' motion solved alone until one is
     /// accepted (`finish_inner`). Returns the solve's outcome and whether
@@ -1723,14 +1648,8 @@ impl Solver {
         inner: usize,
         more: bool,
     ) -> (Result<(), LinearError>, bool) {
-        let watch = more.then_some(&self.contact_eqs[..]);
         let (pattern, k) = (&self.model.pattern, &self.k);
-        let trailing = self.augmented.trailing_solves;
-        let solved = (self.augmented).solve_watching(pattern, k, extra, full, watch);
-        if inner == 0 {
-            self.times.reused += self.augmented.trailing_solves - trailing;
-        }
-        match solved {
+        match (self.linear).solve(pattern, k, extra, full, more, inner == 0) {
             Ok(whole) => (Ok(()), !whole),
             Err(e) => (Err(e), false),
         }
@@ -1830,7 +1749,7 @@ impl Solver {
         *extra = extra_prev;
         let mut x = rhs_prev;
         let (pattern, k) = (&self.model.pattern, &self.k);
-        (self.augmented.solve(pattern, k, extra, &mut x))
+        (self.linear.solve(pattern, k, extra, &mut x, false, false))
             .map_err(|e| format!("constraint system: {e}"))?;
         Ok(x)
     }
@@ -1898,7 +1817,7 @@ impl Solver {
     }
 
     /// The accepted inner solve `full`: as solved, or, when it was left
-    /// partial, finished (`Augmented::finish`; entries `extra`).
+    /// partial, finished (`Linear::finish`; entries `extra`).
     fn finish_inner(
         &mut self,
         partial: bool,
@@ -1907,7 +1826,7 @@ impl Solver {
     ) -> Result<Vec<f64>, String> {
         if partial {
             (self
-                .augmented
+                .linear
                 .finish(&self.model.pattern, &self.k, extra, &mut full))
             .map_err(|e| format!("constraint system: {e}"))?;
         }

@@ -248,3 +248,55 @@ mod tests {
         assert_eq!(PairResult::zone_lengths(&ring, false), (0.0, 8.0));
     }
 }
+
+/// Wall time of the linear algebra by phase, summed over its calls (the
+/// benchmark's split, issue 14).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct LinearTimes {
+    /// Building the bordered matrix (contact rows sorted into the tangent's
+    /// columns) and its symmetry check.
+    pub system: std::time::Duration,
+    /// Fill-reducing ordering and symbolic factorization.
+    pub symbolic: std::time::Duration,
+    /// Numeric factorization.
+    pub numeric: std::time::Duration,
+    /// Triangular solves, refinement and backward errors, trailing solves.
+    pub solve: std::time::Duration,
+}
+
+impl LinearTimes {
+    /// The sum of two tallies.
+    pub fn plus(self, o: LinearTimes) -> LinearTimes {
+        LinearTimes {
+            system: self.system + o.system,
+            symbolic: self.symbolic + o.symbolic,
+            numeric: self.numeric + o.numeric,
+            solve: self.solve + o.solve,
+        }
+    }
+}
+
+/// What a run's linear solves cost and how they went, summed (the
+/// solver's counters, `linsolve::Linear::counts`).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct LinearCounts {
+    pub times: LinearTimes,
+    /// Numeric factorizations (failed LDLT attempts included).
+    pub factorizations: usize,
+    /// Symbolic analyses of bordered systems (a new contact pattern).
+    pub analyses: usize,
+    /// Bordered systems solved by LDLT, by LU, by the unpivoted LDU, and
+    /// without a factorization of their own, on the last LDLT factor's
+    /// trailing block.
+    pub ldlt: usize,
+    pub lu: usize,
+    pub ldu: usize,
+    pub trailing: usize,
+    /// Of the trailing solves, the ones whose interior waited until an
+    /// inner solve was accepted.
+    pub deferred: usize,
+    /// Iterations whose first solve took the trailing block instead of a
+    /// factorization (a constant tangent, its contact rows changed on the
+    /// trailing set alone).
+    pub reused: usize,
+}
