@@ -632,7 +632,7 @@ impl Solver {
                             )
                         };
                         let msg = format!(
-                            "no convergence from t = {} to t = {t} {why}: {reason}",
+                            "no convergence from t = {:?} to t = {t:?} {why}: {reason}",
                             self.state.time
                         );
                         log(LogCategory::Error, &msg);
@@ -644,7 +644,9 @@ impl Solver {
                     bisections += 1;
                     log(
                         LogCategory::Warning,
-                        &format!("increment to t = {t} failed ({reason}); bisecting at t = {mid}"),
+                        &format!(
+                            "increment to t = {t:?} failed ({reason}); bisecting at t = {mid:?}"
+                        ),
                     );
                     targets.push(mid);
                 }
@@ -708,7 +710,7 @@ impl Solver {
             log(
                 LogCategory::Warning,
                 &format!(
-                    "increment to t = {t} failed ({reason}); trying it again with \
+                    "increment to t = {t:?} failed ({reason}); trying it again with \
                      opening and closing decided on the iterate only"
                 ),
             );
@@ -731,7 +733,7 @@ impl Solver {
             log(
                 LogCategory::Warning,
                 &format!(
-                    "increment to t = {t} failed ({reason}); trying it again with the \
+                    "increment to t = {t:?} failed ({reason}); trying it again with the \
                  nodes that touch a target closed"
                 ),
             );

@@ -186,7 +186,7 @@ impl Solver {
             )?;
             if system.changes > 0 || system.pending > 0 {
                 return Err(format!(
-                    "the contact states at t = {} are not those of a converged state \
+                    "the contact states at t = {:?} are not those of a converged state \
                      ({} would change)",
                     s.time,
                     system.changes + system.pending
@@ -232,7 +232,7 @@ impl Solver {
         let order = n + negligible.len();
         self.sensitivity_factorizations += 1;
         let factor = FactoredLu::new(&self.model.pattern, &k, &mut extra, order)
-            .map_err(|e| format!("the tangent of the state at t = {}: {e}", s.time))?;
+            .map_err(|e| format!("the tangent of the state at t = {:?}: {e}", s.time))?;
         Ok(Linearization {
             factor,
             contact,
