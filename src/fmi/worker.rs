@@ -7,6 +7,12 @@
 //! lives, and a master that loads a fresh copy per run (a sweep that
 //! extracts an FMU per case) would keep every copy. Made on the instance's
 //! thread, they go when it ends.
+//!
+//! Every live worker is listed (`LIVE`): should the library be unloaded
+//! while one lives (a master that unloads without fmi2FreeInstance, or a
+//! free deferred to a call that never returned), the library's destructor
+//! ends and joins it before the library's code goes, instead of leaving a
+//! thread parked in unmapped code.
 
 use super::instance::{Instance, LogFn, Status};
 use std::ffi::c_void;
@@ -62,6 +68,37 @@ impl Post {
     }
 }
 
+/// The live workers' threads and mailboxes, with the process that
+/// started each.
+static LIVE: Mutex<Vec<(u32, usize, Arc<Post>)>> = Mutex::new(Vec::new());
+
+fn live() -> MutexGuard<'static, Vec<(u32, usize, Arc<Post>)>> {
+    LIVE.lock().unwrap_or_else(PoisonError::into_inner)
+}
+
+/// Ends the thread of `post` and waits until it is gone.
+fn end(thread: usize, post: &Post) {
+    post.open().quit = true;
+    post.to_worker.notify_one();
+    unsafe { pthread_join(thread, std::ptr::null_mut()) };
+}
+
+/// Run by the dynamic loader when it unloads the library (and at exit):
+/// the workers still alive in this process are ended and joined.
+extern "C" fn end_every_worker() {
+    let pid = std::process::id();
+    let workers = std::mem::take(&mut *live());
+    for (owner, thread, post) in workers {
+        if owner == pid {
+            end(thread, &post);
+        }
+    }
+}
+
+#[used]
+#[unsafe(link_section = ".fini_array")]
+static END_EVERY_WORKER: extern "C" fn() = end_every_worker;
+
 /// An instance's thread for the calls that solve.
 pub(super) struct Worker {
     thread: usize,
@@ -103,11 +140,9 @@ impl Worker {
             drop(unsafe { Arc::from_raw(arg as *const Post) });
             return None;
         }
-        Some(Worker {
-            thread,
-            post,
-            pid: std::process::id(),
-        })
+        let pid = std::process::id();
+        live().push((pid, thread, Arc::clone(&post)));
+        Some(Worker { thread, post, pid })
     }
 
     /// Whether the thread runs in this process (not in the parent of a
@@ -178,9 +213,14 @@ impl Drop for Worker {
         if !self.here() {
             return;
         }
-        self.post.open().quit = true;
-        self.post.to_worker.notify_one();
-        unsafe { pthread_join(self.thread, std::ptr::null_mut()) };
+        let mut live = live();
+        let listed = live.iter().position(|(_, t, _)| *t == self.thread);
+        // Not listed: the library's destructor has ended it already.
+        if let Some(k) = listed {
+            live.swap_remove(k);
+            drop(live);
+            end(self.thread, &self.post);
+        }
     }
 }
 
