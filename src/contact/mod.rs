@@ -20,9 +20,8 @@ mod search;
 pub mod segment;
 pub mod sensitivity;
 mod system;
-pub mod traction;
 
-pub use memory::{NodalMemory, NodeMemory, PairMemory, SegmentMemory, begin_increment};
+pub use memory::begin_increment;
 pub use search::{
     NearNodes, RigidSegments, SearchCache, near_target, rigid_reference, scene_poses,
 };
@@ -33,7 +32,9 @@ pub use system::{
 
 use crate::problem::{ContactFormulation, ContactPair, Decisions, Problem};
 use crate::results::PairResult;
-use system::{Forced, Iterate, Kept};
+use serde::{Deserialize, Serialize};
+use std::sync::Arc;
+use system::{Forced, Iterate};
 
 /// Errors of the contact kernel, carrying the offending values.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -79,7 +80,7 @@ pub(crate) trait Formulation: Sync {
     fn update(
         &self,
         at: &Iterate,
-        pair: &ContactPair,
+        pair: (usize, &ContactPair),
         mem: &mut PairMemory,
         counters: [&mut [usize]; 2],
         log: &mut dyn FnMut(&str),
@@ -124,13 +125,84 @@ pub(crate) trait Formulation: Sync {
     }
 }
 
-/// The formulation a pair uses: the registration of every formulation.
+/// The formulation a pair uses: the registration of every formulation,
+/// with the types below that hold each one's own data.
 fn formulation(pair: &ContactPair) -> &'static dyn Formulation {
     match (pair.formulation, pair.decisions) {
         (ContactFormulation::Mortar, _) => &mortar::Mortar,
         (ContactFormulation::NodeToSegment, Decisions::Nodal) => &node_to_segment::Nodal,
         (ContactFormulation::NodeToSegment, Decisions::Paper) => &node_to_segment::Paper,
     }
+}
+
+/// What a pair carries from one iteration, and one increment, to the next,
+/// in its formulation's own type (`memory::Remembered` is what the shared
+/// phases read of it).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub enum PairMemory {
+    NodeToSegment(node_to_segment::Memory),
+    Mortar(mortar::Memory),
+}
+
+impl PairMemory {
+    /// The memory of a pair before its first increment.
+    pub fn new(pair: &ContactPair) -> Self {
+        match pair.formulation {
+            ContactFormulation::NodeToSegment => {
+                Self::NodeToSegment(node_to_segment::Memory::new(pair))
+            }
+            ContactFormulation::Mortar => Self::Mortar(mortar::Memory::new(pair)),
+        }
+    }
+
+    fn get(&self) -> &dyn memory::Remembered {
+        match self {
+            Self::NodeToSegment(m) => m,
+            Self::Mortar(m) => m,
+        }
+    }
+
+    fn get_mut(&mut self) -> &mut dyn memory::Remembered {
+        match self {
+            Self::NodeToSegment(m) => m,
+            Self::Mortar(m) => m,
+        }
+    }
+}
+
+/// What a formulation keeps of one pair's decisions at an iterate: the
+/// inner solves at that iterate and the linearisation of a converged state
+/// read it back.
+#[derive(Clone, Default)]
+pub(crate) enum Kept {
+    /// Nothing kept: the formulation has no inner solves.
+    #[default]
+    None,
+    Nodal(Arc<node_to_segment::Decided>),
+    Mortar(Arc<mortar::Decided>),
+}
+
+impl std::fmt::Debug for Kept {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Kept::None => "Kept::None",
+            Kept::Nodal(_) => "Kept::Nodal",
+            Kept::Mortar(_) => "Kept::Mortar",
+        })
+    }
+}
+
+/// What a formulation derives from an increment's start alone, per pair
+/// (`StartCache`).
+#[derive(Clone)]
+pub(crate) enum StartData {
+    Mortar(Arc<mortar::AtStart>),
+}
+
+/// A pair's memory or kept data of another formulation than its own: a
+/// state restored into a problem it was not saved from.
+fn mismatch(pair: &ContactPair, what: &str) -> String {
+    format!("pair '{}': its {what} is another formulation's", pair.name)
 }
 
 /// Whether a converged state has sensitivities (the FMU's directional
@@ -191,8 +263,15 @@ pub fn update(
     for (p, pair) in problem.contacts.iter().enumerate() {
         let keep = keep.map(|(previous, switched)| (&previous.kept[p], &switched.0[p][..]));
         let counters = [&mut flips.counts[p][..], &mut flips.slips[p][..]];
-        let result =
-            formulation(pair).update(&at, pair, &mut memory[p], counters, log, &mut out, keep)?;
+        let result = formulation(pair).update(
+            &at,
+            (p, pair),
+            &mut memory[p],
+            counters,
+            log,
+            &mut out,
+            keep,
+        )?;
         out.pairs.push(result);
     }
     Ok(out)
