@@ -1,20 +1,26 @@
 //! What contact carries from one iteration, and one increment, to the
 //! next, as the shared phases see it: each formulation keeps a pair's
 //! memory in its own type (a variant of `PairMemory`, part of the solver's
-//! `State`: rollback, FMU state); `Remembered` is what every one answers.
+//! `State`: rollback, FMU state); `Remembered` is what every one answers,
+//! and what a `PairMemory` dereferences to.
 
 use super::PairMemory;
 use crate::results::NodeState;
 
 /// What the shared phases read of a formulation's memory of a pair, and
 /// what they do to it.
-pub(crate) trait Remembered {
+pub trait Remembered {
     /// How many contactor nodes it remembers.
     fn nodes(&self) -> usize;
 
     /// Node k's state and, in contact, where it meets the target (target
     /// segment, beta): the outputs' gap and slip are measured there.
     fn contact(&self, k: usize) -> (NodeState, usize, f64);
+
+    /// Node k's state.
+    fn state(&self, k: usize) -> NodeState {
+        self.contact(k).0
+    }
 
     /// Node k's slip direction while it slides (+-1), else 0: part of the
     /// set of states the inner solves stop on meeting again (`state_key`).
@@ -29,32 +35,9 @@ pub(crate) trait Remembered {
     fn shift(&mut self, sources: &[Option<usize>]);
 }
 
-impl PairMemory {
-    /// How many contactor nodes it remembers.
-    pub fn nodes(&self) -> usize {
-        self.get().nodes()
-    }
-
-    /// Contactor node k's state.
-    pub fn state(&self, k: usize) -> NodeState {
-        self.get().contact(k).0
-    }
-
-    /// Contactor node k's state and, in contact, where it meets the target
-    /// (target segment, beta).
-    pub fn contact(&self, k: usize) -> (NodeState, usize, f64) {
-        self.get().contact(k)
-    }
-
-    /// See `Remembered::shift`.
-    pub fn shift(&mut self, sources: &[Option<usize>]) {
-        self.get_mut().shift(sources);
-    }
-}
-
 /// The start of an increment from the converged state `memory` holds.
 pub fn begin_increment(memory: &mut [PairMemory]) {
     for m in memory {
-        m.get_mut().begin_increment();
+        m.begin_increment();
     }
 }

@@ -154,15 +154,21 @@ impl PairMemory {
             ContactFormulation::Mortar => Self::Mortar(mortar::Memory::new(pair)),
         }
     }
+}
 
-    fn get(&self) -> &dyn memory::Remembered {
+/// The shared phases read and shift a pair's memory as `Remembered`.
+impl std::ops::Deref for PairMemory {
+    type Target = dyn memory::Remembered;
+    fn deref(&self) -> &Self::Target {
         match self {
             Self::NodeToSegment(m) => m,
             Self::Mortar(m) => m,
         }
     }
+}
 
-    fn get_mut(&mut self) -> &mut dyn memory::Remembered {
+impl std::ops::DerefMut for PairMemory {
+    fn deref_mut(&mut self) -> &mut Self::Target {
         match self {
             Self::NodeToSegment(m) => m,
             Self::Mortar(m) => m,
@@ -180,6 +186,17 @@ pub(crate) enum Kept {
     None,
     Nodal(Arc<node_to_segment::Decided>),
     Mortar(Arc<mortar::Decided>),
+}
+
+impl Kept {
+    /// The tangent entries its formulation deferred to a solve that needs
+    /// them (`ContactSystem::defer_tangent`).
+    fn add_tangent(&self, k: &mut Vec<(usize, usize, f64)>) {
+        match self {
+            Kept::Mortar(decided) => decided.add_tangent(k),
+            Kept::None | Kept::Nodal(_) => {}
+        }
+    }
 }
 
 impl std::fmt::Debug for Kept {

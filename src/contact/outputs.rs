@@ -110,7 +110,7 @@ pub fn gaps_and_slips(
     let mut gaps = Vec::with_capacity(m);
     let mut slips = Vec::with_capacity(m);
     for k in 0..now.nodes() {
-        let (state, segment, beta) = now.get().contact(k);
+        let (state, segment, beta) = now.contact(k);
         let contact = (state != NodeState::Open)
             .then(|| segments.get(segment))
             .flatten();
@@ -120,7 +120,7 @@ pub fn gaps_and_slips(
         });
         let began = start
             .filter(|s| k < s.nodes())
-            .map(|s| s.get().contact(k))
+            .map(|s| s.contact(k))
             .filter(|b| b.0 != NodeState::Open)
             .and_then(|b| Some((segments.get(b.1)?, b.2)));
         let slip = match (contact, began) {

@@ -11,7 +11,6 @@ use crate::assembly::PRESCRIBED;
 use crate::problem::{ContactPair, Problem};
 use crate::results::{NodeState, PairResult};
 use nalgebra::Vector2;
-use std::sync::Arc;
 
 /// Times a node may change between open and closed within one increment
 /// before the increment is declared oscillating.
@@ -98,9 +97,9 @@ pub struct ContactSystem {
     /// those `deferred` (`complete_tangent`).
     pub k: Vec<(usize, usize, f64)>,
     /// Tangent entries a formulation forms only where a solve needs them
-    /// (a converged iterate's are never formed), each with the place in
-    /// `k` they take.
-    pub(crate) deferred: Vec<(usize, DeferredTangent)>,
+    /// (a converged iterate's are never formed): the place in `k` they take
+    /// and the pair whose kept decisions form them (`Kept::add_tangent`).
+    pub(crate) deferred: Vec<(usize, usize)>,
     pub rows: Vec<Row>,
     /// Per constrained node: its mesh node and the range of its rows.
     pub groups: Vec<(usize, std::ops::Range<usize>)>,
@@ -121,14 +120,10 @@ pub struct ContactSystem {
 }
 
 impl ContactSystem {
-    /// Defers tangent entries that `tangent` forms to `complete_tangent`,
-    /// at the place in `k` they would take now.
-    pub(crate) fn defer_tangent(
-        &mut self,
-        tangent: impl Fn(&mut Vec<(usize, usize, f64)>) + Send + Sync + 'static,
-    ) {
-        self.deferred
-            .push((self.k.len(), DeferredTangent(Arc::new(tangent))));
+    /// Defers the tangent entries of pair `p` that its kept decisions form
+    /// to `complete_tangent`, at the place in `k` they would take now.
+    pub(crate) fn defer_tangent(&mut self, p: usize) {
+        self.deferred.push((self.k.len(), p));
     }
 
     /// Forms the deferred tangent entries into `k`, each at its place: the
@@ -140,25 +135,12 @@ impl ContactSystem {
         }
         let formed = std::mem::take(&mut self.k);
         let mut from = 0;
-        for (at, DeferredTangent(tangent)) in std::mem::take(&mut self.deferred) {
+        for (at, p) in std::mem::take(&mut self.deferred) {
             self.k.extend_from_slice(&formed[from..at]);
-            tangent(&mut self.k);
+            self.kept[p].add_tangent(&mut self.k);
             from = at;
         }
         self.k.extend_from_slice(&formed[from..]);
-    }
-}
-
-/// Matrix entries (dof, dof, value).
-type Entries3 = Vec<(usize, usize, f64)>;
-
-/// Tangent entries formed on demand (`ContactSystem::defer_tangent`).
-#[derive(Clone)]
-pub(crate) struct DeferredTangent(Arc<dyn Fn(&mut Entries3) + Send + Sync>);
-
-impl std::fmt::Debug for DeferredTangent {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str("DeferredTangent")
     }
 }
 
@@ -271,7 +253,7 @@ pub fn state_key(memory: &[PairMemory], switched: &Switched) -> u64 {
                 Some((_, Forced::Slip(s))) => (NodeState::Slip as u64, *s),
                 Some((_, Forced::Open)) => (NodeState::Open as u64, 0.0),
                 Some((_, Forced::Close { j, .. })) => (3 + *j as u64, 0.0),
-                None => (m.state(k) as u64, m.get().slip_sign(k)),
+                None => (m.state(k) as u64, m.slip_sign(k)),
             };
             (state, sign.to_bits()).hash(&mut h);
         }

@@ -124,6 +124,13 @@ pub(crate) struct AtStart {
     couplings: Vec<Coupling>,
 }
 
+impl Decided {
+    /// The contact tangent of the decisions' rows (`ContactSystem::defer_tangent`).
+    pub(crate) fn add_tangent(&self, k: &mut Vec<(usize, usize, f64)>) {
+        rows::add_tangent(&self.at, [&self.lambda, &self.lambda_t], k);
+    }
+}
+
 impl PairAt {
     fn new(at: &Iterate, (p, pair): (usize, &ContactPair)) -> Result<Self, String> {
         let problem = at.problem;
@@ -441,10 +448,7 @@ impl Formulation for Mortar {
             .collect();
         rows::add_rows(pair, &here, &decisions, out);
         let force = rows::add_forces(&here, [&lambda, &lambda_t], out);
-        {
-            let (here, lambda, lambda_t) = (here.clone(), lambda.clone(), lambda_t.clone());
-            out.defer_tangent(move |k| rows::add_tangent(&here, [&lambda, &lambda_t], k));
-        }
+        out.defer_tangent(p);
         for (node, d) in mem.nodes.iter_mut().zip(&decisions) {
             d.remember(node, here.friction);
         }
