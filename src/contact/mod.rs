@@ -7,8 +7,9 @@
 //! out-of-balance forces, or multipliers), decisions (open / stick / slip),
 //! rows (Eq. 18) and report (`report`). A formulation is one implementation
 //! of these phases behind [`Formulation`]; `formulation` names the one a
-//! pair uses. Newton sees only this module's functions and the types of
-//! `system`.
+//! pair uses, and the registry's types below hold each formulation's own
+//! data. Newton sees only this module's functions, `PairMemory` and the
+//! types of `system`.
 
 pub mod checks;
 mod memory;
@@ -68,14 +69,14 @@ pub(crate) struct Prediction<'a> {
 }
 
 /// A contact formulation: one pair's contact at an iterate, in the phases
-/// of the module's header. Adding one is a new module beside
-/// `node_to_segment` and an arm in `formulation`.
+/// of the module's header. Adding one is a folder beside `node_to_segment`
+/// and its registration below (docs/contact.md section 10).
 pub(crate) trait Formulation: Sync {
     /// The pair at the iterate `at`: its nodes decided (or, with `keep`, the
     /// kept decisions with the switched nodes' states), its forces, gradient
     /// entries and rows added to `out`, its memory updated, its results
-    /// returned. `kept` receives what `predict` and a later `update` with
-    /// `keep` read back.
+    /// returned. `out.kept` receives what `predict`, a later `update` with
+    /// `keep`, `linearise` and a deferred tangent read back.
     #[allow(clippy::too_many_arguments)]
     fn update(
         &self,

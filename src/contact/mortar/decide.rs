@@ -4,7 +4,7 @@
 //! the node's slip measured from the start of the increment). Fresh at an
 //! iterate (`decide`), or the linearised problem's (`predict`, `forced`).
 
-use super::memory::{Memory, NodeMemory};
+use super::memory::{Memory, Node};
 use super::{Decided, PairAt};
 use crate::contact::Prediction;
 use crate::contact::system::{self, ContactSystem, Forced, Iterate, count_flip, count_slip};
@@ -34,7 +34,7 @@ impl Decision {
     };
 
     /// The decision a node's memory holds.
-    pub fn of(node: &NodeMemory) -> Decision {
+    pub fn of(node: &Node) -> Decision {
         Decision {
             state: node.state,
             sign: node.slip_sign,
@@ -55,7 +55,7 @@ impl Decision {
 
     /// Into a node's memory: its state and slip direction, and whether it
     /// has slid (in this increment, ever) with `friction`.
-    pub fn remember(&self, node: &mut NodeMemory, friction: bool) {
+    pub fn remember(&self, node: &mut Node, friction: bool) {
         node.state = self.state;
         node.slip_sign = self.sign;
         if self.state == NodeState::Slip && friction {
@@ -203,7 +203,7 @@ fn parting(
 fn frictional(
     pair: &ContactPair,
     here: &PairAt,
-    node: &NodeMemory,
+    node: &Node,
     j: usize,
     [lambda, lambda_t]: [f64; 2],
 ) -> Decision {
@@ -235,7 +235,7 @@ fn frictional(
 /// unless its weighted slip since the start of the increment exceeds mu
 /// times its weighted overlap (it arrives sliding), then it slides along
 /// that slip.
-fn closing(pair: &ContactPair, here: &PairAt, node: &NodeMemory, j: usize) -> Decision {
+fn closing(pair: &ContactPair, here: &PairAt, node: &Node, j: usize) -> Decision {
     if !here.friction {
         return Decision::slip(0.0);
     }

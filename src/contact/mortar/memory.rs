@@ -7,9 +7,9 @@ use crate::problem::ContactPair;
 use crate::results::NodeState;
 use serde::{Deserialize, Serialize};
 
-/// A contactor node's memory.
+/// What a contactor node remembers.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
-pub struct NodeMemory {
+pub struct Node {
     pub state: NodeState,
     /// Where it meets the target's polyline (segment, beta), for the
     /// outputs' gap and slip (`remember_feet`).
@@ -28,13 +28,13 @@ pub struct NodeMemory {
 /// A mortar pair's memory.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Memory {
-    pub nodes: Vec<NodeMemory>,
+    pub nodes: Vec<Node>,
 }
 
 impl Memory {
     pub fn new(pair: &ContactPair) -> Self {
         Memory {
-            nodes: vec![NodeMemory::default(); pair.contactor.len()],
+            nodes: vec![Node::default(); pair.contactor.len()],
         }
     }
 }
@@ -62,7 +62,7 @@ impl Remembered for Memory {
     fn shift(&mut self, sources: &[Option<usize>]) {
         let old = self.nodes.clone();
         for (node, src) in self.nodes.iter_mut().zip(sources) {
-            *node = src.map_or_else(NodeMemory::default, |f| old[f]);
+            *node = src.map_or_else(Node::default, |f| old[f]);
         }
     }
 }

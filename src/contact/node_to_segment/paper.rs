@@ -8,7 +8,8 @@ use super::memory::{Memory, NodeMemory};
 use super::rows::add_rows;
 use super::traction::{self, SegmentState};
 use super::{Paper, TENSION_TOLERANCE};
-use crate::contact::report::{Report, geometry, node_frame, quadratic_tractions};
+use super::reported::quadratic_tractions;
+use crate::contact::report::{Report, geometry, node_frame};
 use crate::contact::search::BETA_TOLERANCE;
 use crate::contact::search::SearchCache;
 use crate::contact::search::{

@@ -3,7 +3,7 @@
 //! the quadratic side interpolation on 8-node sides.
 
 use super::traction;
-use crate::contact::report::{geometry, quadratic_tractions};
+use crate::contact::report::{Geometry, geometry};
 use crate::problem::{ContactPair, Kinematics, Problem};
 use nalgebra::Vector2;
 
@@ -87,4 +87,102 @@ pub(super) fn reported_tractions(
             _ => (0.0, 0.0),
         })
         .unzip())
+}
+
+/// Nodal tractions on a chain of 8-node sides (corner, mid-side, corner,
+/// ...) from nodal forces: the consistent system of the quadratic side
+/// interpolation, over the nodes in contact (the others carry zero). Weights
+/// by 3-point Gauss integration, exact for the quadratic-times-quadratic
+/// (times linear radius) integrands of straight sides. None if singular or
+/// too large for the dense solve (then the linear recovery stays).
+pub(super) fn quadratic_tractions(
+    geometry: Geometry,
+    closed: bool,
+    x: &[Vector2<f64>],
+    on: &[bool],
+    f: &[Vector2<f64>],
+) -> Option<Vec<Vector2<f64>>> {
+    let m = x.len();
+    let index: Vec<Option<usize>> = {
+        let mut next = 0;
+        on.iter()
+            .map(|&a| {
+                a.then(|| {
+                    next += 1;
+                    next - 1
+                })
+            })
+            .collect()
+    };
+    let n = on.iter().filter(|&&a| a).count();
+    if n == 0 || n > 600 {
+        return None;
+    }
+    let mut a = nalgebra::DMatrix::<f64>::zeros(n, n);
+    let sides = if closed { m / 2 } else { (m - 1) / 2 };
+    // Per node: the integral of its shape function over its sides (the
+    // lumped tributary), and whether one of its sides is partly open.
+    let mut tributary = vec![0.0; m];
+    let mut edge = vec![false; m];
+    let gauss = [
+        (-(0.6f64).sqrt(), 5.0 / 9.0),
+        (0.0, 8.0 / 9.0),
+        ((0.6f64).sqrt(), 5.0 / 9.0),
+    ];
+    for s in 0..sides {
+        let nodes = [2 * s, 2 * s + 1, (2 * s + 2) % m];
+        if nodes.iter().any(|&k| !on[k]) {
+            for &k in &nodes {
+                edge[k] = true;
+            }
+        }
+        for &(xi, w) in &gauss {
+            let nshape = [0.5 * xi * (xi - 1.0), 1.0 - xi * xi, 0.5 * xi * (xi + 1.0)];
+            let dshape = [xi - 0.5, -2.0 * xi, xi + 0.5];
+            let mut dx = Vector2::zeros();
+            let mut pos = Vector2::zeros();
+            for i in 0..3 {
+                dx += dshape[i] * x[nodes[i]];
+                pos += nshape[i] * x[nodes[i]];
+            }
+            let weight = w
+                * dx.norm()
+                * match geometry {
+                    Geometry::Planar { thickness } => thickness,
+                    Geometry::Axisymmetric => 2.0 * std::f64::consts::PI * pos.x,
+                };
+            for i in 0..3 {
+                tributary[nodes[i]] += weight * nshape[i];
+                let Some(r) = index[nodes[i]] else { continue };
+                for j in 0..3 {
+                    if let Some(c) = index[nodes[j]] {
+                        a[(r, c)] += weight * nshape[i] * nshape[j];
+                    }
+                }
+            }
+        }
+    }
+    let lu = a.lu();
+    let mut t = vec![Vector2::zeros(); m];
+    for comp in 0..2 {
+        let b = nalgebra::DVector::from_iterator(n, (0..m).filter(|&k| on[k]).map(|k| f[k][comp]));
+        let sol = lu.solve(&b)?;
+        for k in 0..m {
+            if let Some(r) = index[k] {
+                t[k][comp] = sol[r];
+            }
+        }
+    }
+    // On a side partly open the traction is not quadratic (it falls to
+    // zero like a square root at the contact edge): its closed nodes report
+    // their force over their tributary instead of the quadratic fit, which
+    // overshoots there.
+    for k in 0..m {
+        if on[k] && edge[k] && tributary[k] > 0.0 {
+            t[k] = f[k] / tributary[k];
+        }
+    }
+    t.iter()
+        .all(|v| v.x.is_finite() && v.y.is_finite())
+        .then_some(t)
 }
