@@ -5,10 +5,10 @@
 //! contact point and its rows of Eq. (18) (docs/contact.md section 8b).
 
 use super::memory::{Memory, NodeMemory};
+use super::reported::quadratic_tractions;
 use super::rows::add_rows;
 use super::traction::{self, SegmentState};
 use super::{Paper, TENSION_TOLERANCE};
-use super::reported::quadratic_tractions;
 use crate::contact::report::{Report, geometry, node_frame};
 use crate::contact::search::BETA_TOLERANCE;
 use crate::contact::search::SearchCache;
