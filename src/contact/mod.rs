@@ -202,11 +202,7 @@ impl Kept {
 
 impl std::fmt::Debug for Kept {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(match self {
-            Kept::None => "Kept::None",
-            Kept::Nodal(_) => "Kept::Nodal",
-            Kept::Mortar(_) => "Kept::Mortar",
-        })
+        f.write_str("Kept(..)")
     }
 }
 
