@@ -11,7 +11,6 @@
 //! shifted state is the same equilibrium, relabelled.
 
 use crate::assembly::Model;
-use crate::contact::{NodeMemory, PairMemory, SegmentMemory};
 use crate::problem::{Body, ContactPair, Problem, Target};
 use crate::results::RunningResult;
 use crate::state::{RunningMemory, State};
@@ -39,12 +38,12 @@ struct Shift {
 }
 
 /// A shift of a contact pair on the strip: per contactor chain position
-/// its source position (None: a node that enters), per segment likewise.
+/// its source position (None: a node that enters); the pair's memory
+/// shifts with it (`PairMemory::shift`).
 #[derive(Debug)]
 struct PairShift {
     pair: usize,
     nodes: Vec<Option<usize>>,
-    segments: Vec<Option<usize>>,
 }
 
 /// One running strip: its path, columns and shift maps.
@@ -100,7 +99,7 @@ impl Shift {
 }
 
 impl PairShift {
-    /// Pair `i`'s chain positions and segments mapped by the nodes' sources.
+    /// Pair `i`'s chain positions mapped by the nodes' sources.
     fn new(i: usize, pair: &ContactPair, from: &HashMap<usize, Source>) -> Self {
         let at: HashMap<usize, usize> = (pair.contactor.iter().enumerate())
             .map(|(i, &n)| (n, i))
@@ -109,19 +108,8 @@ impl PairShift {
             Source::Copy(f) => at.get(&f).copied(),
             Source::Extrapolate(_) => None,
         };
-        let nodes: Vec<Option<usize>> = pair.contactor.iter().map(|&n| source(n)).collect();
-        let m = pair.contactor.len();
-        let segments = (0..PairMemory::new(pair).segments.len())
-            .map(|k| match (nodes[k], nodes[(k + 1) % m]) {
-                (Some(a), Some(b)) if a.abs_diff(b) == 1 => Some(a.min(b)),
-                _ => None,
-            })
-            .collect();
-        PairShift {
-            pair: i,
-            nodes,
-            segments,
-        }
+        let nodes = pair.contactor.iter().map(|&n| source(n)).collect();
+        PairShift { pair: i, nodes }
     }
 }
 
@@ -284,20 +272,8 @@ impl Strip {
         };
         shift_history(&mut state.history);
         shift_history(&mut state.step_start_history);
-        for PairShift {
-            pair,
-            nodes,
-            segments,
-        } in &s.pairs
-        {
-            let memory = &mut state.contact[*pair];
-            let old = memory.clone();
-            for (i, src) in nodes.iter().enumerate() {
-                memory.nodes[i] = src.map_or_else(NodeMemory::default, |f| old.nodes[f]);
-            }
-            for (i, src) in segments.iter().enumerate() {
-                memory.segments[i] = src.map_or_else(SegmentMemory::default, |f| old.segments[f]);
-            }
+        for PairShift { pair, nodes } in &s.pairs {
+            state.contact[*pair].shift(nodes);
         }
     }
 

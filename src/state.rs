@@ -24,8 +24,8 @@ pub struct State {
     pub step_start_u: Vec<f64>,
     #[serde(default)]
     pub step_start_rigid: Vec<[f64; 3]>,
-    /// Contact memory per pair (node states, contact points, segment
-    /// states), in scene order.
+    /// Contact memory per pair, each in its formulation's own type, in
+    /// scene order.
     pub contact: Vec<crate::contact::PairMemory>,
     /// Pose [ux, uy, theta] of each rigid target at `time`, in scene order.
     pub rigid: Vec<[f64; 3]>,

@@ -25,9 +25,7 @@
 
 mod common;
 
-use contact2d::contact::{
-    self, ContactSystem, Flips, NodeMemory, PairMemory, RigidSegments, SegmentMemory,
-};
+use contact2d::contact::{self, ContactSystem, Flips, PairMemory, RigidSegments};
 use contact2d::mesh::{ElementKind, Mesh};
 use contact2d::problem::*;
 use contact2d::results::NodeState;
@@ -473,17 +471,19 @@ fn check(kind: ElementKind, rigid: bool, wanted: &[NodeState], r_nodes: &[V2], s
     // point, every segment sticking (a segment then slides when its T_t
     // exceeds mu_s T_n: the forces below are chosen so).
     let mut memory = PairMemory::new(pair);
+    let PairMemory::NodeToSegment(nodes) = &mut memory else {
+        panic!("a node-to-segment pair");
+    };
     let mut beta_stick = vec![0.0; m];
     for k in 0..m {
         let (j, b) = project(p.x(p.contactor[k]));
         beta_stick[k] = b + shift[k];
-        let node: &mut NodeMemory = &mut memory.nodes[k];
+        let node = &mut nodes.nodes[k];
         node.state = NodeState::Stick;
         node.segment = j;
         node.beta = beta_stick[k];
     }
-    for s in memory.segments.iter_mut() {
-        let s: &mut SegmentMemory = s;
+    for s in nodes.segments.iter_mut() {
         s.state = NodeState::Stick;
         s.ever_slid = false;
     }
@@ -521,12 +521,15 @@ fn check(kind: ElementKind, rigid: bool, wanted: &[NodeState], r_nodes: &[V2], s
     let code = assembled(&sys, ndof);
 
     // The scenario holds: segment and node states as wanted.
-    let seg_states: Vec<NodeState> = mem[0].segments.iter().map(|s| s.state).collect();
+    let PairMemory::NodeToSegment(after) = &mem[0] else {
+        panic!("a node-to-segment pair");
+    };
+    let seg_states: Vec<NodeState> = after.segments.iter().map(|s| s.state).collect();
     assert_eq!(seg_states, wanted, "segment states; log {log:?}");
     let states: Vec<NodeState> = (0..m).map(node_state).collect();
     assert!(states.contains(&NodeState::Stick) && states.contains(&NodeState::Slip));
     for k in 0..m {
-        assert_eq!(mem[0].nodes[k].state, states[k], "node {k}; log {log:?}");
+        assert_eq!(mem[0].state(k), states[k], "node {k}; log {log:?}");
     }
 
     // The potential's data, from the patch (not from the code), except
@@ -549,8 +552,8 @@ fn check(kind: ElementKind, rigid: bool, wanted: &[NodeState], r_nodes: &[V2], s
             (beta - 0.5).abs() > 0.02,
             "node {k}: beta {beta} too close to 1/2 for the 1 - beta check"
         );
-        assert_eq!(mem[0].nodes[k].segment, j, "node {k}");
-        assert!((mem[0].nodes[k].beta - beta).abs() <= 1e-12, "node {k}");
+        assert_eq!(mem[0].contact(k).1, j, "node {k}");
+        assert!((mem[0].contact(k).2 - beta).abs() <= 1e-12, "node {k}");
         let [xa, xb] = segs[j];
         let ab = sub(xb, xa);
         let length = dot(ab, ab).sqrt();

@@ -58,7 +58,7 @@ fn a_node_flipping_open_and_closed_is_reported() {
             &mut |m: &str| log.push(m.to_string()),
             None,
         ) {
-            Ok(_) => states.push(memory[0].nodes[0].state),
+            Ok(_) => states.push(memory[0].state(0)),
             Err(e) => break e,
         }
         assert!(states.len() < 20, "never reported: {states:?}");

@@ -28,7 +28,7 @@ struct Run {
     /// One per converged increment.
     steps: Vec<StepResult>,
     /// Per converged increment, per contactor node of pair 0: the target
-    /// segment it is on (`State::contact[0].nodes[k].segment`).
+    /// segment it is on (`State::contact[0].contact(k)`).
     segments: Vec<Vec<usize>>,
     /// Per converged increment, per target segment of pair 0 (body targets
     /// only): the current x of its two ends.
@@ -59,7 +59,8 @@ fn run(problem: Problem) -> Run {
         match r {
             Ok(step) => {
                 let state = solver.state();
-                segments.push(state.contact[0].nodes.iter().map(|n| n.segment).collect());
+                let memory = &state.contact[0];
+                segments.push((0..memory.nodes()).map(|k| memory.contact(k).1).collect());
                 let p = solver.problem();
                 let ends: Vec<[[f64; 2]; 2]> = match &p.contacts[0].target {
                     Target::Body { segments, .. } => segments

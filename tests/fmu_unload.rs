@@ -198,12 +198,15 @@ fn growth_per_cycle(scene: &str, how: Cycle, cycles: usize) -> f64 {
     let unit = Unit::new(scene);
     let mut samples = Vec::with_capacity(cycles);
     for k in 0..cycles {
+        let before = threads();
         cycle(&path, &unit, how, k);
         assert_eq!(
             mapped(&path),
             0,
             "{how:?}: cycle {k} left the library mapped"
         );
+        let after = threads_back_to(before);
+        assert_eq!(after, before, "{how:?}: cycle {k} left a thread");
         samples.push(resident_kib());
     }
     let (warm, w) = (20, 10);

@@ -9,6 +9,7 @@
 
 mod common;
 
+use contact2d::contact::PairMemory;
 use contact2d::newton::Solver;
 use contact2d::results::{NodeState, PairResult};
 
@@ -46,13 +47,10 @@ fn run(name: &'static str, contact: &str) -> Case {
         bisections += step.substeps;
         if TIMES.iter().any(|&f| (f - t).abs() < 1e-9) {
             pairs.push(step.pairs[0].1.clone());
-            segments.push(
-                solver.state().contact[0]
-                    .segments
-                    .iter()
-                    .map(|s| s.state)
-                    .collect(),
-            );
+            let PairMemory::NodeToSegment(memory) = &solver.state().contact[0] else {
+                panic!("{name}: a node-to-segment pair");
+            };
+            segments.push(memory.segments.iter().map(|s| s.state).collect());
         }
     }
     assert_eq!(pairs.len(), TIMES.len(), "{name}");

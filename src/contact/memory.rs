@@ -1,87 +1,43 @@
-//! What contact carries from one iteration, and one increment, to the next:
-//! per contactor node its state, target segment, contact point and anchor;
-//! per contactor segment its state (the paper's decisions). Part of the
-//! solver's `State` (rollback, FMU state).
+//! What contact carries from one iteration, and one increment, to the
+//! next, as the shared phases see it: each formulation keeps a pair's
+//! memory in its own type (a variant of `PairMemory`, part of the solver's
+//! `State`: rollback, FMU state); `Remembered` is what every one answers,
+//! and what a `PairMemory` dereferences to.
 
-use crate::problem::ContactPair;
+use super::PairMemory;
 use crate::results::NodeState;
-use serde::{Deserialize, Serialize};
 
-/// A contactor node's memory: state, target segment and contact point.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
-pub struct NodeMemory {
-    pub state: NodeState,
-    pub segment: usize,
-    pub beta: f64,
-    /// Where the node last stuck, or where it was at the start of the
-    /// increment (segment, beta): a sliding node's slip is measured from
-    /// here, to catch a slip against its friction force.
-    #[serde(default)]
-    pub anchor: Option<(usize, f64)>,
-    /// Frictionless, held at a reflex corner of the target (see `corner`).
-    #[serde(default)]
-    pub corner: bool,
-    /// The last target segment switch in this increment (from, to).
-    #[serde(default)]
-    pub crossed: Option<(usize, usize)>,
-    /// What the nodal decisions alone keep of the node.
-    #[serde(default)]
-    pub nodal: NodalMemory,
-}
+/// What the shared phases read of a formulation's memory of a pair, and
+/// what they do to it.
+pub trait Remembered {
+    /// How many contactor nodes it remembers.
+    fn nodes(&self) -> usize;
 
-/// What the nodal decisions keep of a contactor node besides its contact.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
-pub struct NodalMemory {
-    /// The direction of its slip along the target's tangent (A to B) while
-    /// it slides, +-1.
-    pub slip_sign: f64,
-    /// It has slid in this increment (sticks with mu_d).
-    pub slid: bool,
-    /// It has ever slid (mu_d for good under the usual rule).
-    pub ever_slid: bool,
-    /// How many times it left a corner hold in this increment (after
-    /// `CORNER_LEAVES`, held again only from the wedge itself).
-    pub corner_leaves: u32,
-}
+    /// Node k's state and, in contact, where it meets the target (target
+    /// segment, beta): the outputs' gap and slip are measured there.
+    fn contact(&self, k: usize) -> (NodeState, usize, f64);
 
-/// A contactor segment's memory (segment j joins contactor nodes j, j+1),
-/// the paper's decisions' own.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
-pub struct SegmentMemory {
-    /// Open, Stick or Slip (Slip meaning the segment slides).
-    pub state: NodeState,
-    pub ever_slid: bool,
-    /// Sliding: the sign of its friction resultant along the contactor
-    /// (kept while it slides); zero otherwise.
-    #[serde(default)]
-    pub direction: f64,
-}
-
-/// What a pair carries from one iteration, and one increment, to the next.
-#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
-pub struct PairMemory {
-    pub nodes: Vec<NodeMemory>,
-    pub segments: Vec<SegmentMemory>,
-}
-
-impl PairMemory {
-    pub fn new(pair: &ContactPair) -> Self {
-        let m = pair.contactor.len();
-        let segments = if pair.closed { m } else { m.saturating_sub(1) };
-        PairMemory {
-            nodes: vec![NodeMemory::default(); m],
-            segments: vec![SegmentMemory::default(); segments],
-        }
+    /// Node k's state.
+    fn state(&self, k: usize) -> NodeState {
+        self.contact(k).0
     }
+
+    /// Node k's slip direction while it slides (+-1), else 0: part of the
+    /// set of states the inner solves stop on meeting again (`state_key`).
+    fn slip_sign(&self, k: usize) -> f64;
+
+    /// The start of an increment from the converged state it holds.
+    fn begin_increment(&mut self);
+
+    /// The contactor's material moved along its chain (a running strip's
+    /// recycled material): node k takes over what node `sources[k]`
+    /// remembered, or starts afresh (None).
+    fn shift(&mut self, sources: &[Option<usize>]);
 }
 
-/// Set every closed node's anchor to its converged contact point: called
-/// at the start of an increment.
+/// The start of an increment from the converged state `memory` holds.
 pub fn begin_increment(memory: &mut [PairMemory]) {
-    for node in memory.iter_mut().flat_map(|m| m.nodes.iter_mut()) {
-        node.anchor = (node.state != NodeState::Open).then_some((node.segment, node.beta));
-        node.crossed = None;
-        node.nodal.slid = false;
-        node.nodal.corner_leaves = 0;
+    for m in memory {
+        m.begin_increment();
     }
 }

@@ -7,8 +7,9 @@
 //! out-of-balance forces, or multipliers), decisions (open / stick / slip),
 //! rows (Eq. 18) and report (`report`). A formulation is one implementation
 //! of these phases behind [`Formulation`]; `formulation` names the one a
-//! pair uses. Newton sees only this module's functions and the types of
-//! `system`.
+//! pair uses, and the registry's types below hold each formulation's own
+//! data. Newton sees only this module's functions, `PairMemory` and the
+//! types of `system`.
 
 pub mod checks;
 mod memory;
@@ -20,9 +21,8 @@ mod search;
 pub mod segment;
 pub mod sensitivity;
 mod system;
-pub mod traction;
 
-pub use memory::{NodalMemory, NodeMemory, PairMemory, SegmentMemory, begin_increment};
+pub use memory::begin_increment;
 pub use search::{
     NearNodes, RigidSegments, SearchCache, near_target, rigid_reference, scene_poses,
 };
@@ -33,7 +33,9 @@ pub use system::{
 
 use crate::problem::{ContactFormulation, ContactPair, Decisions, Problem};
 use crate::results::PairResult;
-use system::{Forced, Iterate, Kept};
+use serde::{Deserialize, Serialize};
+use std::sync::Arc;
+use system::{Forced, Iterate};
 
 /// Errors of the contact kernel, carrying the offending values.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -67,19 +69,19 @@ pub(crate) struct Prediction<'a> {
 }
 
 /// A contact formulation: one pair's contact at an iterate, in the phases
-/// of the module's header. Adding one is a new module beside
-/// `node_to_segment` and an arm in `formulation`.
+/// of the module's header. Adding one is a folder beside `node_to_segment`
+/// and its registration below (docs/contact.md section 10).
 pub(crate) trait Formulation: Sync {
     /// The pair at the iterate `at`: its nodes decided (or, with `keep`, the
     /// kept decisions with the switched nodes' states), its forces, gradient
     /// entries and rows added to `out`, its memory updated, its results
-    /// returned. `kept` receives what `predict` and a later `update` with
-    /// `keep` read back.
+    /// returned. `out.kept` receives what `predict`, a later `update` with
+    /// `keep`, `linearise` and a deferred tangent read back.
     #[allow(clippy::too_many_arguments)]
     fn update(
         &self,
         at: &Iterate,
-        pair: &ContactPair,
+        pair: (usize, &ContactPair),
         mem: &mut PairMemory,
         counters: [&mut [usize]; 2],
         log: &mut dyn FnMut(&str),
@@ -124,13 +126,97 @@ pub(crate) trait Formulation: Sync {
     }
 }
 
-/// The formulation a pair uses: the registration of every formulation.
+/// The formulation a pair uses: the registration of every formulation,
+/// with the types below that hold each one's own data.
 fn formulation(pair: &ContactPair) -> &'static dyn Formulation {
     match (pair.formulation, pair.decisions) {
         (ContactFormulation::Mortar, _) => &mortar::Mortar,
         (ContactFormulation::NodeToSegment, Decisions::Nodal) => &node_to_segment::Nodal,
         (ContactFormulation::NodeToSegment, Decisions::Paper) => &node_to_segment::Paper,
     }
+}
+
+/// What a pair carries from one iteration, and one increment, to the next,
+/// in its formulation's own type (`memory::Remembered` is what the shared
+/// phases read of it).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub enum PairMemory {
+    NodeToSegment(node_to_segment::Memory),
+    Mortar(mortar::Memory),
+}
+
+impl PairMemory {
+    /// The memory of a pair before its first increment.
+    pub fn new(pair: &ContactPair) -> Self {
+        match pair.formulation {
+            ContactFormulation::NodeToSegment => {
+                Self::NodeToSegment(node_to_segment::Memory::new(pair))
+            }
+            ContactFormulation::Mortar => Self::Mortar(mortar::Memory::new(pair)),
+        }
+    }
+}
+
+/// The shared phases read and shift a pair's memory as `Remembered`.
+impl std::ops::Deref for PairMemory {
+    type Target = dyn memory::Remembered;
+    fn deref(&self) -> &Self::Target {
+        match self {
+            Self::NodeToSegment(m) => m,
+            Self::Mortar(m) => m,
+        }
+    }
+}
+
+impl std::ops::DerefMut for PairMemory {
+    fn deref_mut(&mut self) -> &mut Self::Target {
+        match self {
+            Self::NodeToSegment(m) => m,
+            Self::Mortar(m) => m,
+        }
+    }
+}
+
+/// What a formulation keeps of one pair's decisions at an iterate: the
+/// inner solves at that iterate and the linearisation of a converged state
+/// read it back.
+#[derive(Clone, Default)]
+pub(crate) enum Kept {
+    /// Nothing kept: the formulation has no inner solves.
+    #[default]
+    None,
+    Nodal(Arc<node_to_segment::Decided>),
+    Mortar(Arc<mortar::Decided>),
+}
+
+impl Kept {
+    /// The tangent entries its formulation deferred to a solve that needs
+    /// them (`ContactSystem::defer_tangent`).
+    fn add_tangent(&self, k: &mut Vec<(usize, usize, f64)>) {
+        match self {
+            Kept::Mortar(decided) => decided.add_tangent(k),
+            Kept::None | Kept::Nodal(_) => {}
+        }
+    }
+}
+
+impl std::fmt::Debug for Kept {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("Kept(..)")
+    }
+}
+
+/// What a formulation derives from an increment's start alone, per pair
+/// (`StartCache`).
+#[derive(Clone)]
+pub(crate) enum StartData {
+    Mortar(Arc<mortar::AtStart>),
+}
+
+/// A pair's memory or kept data of another formulation than its own: a
+/// state restored into a problem it was not saved from.
+fn mismatch(pair: &ContactPair, what: &str) -> String {
+    format!("pair '{}': its {what} is another formulation's", pair.name)
 }
 
 /// Whether a converged state has sensitivities (the FMU's directional
@@ -191,8 +277,15 @@ pub fn update(
     for (p, pair) in problem.contacts.iter().enumerate() {
         let keep = keep.map(|(previous, switched)| (&previous.kept[p], &switched.0[p][..]));
         let counters = [&mut flips.counts[p][..], &mut flips.slips[p][..]];
-        let result =
-            formulation(pair).update(&at, pair, &mut memory[p], counters, log, &mut out, keep)?;
+        let result = formulation(pair).update(
+            &at,
+            (p, pair),
+            &mut memory[p],
+            counters,
+            log,
+            &mut out,
+            keep,
+        )?;
         out.pairs.push(result);
     }
     Ok(out)

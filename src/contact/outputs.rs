@@ -2,7 +2,7 @@
 //! report and the iteration does not need: the gap to the target and the
 //! slip over the last step; and the outputs of a problem at rest.
 
-use super::memory::PairMemory;
+use super::PairMemory;
 use super::search::{self, RigidSegments, TargetSegment, TargetSet};
 use crate::problem::{ContactPair, Problem};
 use crate::results::{DriverResult, NodeState, PairNodes, PairResult, StepResult};
@@ -109,18 +109,20 @@ pub fn gaps_and_slips(
     let m = x.len();
     let mut gaps = Vec::with_capacity(m);
     let mut slips = Vec::with_capacity(m);
-    for (k, node) in now.nodes.iter().enumerate() {
-        let contact = (node.state != NodeState::Open)
-            .then(|| segments.get(node.segment))
+    for k in 0..now.nodes() {
+        let (state, segment, beta) = now.contact(k);
+        let contact = (state != NodeState::Open)
+            .then(|| segments.get(segment))
             .flatten();
         gaps.push(match contact {
-            Some(s) => s.seg.contact_at(x[k], node.beta).gap(),
+            Some(s) => s.seg.contact_at(x[k], beta).gap(),
             None => nearest_gap(&segments, x[k]),
         });
         let began = start
-            .and_then(|s| s.nodes.get(k))
-            .filter(|b| b.state != NodeState::Open)
-            .and_then(|b| Some((segments.get(b.segment)?, b.beta)));
+            .filter(|s| k < s.nodes())
+            .map(|s| s.contact(k))
+            .filter(|b| b.0 != NodeState::Open)
+            .and_then(|b| Some((segments.get(b.1)?, b.2)));
         let slip = match (contact, began) {
             (Some(_), Some((s, beta))) => {
                 along(&x, k, pair.closed).dot(&(x[k] - s.seg.point_at(beta)))

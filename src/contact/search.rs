@@ -3,7 +3,7 @@
 //! contactor node meets the target (projection, following a sliding node
 //! across segments, reflex corners).
 
-use super::memory::PairMemory;
+use super::PairMemory;
 use super::segment::{ContactPoint, Segment};
 use crate::problem::{ContactPair, Problem, Target};
 use crate::results::NodeState;
@@ -440,7 +440,7 @@ pub fn near_target(
         let segments = target_segments(targets, problem, pair, u, poses)?;
         let near = (pair.contactor.iter().enumerate())
             .filter_map(|(k, &n)| {
-                if memory[p].nodes[k].state != NodeState::Open {
+                if memory[p].state(k) != NodeState::Open {
                     return Some((k, 0.0));
                 }
                 let x = position(problem, u, n);

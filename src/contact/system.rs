@@ -2,17 +2,15 @@
 //! given: the iterate (`Iterate`, `Start`), the contact part of the system
 //! of Eq. (18) (`ContactSystem`: forces, gradient entries, constraint rows,
 //! reported results), the nodes an inner solve switches (`Switched`,
-//! `Forced`), a formulation's own record of its decisions (`Kept`), and the
+//! `Forced`), the start of the increment (`Start`, `StartCache`), and the
 //! per-increment change counters that fail an oscillating increment.
 
-use super::memory::PairMemory;
 use super::search::RigidSegments;
+use super::{Kept, PairMemory, StartData};
 use crate::assembly::PRESCRIBED;
 use crate::problem::{ContactPair, Problem};
 use crate::results::{NodeState, PairResult};
 use nalgebra::Vector2;
-use std::any::Any;
-use std::sync::Arc;
 
 /// Times a node may change between open and closed within one increment
 /// before the increment is declared oscillating.
@@ -99,9 +97,9 @@ pub struct ContactSystem {
     /// those `deferred` (`complete_tangent`).
     pub k: Vec<(usize, usize, f64)>,
     /// Tangent entries a formulation forms only where a solve needs them
-    /// (a converged iterate's are never formed), each with the place in
-    /// `k` they take.
-    pub(crate) deferred: Vec<(usize, DeferredTangent)>,
+    /// (a converged iterate's are never formed): the place in `k` they take
+    /// and the pair whose kept decisions form them (`Kept::add_tangent`).
+    pub(crate) deferred: Vec<(usize, usize)>,
     pub rows: Vec<Row>,
     /// Per constrained node: its mesh node and the range of its rows.
     pub groups: Vec<(usize, std::ops::Range<usize>)>,
@@ -122,14 +120,10 @@ pub struct ContactSystem {
 }
 
 impl ContactSystem {
-    /// Defers tangent entries that `tangent` forms to `complete_tangent`,
-    /// at the place in `k` they would take now.
-    pub(crate) fn defer_tangent(
-        &mut self,
-        tangent: impl Fn(&mut Vec<(usize, usize, f64)>) + Send + Sync + 'static,
-    ) {
-        self.deferred
-            .push((self.k.len(), DeferredTangent(Arc::new(tangent))));
+    /// Defers the tangent entries of pair `p` that its kept decisions form
+    /// to `complete_tangent`, at the place in `k` they would take now.
+    pub(crate) fn defer_tangent(&mut self, p: usize) {
+        self.deferred.push((self.k.len(), p));
     }
 
     /// Forms the deferred tangent entries into `k`, each at its place: the
@@ -141,25 +135,12 @@ impl ContactSystem {
         }
         let formed = std::mem::take(&mut self.k);
         let mut from = 0;
-        for (at, DeferredTangent(tangent)) in std::mem::take(&mut self.deferred) {
+        for (at, p) in std::mem::take(&mut self.deferred) {
             self.k.extend_from_slice(&formed[from..at]);
-            tangent(&mut self.k);
+            self.kept[p].add_tangent(&mut self.k);
             from = at;
         }
         self.k.extend_from_slice(&formed[from..]);
-    }
-}
-
-/// Matrix entries (dof, dof, value).
-type Entries3 = Vec<(usize, usize, f64)>;
-
-/// Tangent entries formed on demand (`ContactSystem::defer_tangent`).
-#[derive(Clone)]
-pub(crate) struct DeferredTangent(Arc<dyn Fn(&mut Entries3) + Send + Sync>);
-
-impl std::fmt::Debug for DeferredTangent {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str("DeferredTangent")
     }
 }
 
@@ -234,7 +215,7 @@ impl Flips {
     /// Counters for every node of `memory`, zero where they were not kept.
     pub(super) fn fit(&mut self, memory: &[PairMemory]) {
         if self.counts.len() != memory.len() {
-            self.counts = memory.iter().map(|m| vec![0; m.nodes.len()]).collect();
+            self.counts = memory.iter().map(|m| vec![0; m.nodes()]).collect();
             self.slips = self.counts.clone();
         }
     }
@@ -256,40 +237,13 @@ pub(crate) enum Forced {
     },
 }
 
-/// What a formulation keeps of one pair's decisions at an iterate, in its
-/// own type (opaque here): the inner solves at that iterate and the
-/// linearisation of a converged state read it back.
-#[derive(Clone, Default)]
-pub(crate) struct Kept(Option<Arc<dyn Any + Send + Sync>>);
-
-impl Kept {
-    pub(super) fn new<T: Any + Send + Sync>(value: T) -> Self {
-        Kept(Some(Arc::new(value)))
-    }
-
-    /// What was kept, if it is a `T`.
-    pub(super) fn get<T: Any>(&self) -> Option<&T> {
-        self.0.as_deref()?.downcast_ref()
-    }
-}
-
-impl std::fmt::Debug for Kept {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(if self.0.is_some() {
-            "Kept(..)"
-        } else {
-            "Kept(none)"
-        })
-    }
-}
-
 /// A hash of every node's state as it would be after `switched`: the
 /// inner solves of an iteration stop when they meet a set of states again.
 pub fn state_key(memory: &[PairMemory], switched: &Switched) -> u64 {
     use std::hash::{Hash, Hasher};
     let mut h = std::collections::hash_map::DefaultHasher::new();
     for (p, m) in memory.iter().enumerate() {
-        for (k, node) in m.nodes.iter().enumerate() {
+        for k in 0..m.nodes() {
             let forced = switched
                 .0
                 .get(p)
@@ -299,7 +253,7 @@ pub fn state_key(memory: &[PairMemory], switched: &Switched) -> u64 {
                 Some((_, Forced::Slip(s))) => (NodeState::Slip as u64, *s),
                 Some((_, Forced::Open)) => (NodeState::Open as u64, 0.0),
                 Some((_, Forced::Close { j, .. })) => (3 + *j as u64, 0.0),
-                None => (node.state as u64, node.nodal.slip_sign),
+                None => (m.state(k) as u64, m.slip_sign(k)),
             };
             (state, sign.to_bits()).hash(&mut h);
         }
@@ -433,35 +387,33 @@ pub struct Start<'a> {
     pub cache: &'a StartCache,
 }
 
-/// Per pair, what a formulation computes from an increment's start alone
-/// (mortar's couplings where the increment started, `mortar::PairAt`),
-/// with the key it was computed from (the start's positions): taken again
-/// while the key is equal, made anew otherwise. Keyed by its content, it
-/// needs no invalidation: a rolled-back, bisected or restored increment
-/// whose start differs makes its own.
+/// Per pair (by its index), what its formulation computes from an
+/// increment's start alone (mortar's couplings where the increment
+/// started), with the key it was computed from (the start's positions),
+/// which the formulation compares: taken again while the key is equal,
+/// made anew otherwise. Keyed by its content, it needs no invalidation: a
+/// rolled-back, bisected or restored increment whose start differs makes
+/// its own.
 #[derive(Default)]
-pub struct StartCache(
-    std::sync::Mutex<std::collections::HashMap<String, Arc<dyn Any + Send + Sync>>>,
-);
+pub struct StartCache(std::sync::Mutex<Vec<Option<StartData>>>);
 
 impl StartCache {
-    /// The value for pair `name` made from `key` (`make`), kept from an
-    /// earlier call with an equal key or made now and kept.
-    pub(super) fn get_or<K, V>(&self, name: &str, key: K, make: impl FnOnce() -> V) -> Arc<V>
-    where
-        K: PartialEq + Send + Sync + 'static,
-        V: Send + Sync + 'static,
-    {
-        let lock = || self.0.lock().unwrap_or_else(|e| e.into_inner());
-        let kept = lock().get(name).cloned();
-        if let Some(entry) = kept.as_ref().and_then(|e| e.downcast_ref::<(K, Arc<V>)>())
-            && entry.0 == key
-        {
-            return entry.1.clone();
+    fn lock(&self) -> std::sync::MutexGuard<'_, Vec<Option<StartData>>> {
+        self.0.lock().unwrap_or_else(|e| e.into_inner())
+    }
+
+    /// Pair `p`'s entry, if it has one.
+    pub(super) fn get(&self, p: usize) -> Option<StartData> {
+        self.lock().get(p).cloned().flatten()
+    }
+
+    /// Pair `p`'s entry made anew.
+    pub(super) fn set(&self, p: usize, data: StartData) {
+        let mut kept = self.lock();
+        if kept.len() <= p {
+            kept.resize(p + 1, None);
         }
-        let value = Arc::new(make());
-        lock().insert(name.to_string(), Arc::new((key, value.clone())));
-        value
+        kept[p] = Some(data);
     }
 }
 

@@ -348,10 +348,10 @@ impl Solver {
             round.dedup();
             // Every node of a pair's contact zone changed on the way.
             inner.wandered = memory.iter().enumerate().any(|(p, m)| {
-                let mut zone = (m.nodes.iter().enumerate())
-                    .filter(|(_, n)| n.state != crate::results::NodeState::Open)
+                let mut zone = (0..m.nodes())
+                    .filter(|&k| m.state(k) != crate::results::NodeState::Open)
                     .peekable();
-                zone.peek().is_some() && zone.all(|(k, _)| round.binary_search(&(p, k)).is_ok())
+                zone.peek().is_some() && zone.all(|k| round.binary_search(&(p, k)).is_ok())
             });
             return Ok(None);
         }

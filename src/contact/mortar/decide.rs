@@ -4,9 +4,9 @@
 //! the node's slip measured from the start of the increment). Fresh at an
 //! iterate (`decide`), or the linearised problem's (`predict`, `forced`).
 
+use super::memory::{Memory, Node};
 use super::{Decided, PairAt};
 use crate::contact::Prediction;
-use crate::contact::memory::{NodeMemory, PairMemory};
 use crate::contact::system::{self, ContactSystem, Forced, Iterate, count_flip, count_slip};
 use crate::problem::{ContactPair, FrictionRule};
 use crate::results::NodeState;
@@ -34,10 +34,10 @@ impl Decision {
     };
 
     /// The decision a node's memory holds.
-    pub fn of(node: &NodeMemory) -> Decision {
+    pub fn of(node: &Node) -> Decision {
         Decision {
             state: node.state,
-            sign: node.nodal.slip_sign,
+            sign: node.slip_sign,
         }
     }
 
@@ -55,12 +55,12 @@ impl Decision {
 
     /// Into a node's memory: its state and slip direction, and whether it
     /// has slid (in this increment, ever) with `friction`.
-    pub fn remember(&self, node: &mut NodeMemory, friction: bool) {
+    pub fn remember(&self, node: &mut Node, friction: bool) {
         node.state = self.state;
-        node.nodal.slip_sign = self.sign;
+        node.slip_sign = self.sign;
         if self.state == NodeState::Slip && friction {
-            node.nodal.slid = true;
-            node.nodal.ever_slid = true;
+            node.slid = true;
+            node.ever_slid = true;
         }
     }
 
@@ -95,7 +95,7 @@ impl Decision {
 pub(super) fn decide(
     at: &Iterate,
     pair: &ContactPair,
-    mem: &PairMemory,
+    mem: &Memory,
     here: &PairAt,
     [lambda, lambda_t]: [&[f64]; 2],
     [flips, slips]: [&mut [usize]; 2],
@@ -171,12 +171,12 @@ pub(super) fn decide(
 fn parting(
     pair: &ContactPair,
     here: &PairAt,
-    mem: &PairMemory,
+    mem: &Memory,
     decided: &[Decision],
     [lambda, lambda_t]: [&[f64]; 2],
 ) -> Vec<usize> {
     let excess = |k: usize| {
-        let mu = pair.sticking_mu(mem.nodes[k].nodal.ever_slid);
+        let mu = pair.sticking_mu(mem.nodes[k].ever_slid);
         lambda_t[k].abs() / (mu * lambda[k]).max(f64::MIN_POSITIVE)
     };
     system::parting(
@@ -203,7 +203,7 @@ fn parting(
 fn frictional(
     pair: &ContactPair,
     here: &PairAt,
-    node: &NodeMemory,
+    node: &Node,
     j: usize,
     [lambda, lambda_t]: [f64; 2],
 ) -> Decision {
@@ -213,10 +213,10 @@ fn frictional(
     if here.on_symmetry_plane(j) {
         return Decision::STICK;
     }
-    let restarts = pair.rule == FrictionRule::AlwaysMuS && !node.nodal.slid;
+    let restarts = pair.rule == FrictionRule::AlwaysMuS && !node.slid;
     let u = here.gaps[j].slip.0;
-    if node.state == NodeState::Slip && node.nodal.slip_sign != 0.0 && !restarts {
-        let s = node.nodal.slip_sign;
+    if node.state == NodeState::Slip && node.slip_sign != 0.0 && !restarts {
+        let s = node.slip_sign;
         let tolerance = SLIP_TOLERANCE * here.area[j] * here.h;
         return if s * u >= -tolerance {
             Decision::slip(s)
@@ -224,7 +224,7 @@ fn frictional(
             Decision::STICK
         };
     }
-    if lambda_t.abs() <= pair.sticking_mu(node.nodal.ever_slid) * lambda.max(0.0) {
+    if lambda_t.abs() <= pair.sticking_mu(node.ever_slid) * lambda.max(0.0) {
         Decision::STICK
     } else {
         Decision::slip(-lambda_t.signum())
@@ -235,7 +235,7 @@ fn frictional(
 /// unless its weighted slip since the start of the increment exceeds mu
 /// times its weighted overlap (it arrives sliding), then it slides along
 /// that slip.
-fn closing(pair: &ContactPair, here: &PairAt, node: &NodeMemory, j: usize) -> Decision {
+fn closing(pair: &ContactPair, here: &PairAt, node: &Node, j: usize) -> Decision {
     if !here.friction {
         return Decision::slip(0.0);
     }
@@ -243,7 +243,7 @@ fn closing(pair: &ContactPair, here: &PairAt, node: &NodeMemory, j: usize) -> De
         return Decision::STICK;
     }
     let (u, g) = (here.gaps[j].slip.0, here.gaps[j].value);
-    if u.abs() > pair.sticking_mu(node.nodal.ever_slid) * (-g).max(0.0) {
+    if u.abs() > pair.sticking_mu(node.ever_slid) * (-g).max(0.0) {
         Decision::slip(u.signum())
     } else {
         Decision::STICK
@@ -254,7 +254,7 @@ fn closing(pair: &ContactPair, here: &PairAt, node: &NodeMemory, j: usize) -> De
 pub(super) fn forced(
     pair: &ContactPair,
     here: &PairAt,
-    mem: &PairMemory,
+    mem: &Memory,
     j: usize,
     f: Forced,
 ) -> Decision {
@@ -284,7 +284,7 @@ pub(super) fn forced(
 pub(super) fn predict(
     at: &Prediction,
     pair: &ContactPair,
-    mem: &PairMemory,
+    mem: &Memory,
     kept: &Decided,
 ) -> Vec<(usize, Forced)> {
     let here = &kept.at;
@@ -336,7 +336,7 @@ pub(super) fn predict(
         }
         match d.state {
             NodeState::Stick => {
-                let mu = pair.sticking_mu(mem.nodes[j].nodal.ever_slid);
+                let mu = pair.sticking_mu(mem.nodes[j].ever_slid);
                 if lambda_t[j].abs() > mu * lambda[j].max(0.0) {
                     switched.push((j, Forced::Slip(-lambda_t[j].signum())));
                 }

@@ -14,7 +14,7 @@
 
 use super::dual::{Dual, V2};
 use super::surface::{Surface, node_xi, shape};
-use crate::contact::traction::Geometry;
+use crate::contact::report::Geometry;
 
 /// Points and weights of 3-point Gauss integration on [-1, 1]: exact to
 /// degree 5. On a straight side (an 8-node one with its mid-side node in

@@ -1,10 +1,13 @@
 //! The exact linearisation of a mortar pair's contact conditions at a
-//! converged state (`contact::sensitivity` states what it is for): per node
-//! in contact its weighted gap held, and while it sticks its weighted slip
-//! (measured from the converged state itself: its material point on the
-//! target held); a sliding node's friction in its multiplier's column; the
-//! contact forces' change at fixed multipliers (their Hessians); and each
-//! contactor node's force and frame for the resultants' changes.
+//! converged state (`contact::sensitivity` states what it is for), from the
+//! rows, forces and tangent of Newton's last system there (rebuilt from
+//! what `update` kept): per node in contact its weighted gap held, and
+//! while it sticks its weighted slip held, measured as Newton measured it,
+//! from where the increment started (`State::step_start_u`), not from the
+//! converged state; a sliding node's friction in its multiplier's column;
+//! the contact forces' change at fixed multipliers (their Hessians); and
+//! each contactor node's force and frame (turning with its chords) for the
+//! resultants' changes.
 
 use super::decide::Decision;
 use super::rows::{add_forces, add_rows, add_tangent};

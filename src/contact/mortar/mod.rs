@@ -22,17 +22,16 @@ mod decide;
 mod dual;
 mod integrate;
 mod linearise;
+mod memory;
 mod rows;
 mod surface;
 
-use super::Formulation;
-use super::Prediction;
-use super::memory::PairMemory;
 use super::outputs::nearest_point;
 use super::report::geometry;
 use super::search::{SearchCache, target_segments};
 use super::sensitivity::{At, Linearised};
-use super::system::{ContactSystem, Forced, Iterate, Kept};
+use super::system::{ContactSystem, Forced, Iterate};
+use super::{Formulation, Kept, PairMemory, Prediction, StartData, mismatch};
 use crate::assembly::PRESCRIBED;
 use crate::problem::{ContactPair, Kinematics};
 use crate::results::{NodeState, PairResult};
@@ -40,7 +39,10 @@ use decide::Decision;
 use integrate::{Coupling, Order, Part, Setting, couplings, integrate, slip_from};
 use nalgebra::Vector2;
 use std::collections::BTreeMap;
+use std::sync::Arc;
 use surface::Surface;
+
+pub use memory::Memory;
 
 /// Mortar contact (`formulation = "mortar"`).
 pub(super) struct Mortar;
@@ -88,7 +90,7 @@ struct PairAt {
     y: Vec<[f64; 2]>,
     x_ref: Vec<[f64; 2]>,
     reference_measure: bool,
-    geometry: crate::contact::traction::Geometry,
+    geometry: crate::contact::report::Geometry,
     friction: bool,
     parts: Vec<Part>,
     /// The parts with their Hessians (`second_order`).
@@ -104,15 +106,33 @@ struct PairAt {
 /// What `update` keeps for `predict` and the inner solves' `update`: the
 /// pair at the iterate, and the decisions and multipliers (normal and
 /// tangential tractions) its rows were built from.
-struct Decided {
-    at: std::sync::Arc<PairAt>,
+pub(crate) struct Decided {
+    at: Arc<PairAt>,
     decisions: Vec<Decision>,
     lambda: Vec<f64>,
     lambda_t: Vec<f64>,
 }
 
+/// Both surfaces' nodes and their positions.
+type StartKey = (Vec<usize>, Vec<usize>, Vec<[f64; 2]>, Vec<[f64; 2]>);
+
+/// Where the contactor's points met the target at the start of the
+/// increment (`integrate::couplings`), with the key they were made from:
+/// both surfaces' nodes and positions there (`StartCache`).
+pub(crate) struct AtStart {
+    key: StartKey,
+    couplings: Vec<Coupling>,
+}
+
+impl Decided {
+    /// The contact tangent of the decisions' rows (`ContactSystem::defer_tangent`).
+    pub(crate) fn add_tangent(&self, k: &mut Vec<(usize, usize, f64)>) {
+        rows::add_tangent(&self.at, [&self.lambda, &self.lambda_t], k);
+    }
+}
+
 impl PairAt {
-    fn new(at: &Iterate, pair: &ContactPair) -> Result<Self, String> {
+    fn new(at: &Iterate, (p, pair): (usize, &ContactPair)) -> Result<Self, String> {
         let problem = at.problem;
         let mut contactor = Surface::contactor(problem, pair)?;
         let target = Surface::target(problem, pair)?.ok_or_else(|| {
@@ -181,16 +201,22 @@ impl PairAt {
                 x0.clone(),
                 y0.clone(),
             );
-            let start = (at.start.cache).get_or(&pair.name, key, || {
-                // Their reach is the start's own (`PairAt::h` there).
-                let h0 =
-                    longest_side(&pair_at.contactor, &x0).max(longest_side(&pair_at.target, &y0));
-                couplings(&Setting {
-                    reach: 2.0 * h0,
-                    ..pair_at.setting(&x0, &y0)
-                })
-            });
-            pair_at.add_slips(&mut gaps, &parts, &start);
+            let start = match at.start.cache.get(p) {
+                Some(StartData::Mortar(kept)) if kept.key == key => kept,
+                _ => {
+                    // Their reach is the start's own (`PairAt::h` there).
+                    let h0 = longest_side(&pair_at.contactor, &x0)
+                        .max(longest_side(&pair_at.target, &y0));
+                    let couplings = couplings(&Setting {
+                        reach: 2.0 * h0,
+                        ..pair_at.setting(&x0, &y0)
+                    });
+                    let made = Arc::new(AtStart { key, couplings });
+                    at.start.cache.set(p, StartData::Mortar(made.clone()));
+                    made
+                }
+            };
+            pair_at.add_slips(&mut gaps, &parts, &start.couplings);
         }
         // A node of no weight (an 8-node side's corner on the axis) has no
         // weighted gap and no multiplier: it follows its side.
@@ -361,16 +387,21 @@ impl Formulation for Mortar {
     fn update(
         &self,
         at: &Iterate,
-        pair: &ContactPair,
+        (p, pair): (usize, &ContactPair),
         mem: &mut PairMemory,
         counters: [&mut [usize]; 2],
         log: &mut dyn FnMut(&str),
         out: &mut ContactSystem,
         keep: Option<(&Kept, &[(usize, Forced)])>,
     ) -> Result<PairResult, String> {
+        let PairMemory::Mortar(mem) = mem else {
+            return Err(mismatch(pair, "memory"));
+        };
         let (here, decisions, lambda, lambda_t) = match keep {
             Some((kept, forced)) => {
-                let kept = (kept.get::<Decided>()).ok_or("inner solve without mortar decisions")?;
+                let Kept::Mortar(kept) = kept else {
+                    return Err(mismatch(pair, "inner solve's decisions"));
+                };
                 let mut decisions = kept.decisions.clone();
                 for &(j, f) in forced {
                     decisions[j] = decide::forced(pair, &kept.at, mem, j, f);
@@ -380,7 +411,7 @@ impl Formulation for Mortar {
                 (kept.at.clone(), decisions, lambda, lambda_t)
             }
             None => {
-                let here = PairAt::new(at, pair)?;
+                let here = PairAt::new(at, (p, pair))?;
                 let was: Vec<Decision> = mem.nodes.iter().map(Decision::of).collect();
                 let (lambda, lambda_t) = here.multipliers(&was, at.r);
                 let mut decisions = decide::decide(
@@ -394,7 +425,7 @@ impl Formulation for Mortar {
                     out,
                 )?;
                 here.weightless_follow(&mut decisions);
-                (std::sync::Arc::new(here), decisions, lambda, lambda_t)
+                (Arc::new(here), decisions, lambda, lambda_t)
             }
         };
         // The multipliers of the nodes kept in contact (a node that closes
@@ -417,10 +448,7 @@ impl Formulation for Mortar {
             .collect();
         rows::add_rows(pair, &here, &decisions, out);
         let force = rows::add_forces(&here, [&lambda, &lambda_t], out);
-        {
-            let (here, lambda, lambda_t) = (here.clone(), lambda.clone(), lambda_t.clone());
-            out.defer_tangent(move |k| rows::add_tangent(&here, [&lambda, &lambda_t], k));
-        }
+        out.defer_tangent(p);
         for (node, d) in mem.nodes.iter_mut().zip(&decisions) {
             d.remember(node, here.friction);
         }
@@ -430,12 +458,12 @@ impl Formulation for Mortar {
         } else {
             PairResult::default()
         };
-        out.kept.push(Kept::new(Decided {
+        out.kept.push(Kept::Mortar(Arc::new(Decided {
             at: here,
             decisions,
             lambda,
             lambda_t,
-        }));
+        })));
         Ok(result)
     }
 
@@ -452,7 +480,7 @@ impl Formulation for Mortar {
         kept: &Kept,
         _cache: &mut SearchCache,
     ) -> Result<Option<Vec<(usize, Forced)>>, String> {
-        let Some(kept) = kept.get::<Decided>() else {
+        let (PairMemory::Mortar(mem), Kept::Mortar(kept)) = (mem, kept) else {
             return Ok(None);
         };
         Ok(Some(decide::predict(at, pair, mem, kept)))
@@ -472,8 +500,9 @@ impl Formulation for Mortar {
         kept: &Kept,
         out: &mut Linearised,
     ) -> Result<(), String> {
-        let kept = (kept.get::<Decided>())
-            .ok_or_else(|| format!("pair '{}': no mortar decisions (internal)", pair.name))?;
+        let Kept::Mortar(kept) = kept else {
+            return Err(mismatch(pair, "converged state's decisions"));
+        };
         linearise::linearise_pair(at, (p, pair), kept, out);
         Ok(())
     }
@@ -486,7 +515,7 @@ fn remember_feet(
     at: &Iterate,
     pair: &ContactPair,
     here: &PairAt,
-    mem: &mut PairMemory,
+    mem: &mut Memory,
 ) -> Result<(), String> {
     if mem.nodes.iter().all(|n| n.state == NodeState::Open) {
         return Ok(());

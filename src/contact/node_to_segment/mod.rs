@@ -6,9 +6,15 @@
 
 mod decision;
 mod linearise;
+mod memory;
 mod nodal;
 mod paper;
+mod reported;
 mod rows;
+mod traction;
+
+pub use memory::Memory;
+pub(crate) use nodal::Decided;
 
 /// A node's contact force counts as tension above this fraction of the
 /// largest contact force of its pair (round-off at a node just touching).

@@ -9,19 +9,21 @@
 //! quadratically once the states settle (docs/contact.md section 8).
 
 use super::decision::Decision;
+use super::memory::{Memory, NodeMemory};
+use super::reported::reported_tractions;
 use super::rows::add_rows;
 use super::{Nodal, TENSION_TOLERANCE, linearise};
 use crate::assembly::PRESCRIBED;
 use crate::contact::Formulation;
 use crate::contact::Prediction;
-use crate::contact::memory::{NodeMemory, PairMemory};
-use crate::contact::report::{Report, reported_tractions};
+use crate::contact::report::Report;
 use crate::contact::search::{
     self, SearchCache, Segments, TargetSegment, contactor_positions, target_segments,
 };
 use crate::contact::segment::ContactPoint;
 use crate::contact::sensitivity::{At, Linearised};
-use crate::contact::system::{self, ContactSystem, Forced, Iterate, Kept, count_flip, count_slip};
+use crate::contact::system::{self, ContactSystem, Forced, Iterate, count_flip, count_slip};
+use crate::contact::{Kept, PairMemory, mismatch};
 use crate::problem::{ContactPair, FrictionRule, Recovery, Target};
 use crate::results::{NodeState, PairResult};
 use nalgebra::Vector2;
@@ -37,8 +39,8 @@ enum Plan<'a> {
 }
 
 /// A pair's decisions at an iterate, kept for its inner solves and for the
-/// linearisation of a converged state (`system::Kept`).
-pub(super) struct Decided {
+/// linearisation of a converged state (`contact::Kept`).
+pub(crate) struct Decided {
     pub(super) decisions: Vec<Decision>,
     /// Which nodes were in contact when the iterate's decisions were made:
     /// their out-of-balance forces are contact forces (a node the
@@ -73,18 +75,19 @@ impl Formulation for Nodal {
     fn update(
         &self,
         at: &Iterate,
-        pair: &ContactPair,
+        (_, pair): (usize, &ContactPair),
         mem: &mut PairMemory,
         counters: [&mut [usize]; 2],
         log: &mut dyn FnMut(&str),
         out: &mut ContactSystem,
         keep: Option<(&Kept, &[(usize, Forced)])>,
     ) -> Result<PairResult, String> {
+        let PairMemory::NodeToSegment(mem) = mem else {
+            return Err(mismatch(pair, "memory"));
+        };
         let plan = match keep {
-            Some((kept, forced)) => {
-                let kept = (kept.get::<Decided>()).ok_or("inner solve without nodal decisions")?;
-                Plan::Keep { kept, forced }
-            }
+            Some((Kept::Nodal(kept), forced)) => Plan::Keep { kept, forced },
+            Some(_) => return Err(mismatch(pair, "inner solve's decisions")),
             None => Plan::Decide,
         };
         let active = match &plan {
@@ -100,10 +103,10 @@ impl Formulation for Nodal {
         // An inner solve's system serves its rows alone: no report.
         let report = matches!(plan, Plan::Decide);
         let result = rows_and_results(at, &view, mem, &decisions, out, report)?;
-        out.kept.push(Kept::new(Decided {
+        out.kept.push(Kept::Nodal(std::sync::Arc::new(Decided {
             decisions,
             active: view.active,
-        }));
+        })));
         Ok(result)
     }
 
@@ -119,7 +122,7 @@ impl Formulation for Nodal {
         kept: &Kept,
         cache: &mut SearchCache,
     ) -> Result<Option<Vec<(usize, Forced)>>, String> {
-        let Some(kept) = kept.get::<Decided>() else {
+        let (PairMemory::NodeToSegment(mem), Kept::Nodal(kept)) = (mem, kept) else {
             return Ok(None);
         };
         predict_pair(at, pair, mem, kept, cache).map(Some)
@@ -150,8 +153,9 @@ impl Formulation for Nodal {
                 pair.1.name
             ));
         }
-        let kept =
-            (kept.get::<Decided>()).ok_or("linearisation without nodal decisions (internal)")?;
+        let Kept::Nodal(kept) = kept else {
+            return Err(mismatch(pair.1, "converged state's decisions"));
+        };
         linearise::linearise_pair(at, pair, &kept.decisions, out)
     }
 
@@ -160,6 +164,9 @@ impl Formulation for Nodal {
     /// facet's corner and be thrown back each time it steps past it (the
     /// ironing with the ring's surface as contactor, tests/ironing.rs).
     fn failure_hint(&self, pair: &ContactPair, mem: &PairMemory) -> Option<String> {
+        let PairMemory::NodeToSegment(mem) = mem else {
+            return None;
+        };
         let faceted = matches!(pair.target, Target::Body { smooth: None, .. });
         let crossed = mem.nodes.iter().filter(|n| n.crossed.is_some()).count();
         (faceted && crossed > 0).then(|| {
@@ -210,7 +217,7 @@ impl<'a> PairIterate<'a> {
     fn new(
         at: &Iterate,
         pair: &'a ContactPair,
-        mem: &PairMemory,
+        mem: &Memory,
         active: Option<&[bool]>,
     ) -> Result<Self, String> {
         let (problem, start) = (at.problem, at.start);
@@ -303,7 +310,7 @@ impl<'a> PairIterate<'a> {
 /// State decisions: every node decided from the iterate (`Plan::Decide`),
 /// or the decisions made at this iterate kept but for the forced nodes'
 /// (`Plan::Keep`).
-fn decisions(view: &PairIterate, mem: &PairMemory, plan: &Plan) -> Vec<Decision> {
+fn decisions(view: &PairIterate, mem: &Memory, plan: &Plan) -> Vec<Decision> {
     let decide_node = |k: usize, forced: Option<Forced>| decide(view, k, &mem.nodes[k], forced);
     match plan {
         Plan::Keep { kept, forced } => {
@@ -328,7 +335,7 @@ fn decisions(view: &PairIterate, mem: &PairMemory, plan: &Plan) -> Vec<Decision>
 /// neighbouring contactor nodes released from sticking in opposite
 /// directions, the one less far outside its friction cone (`|q| / (mu
 /// p_n)`); none while the iterate settles.
-fn parting(view: &PairIterate, mem: &PairMemory, decided: &[Decision]) -> Vec<usize> {
+fn parting(view: &PairIterate, mem: &Memory, decided: &[Decision]) -> Vec<usize> {
     let m = decided.len();
     if view.settling || m < 2 {
         return Vec::new();
@@ -355,7 +362,7 @@ fn parting(view: &PairIterate, mem: &PairMemory, decided: &[Decision]) -> Vec<us
 /// (`flips`) and between stick and slip (`slips`); releases are logged.
 fn count_changes(
     pair: &ContactPair,
-    mem: &PairMemory,
+    mem: &Memory,
     decisions: &[Decision],
     [flips, slips]: [&mut [usize]; 2],
     log: &mut dyn FnMut(&str),
@@ -393,7 +400,7 @@ fn count_changes(
 fn rows_and_results(
     at: &Iterate,
     view: &PairIterate,
-    mem: &mut PairMemory,
+    mem: &mut Memory,
     decisions: &[Decision],
     out: &mut ContactSystem,
     report_results: bool,
@@ -794,7 +801,7 @@ fn restarts_sticking(pair: &ContactPair, node: &NodeMemory) -> bool {
 fn predict_pair(
     at: &Prediction,
     (p, pair): (usize, &ContactPair),
-    mem: &PairMemory,
+    mem: &Memory,
     kept: &Decided,
     cache: &mut SearchCache,
 ) -> Result<Vec<(usize, Forced)>, String> {

@@ -4,10 +4,12 @@
 //! nodes' states), re-contacts and the return to sticking, each node's
 //! contact point and its rows of Eq. (18) (docs/contact.md section 8b).
 
+use super::memory::{Memory, NodeMemory};
+use super::reported::quadratic_tractions;
 use super::rows::add_rows;
+use super::traction::{self, SegmentState};
 use super::{Paper, TENSION_TOLERANCE};
-use crate::contact::memory::{NodeMemory, PairMemory};
-use crate::contact::report::{Report, geometry, node_frame, quadratic_tractions};
+use crate::contact::report::{Report, geometry, node_frame};
 use crate::contact::search::BETA_TOLERANCE;
 use crate::contact::search::SearchCache;
 use crate::contact::search::{
@@ -16,10 +18,10 @@ use crate::contact::search::{
 };
 use crate::contact::segment::ContactPoint;
 use crate::contact::sensitivity::{At, Linearised};
+use crate::contact::system::Forced;
 use crate::contact::system::{ContactSystem, Iterate, count_flip};
-use crate::contact::system::{Forced, Kept};
-use crate::contact::traction::{self, SegmentState};
 use crate::contact::{Formulation, Prediction};
+use crate::contact::{Kept, PairMemory, mismatch};
 use crate::problem::{ContactPair, Kinematics};
 use crate::results::{NodeState, PairResult};
 use nalgebra::Vector2;
@@ -28,15 +30,18 @@ impl Formulation for Paper {
     fn update(
         &self,
         at: &Iterate,
-        pair: &ContactPair,
+        (_, pair): (usize, &ContactPair),
         mem: &mut PairMemory,
         [flips, _]: [&mut [usize]; 2],
         log: &mut dyn FnMut(&str),
         out: &mut ContactSystem,
         _keep: Option<(&Kept, &[(usize, Forced)])>,
     ) -> Result<PairResult, String> {
+        let PairMemory::NodeToSegment(mem) = mem else {
+            return Err(mismatch(pair, "memory"));
+        };
         let result = paper_pair(at, pair, mem, flips, log, out)?;
-        out.kept.push(Kept::default());
+        out.kept.push(Kept::None);
         Ok(result)
     }
 
@@ -84,7 +89,7 @@ impl Formulation for Paper {
 fn paper_pair(
     at: &Iterate,
     pair: &ContactPair,
-    mem: &mut PairMemory,
+    mem: &mut Memory,
     flips: &mut [usize],
     log: &mut dyn FnMut(&str),
     out: &mut ContactSystem,
@@ -187,7 +192,7 @@ impl Recovered {
 /// Force recovery: contact forces from the out-of-balance forces (Section
 /// 3): the recovered tractions, segment decisions and nodal contact forces
 /// of `traction::evaluate`, and the reported tractions (`per_area`).
-fn recover(view: &PaperPair, mem: &PairMemory) -> Result<Recovered, String> {
+fn recover(view: &PaperPair, mem: &Memory) -> Result<Recovered, String> {
     let (at, problem, pair) = (view.at, view.at.problem, view.pair);
     let m = pair.contactor.len();
     let geometry = geometry(problem);
@@ -312,7 +317,7 @@ type Recontact = Option<((usize, ContactPoint), bool)>;
 fn decide_segments(
     view: &PaperPair,
     rec: &Recovered,
-    mem: &mut PairMemory,
+    mem: &mut Memory,
     log: &mut dyn FnMut(&str),
 ) -> Vec<Recontact> {
     for (s, seg) in mem.segments.iter_mut().enumerate() {
@@ -332,7 +337,7 @@ fn decide_segments(
 /// iteration of a large increment) has slid from its anchor while free: it
 /// comes back sliding, and a segment of it that has just come back (it was
 /// open), or slides, takes a friction against that slip.
-fn recontacts(view: &PaperPair, rec: &Recovered, mem: &mut PairMemory) -> Vec<Recontact> {
+fn recontacts(view: &PaperPair, rec: &Recovered, mem: &mut Memory) -> Vec<Recontact> {
     let (segments, x) = (&view.segments, &view.x);
     let m = x.len();
     let nseg = mem.segments.len();
@@ -379,7 +384,7 @@ fn recontacts(view: &PaperPair, rec: &Recovered, mem: &mut PairMemory) -> Vec<Re
 fn return_to_sticking(
     view: &PaperPair,
     rec: &Recovered,
-    mem: &mut PairMemory,
+    mem: &mut Memory,
     log: &mut dyn FnMut(&str),
 ) {
     let (segments, x, active) = (&view.segments, &view.x, &rec.active);
@@ -430,7 +435,7 @@ fn return_to_sticking(
 }
 
 /// Table 1 on the segment states as they now are.
-fn table1(view: &PaperPair, rec: &Recovered, mem: &PairMemory) -> Vec<NodeState> {
+fn table1(view: &PaperPair, rec: &Recovered, mem: &Memory) -> Vec<NodeState> {
     let nseg = mem.segments.len();
     (0..view.x.len())
         .map(|k| {

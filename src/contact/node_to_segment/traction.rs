@@ -57,21 +57,13 @@
 
 use std::f64::consts::TAU;
 
+use crate::contact::report::Geometry;
 use crate::problem::{FrictionRule, Recovery};
 use crate::results::NodeState;
 
 /// A pivot of the recovery system this small against its diagonal means the node has
 /// (numerically) no contact area: the recovery is singular there.
 const PIVOT_TOLERANCE: f64 = 1e-12;
-
-/// Planar (plane stress, plane strain) or axisymmetric analysis.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Geometry {
-    /// Uniform thickness `h` (plane strain uses the solver's thickness, 1 by default).
-    Planar { thickness: f64 },
-    /// x is the radius; weights are taken over the full circle (`2 pi x ds`).
-    Axisymmetric,
-}
 
 /// State of a contactor segment after an iteration.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -300,10 +292,6 @@ impl Chain {
         })
     }
 
-    pub fn geometry(&self) -> Geometry {
-        self.geometry
-    }
-
     pub fn is_closed(&self) -> bool {
         self.closed
     }
@@ -313,12 +301,8 @@ impl Chain {
         self.x.len()
     }
 
-    /// Node positions.
-    pub fn positions(&self) -> &[[f64; 2]] {
-        &self.x
-    }
-
     /// Segments `0..m-1` (open) or `0..m` (closed).
+    #[cfg(test)]
     pub fn segments(&self) -> &[ChainSegment] {
         &self.segments
     }
