@@ -1,6 +1,7 @@
 //! Everything an increment changes, cloneable: rollback after a failed
 //! increment and (later) the FMU state.
 
+use crate::problem::Problem;
 use serde::{Deserialize, Serialize};
 
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
@@ -57,5 +58,63 @@ pub struct RunningMemory {
 impl State {
     pub fn displacement(&self, node: usize) -> [f64; 2] {
         [self.u[2 * node], self.u[2 * node + 1]]
+    }
+
+    /// Whether this state (restored from elsewhere) has the shape of
+    /// `like`, a state of `problem`: every array as long, every contact
+    /// pair's memory its pair's. The error names the first that is not.
+    pub fn fits(&self, like: &State, problem: &Problem) -> Result<(), String> {
+        let lengths = [
+            ("displacements", self.u.len(), like.u.len()),
+            ("material history", self.history.len(), like.history.len()),
+            ("contact pairs", self.contact.len(), like.contact.len()),
+            ("rigid targets", self.rigid.len(), like.rigid.len()),
+            ("tie multipliers", self.ties.len(), like.ties.len()),
+            (
+                "driver forces",
+                self.driver_forces.len(),
+                like.driver_forces.len(),
+            ),
+            ("pressures", self.pressures.len(), like.pressures.len()),
+            ("running strips", self.running.len(), like.running.len()),
+        ];
+        // Empty before the first increment.
+        let starts = [
+            (
+                "increment-start history",
+                self.step_start_history.len(),
+                like.history.len(),
+            ),
+            (
+                "increment-start displacements",
+                self.step_start_u.len(),
+                like.u.len(),
+            ),
+            (
+                "increment-start poses",
+                self.step_start_rigid.len(),
+                like.rigid.len(),
+            ),
+        ];
+        for (what, has, wants) in lengths {
+            if has != wants {
+                return Err(format!("it has {has} {what}, this model {wants}"));
+            }
+        }
+        for (what, has, wants) in starts {
+            if has != 0 && has != wants {
+                return Err(format!("it has {has} {what}, this model {wants} (or none)"));
+            }
+        }
+        for (memory, pair) in self.contact.iter().zip(&problem.contacts) {
+            if !memory.fits(pair) {
+                return Err(format!(
+                    "contact pair '{}': its memory does not fit the pair's {} contactor nodes under its formulation",
+                    pair.name,
+                    pair.contactor.len()
+                ));
+            }
+        }
+        Ok(())
     }
 }

@@ -3074,3 +3074,108 @@ fn sensitivities_factor_once_per_state() {
     let bad = solver.sensitivity(&[(Input::Pressure { pressure: 0 }, 1.0)], &rx);
     assert!(bad.unwrap_err().contains("Pressure"));
 }
+
+/// The bytes of `inst`'s state, serialized.
+fn serialized(inst: &Inst) -> Vec<u8> {
+    let l = lib();
+    let mut state: fmi2FMUstate = null_mut();
+    let mut size = 0usize;
+    unsafe {
+        assert_eq!(
+            (l.fmi2GetFMUstate.as_ref().unwrap())(inst.c, &mut state),
+            OK
+        );
+        let sized = l.fmi2SerializedFMUstateSize.as_ref().unwrap();
+        assert_eq!(sized(inst.c, state, &mut size), OK);
+    }
+    let mut bytes = vec![0 as c_char; size];
+    unsafe {
+        let serialize = l.fmi2SerializeFMUstate.as_ref().unwrap();
+        assert_eq!(serialize(inst.c, state, bytes.as_mut_ptr(), size), OK);
+        assert_eq!(
+            (l.fmi2FreeFMUstate.as_ref().unwrap())(inst.c, &mut state),
+            OK
+        );
+    }
+    bytes.into_iter().map(|b| b as u8).collect()
+}
+
+/// Issue 56, item 2: a serialized state edited in one array (a contact
+/// pair's node or segment memory, the rigid targets' poses, the running
+/// strips' memory: emptied, cut by one, extended by one) still reads back,
+/// but fmi2SetFMUstate refuses it with a message that says what does not
+/// fit, and the instance keeps its own state: the next step converges.
+/// (It used to be accepted, and the next step failed on "index out of
+/// bounds".)
+#[test]
+fn a_state_of_the_wrong_shape_is_refused_when_set() {
+    let u = unpack(&repo().join("scenes/running_capstan.toml"), "shape");
+    let l = lib();
+    let inst = Inst::new(&u, "shape");
+    inst.init();
+    assert_eq!(inst.step(0.0, 0.05), OK, "{:?}", inst.messages());
+    let bytes = serialized(&inst);
+    let start = bytes
+        .iter()
+        .position(|&b| b == b'{')
+        .expect("JSON after the header");
+    let (head, body) = bytes.split_at(start);
+    let json: serde_json::Value = serde_json::from_slice(body).unwrap();
+    // The arrays to damage, as JSON pointers.
+    let contact = &json["state"]["contact"][0];
+    let (variant, _) = contact.as_object().unwrap().iter().next().unwrap();
+    let mut arrays = vec![
+        format!("/state/contact/0/{variant}/nodes"),
+        "/state/rigid".to_string(),
+        "/state/running".to_string(),
+    ];
+    if contact[variant].get("segments").is_some() {
+        arrays.push(format!("/state/contact/0/{variant}/segments"));
+    }
+    let edits: [(&str, fn(&mut Vec<serde_json::Value>)); 3] = [
+        ("emptied", |a| a.clear()),
+        ("cut by one", |a| {
+            a.pop();
+        }),
+        ("extended by one", |a| a.push(a[0].clone())),
+    ];
+    let mut t = 0.05;
+    for pointer in &arrays {
+        for (how, edit) in &edits {
+            let mut damaged = json.clone();
+            let array = damaged
+                .pointer_mut(pointer)
+                .unwrap()
+                .as_array_mut()
+                .unwrap();
+            assert!(!array.is_empty(), "{pointer} is empty");
+            edit(array);
+            let mut out = head.to_vec();
+            out.extend(serde_json::to_vec(&damaged).unwrap());
+            let mut state: fmi2FMUstate = null_mut();
+            unsafe {
+                let read = l.fmi2DeSerializeFMUstate.as_ref().unwrap();
+                let status = read(inst.c, out.as_ptr() as *const c_char, out.len(), &mut state);
+                assert_eq!(status, OK, "{pointer} {how}: {}", inst.last_message());
+                let set = (l.fmi2SetFMUstate.as_ref().unwrap())(inst.c, state);
+                assert_eq!(set, ERROR, "{pointer} {how}: accepted");
+                assert_eq!(
+                    (l.fmi2FreeFMUstate.as_ref().unwrap())(inst.c, &mut state),
+                    OK
+                );
+            }
+            let said = inst.last_message();
+            assert!(
+                said.starts_with("fmi2SetFMUstate: the state does not fit this instance's model"),
+                "{pointer} {how}: {said}"
+            );
+            assert_eq!(
+                inst.step(t, 0.05),
+                OK,
+                "{pointer} {how}: {:?}",
+                inst.messages()
+            );
+            t += 0.05;
+        }
+    }
+}

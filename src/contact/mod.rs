@@ -155,6 +155,19 @@ impl PairMemory {
             ContactFormulation::Mortar => Self::Mortar(mortar::Memory::new(pair)),
         }
     }
+
+    /// Whether it has the shape of `pair`'s memory (its formulation, an
+    /// entry per contactor node and per contactor segment): a restored
+    /// state's check.
+    pub fn fits(&self, pair: &ContactPair) -> bool {
+        match (self, Self::new(pair)) {
+            (Self::NodeToSegment(m), Self::NodeToSegment(f)) => {
+                m.nodes.len() == f.nodes.len() && m.segments.len() == f.segments.len()
+            }
+            (Self::Mortar(m), Self::Mortar(f)) => m.nodes.len() == f.nodes.len(),
+            _ => false,
+        }
+    }
 }
 
 /// The shared phases read and shift a pair's memory as `Remembered`.

@@ -1046,6 +1046,11 @@ impl Instance {
         let Some(solver) = self.solver.as_mut() else {
             return self.error("fmi2SetFMUstate: no solver (internal)");
         };
+        if let Err(e) = snap.state.fits(solver.state(), solver.problem()) {
+            return self.error(format!(
+                "fmi2SetFMUstate: the state does not fit this instance's model ({e}); the instance keeps its own"
+            ));
+        }
         solver.restore(snap.state.clone());
         self.reals.clone_from(&snap.reals);
         self.ints.clone_from(&snap.ints);
