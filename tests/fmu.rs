@@ -3132,7 +3132,8 @@ fn a_state_of_the_wrong_shape_is_refused_when_set() {
     if contact[variant].get("segments").is_some() {
         arrays.push(format!("/state/contact/0/{variant}/segments"));
     }
-    let edits: [(&str, fn(&mut Vec<serde_json::Value>)); 3] = [
+    type Edit = fn(&mut Vec<serde_json::Value>);
+    let edits: [(&str, Edit); 3] = [
         ("emptied", |a| a.clear()),
         ("cut by one", |a| {
             a.pop();
