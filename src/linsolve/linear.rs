@@ -148,10 +148,10 @@ impl Linear {
         }
         let mut full = rhs.to_vec();
         full.resize(n + slots.len(), 0.0);
-        let trailing = self.bordered.trailing_solves;
-        let solved = self.bordered.solve(pattern, k, extra, &mut full);
-        self.reused += self.bordered.trailing_solves - trailing;
-        if solved.is_err() {
+        if self
+            .solve(pattern, k, extra, &mut full, false, true)
+            .is_err()
+        {
             self.bordered.restart();
             return false;
         }
